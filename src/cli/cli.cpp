@@ -1,0 +1,186 @@
+#include "cli/cli.hpp"
+
+#include "harness/case.hpp"
+#include "harness/registry.hpp"
+#include "harness/report.hpp"
+#include "harness/runner.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <ostream>
+#include <sstream>
+
+namespace dampsym {
+namespace {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string default_cases_dir() {
+    if (const char* env = std::getenv("DAMPSYM_CASES")) return env;
+    return std::string(DAMPSYM_SOURCE_DIR) + "/verify/cases";
+}
+
+// A case file found in the cases directory, with the id and suites read from it.
+struct CaseFile {
+    std::string path, id;
+    std::vector<std::string> suites;
+};
+
+std::vector<CaseFile> scan_cases(const std::string& dir) {
+    if (!fs::is_directory(dir)) throw InputError(dir + ": cases directory not found");
+    std::vector<std::string> paths;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".json") paths.push_back(e.path().string());
+    std::sort(paths.begin(), paths.end());
+    std::vector<CaseFile> out;
+    std::map<std::string, std::string> seen;
+    for (const auto& p : paths) {
+        std::ifstream in(p);
+        std::stringstream buf;
+        buf << in.rdbuf();
+        const json j = json::parse(buf.str(), nullptr, false);
+        if (j.is_discarded() || !j.is_object()) throw InputError(p + ": malformed JSON");
+        if (!j.contains("id") || !j["id"].is_string()) throw InputError(p + ": id: missing or not a string");
+        CaseFile cf{p, j["id"].get<std::string>(), {}};
+        if (j.contains("suites") && j["suites"].is_array())
+            for (const auto& s : j["suites"])
+                if (s.is_string()) cf.suites.push_back(s.get<std::string>());
+        if (seen.count(cf.id)) throw InputError(p + ": id: '" + cf.id + "' is also the id of " + seen[cf.id]);
+        seen[cf.id] = p;
+        out.push_back(cf);
+    }
+    return out;
+}
+
+int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
+    const auto files = scan_cases(cases_dir);
+    json cases = json::array();
+    for (const auto& f : files) {
+        const CaseSpec c = load_case(f.path, {});
+        cases.push_back({{"id", c.id},
+                         {"file", f.path},
+                         {"problem", c.problem_id},
+                         {"methods", c.methods},
+                         {"suites", c.suites},
+                         {"diagnostics", c.diagnostics}});
+    }
+    json problems = json::array();
+    for (const auto& p : problem_catalog()) {
+        json params = json::object();
+        for (const auto& ps : p.params) params[ps.name] = ps.default_value;
+        problems.push_back({{"id", p.id}, {"title", p.title}, {"params", params}, {"invariants", p.invariants}});
+    }
+    json methods = json::array();
+    for (const auto& m : method_catalog())
+        methods.push_back({{"id", m.id},
+                           {"order", m.order},
+                           {"implicit", m.implicit},
+                           {"form", m.form},
+                           {"kernel", m.kernel},
+                           {"citation", m.citation}});
+    if (as_json) {
+        out << json{{"cases", cases}, {"problems", problems}, {"methods", methods}}.dump(2) << "\n";
+        return 0;
+    }
+    out << "Cases (" << cases_dir << "):\n";
+    for (const auto& c : cases) {
+        std::string suites, methods_s;
+        for (const auto& s : c["suites"]) suites += (suites.empty() ? "" : ",") + s.get<std::string>();
+        for (const auto& m : c["methods"]) methods_s += (methods_s.empty() ? "" : ",") + m.get<std::string>();
+        out << "  " << c["id"].get<std::string>() << "  [" << c["problem"].get<std::string>() << "; " << methods_s
+            << "; suites: " << (suites.empty() ? "-" : suites) << "]\n";
+    }
+    out << "Problems:\n";
+    for (const auto& p : problems) out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
+    out << "Methods:\n";
+    for (const auto& m : method_catalog())
+        out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit") << ", "
+            << m.form << " form, " << m.citation << "\n";
+    return 0;
+}
+
+int cmd_run(const std::vector<std::string>& targets, const std::string& suite, const std::string& out_dir,
+            int jobs, const std::vector<std::string>& sets, const std::string& cases_dir, std::ostream& out) {
+    if (jobs < 1) throw InputError("--jobs: must be >= 1");
+    for (const auto& s : sets) parse_override(s); // usage errors before any work
+    std::vector<std::string> paths;
+    std::vector<CaseFile> files;
+    auto ensure_scanned = [&] {
+        if (files.empty()) files = scan_cases(cases_dir);
+    };
+    if (targets.empty()) {
+        ensure_scanned();
+        for (const auto& f : files)
+            if (std::find(f.suites.begin(), f.suites.end(), suite) != f.suites.end()) paths.push_back(f.path);
+        if (paths.empty()) throw InputError("--suite: no case in " + cases_dir + " belongs to suite '" + suite + "'");
+    } else {
+        for (const auto& t : targets) {
+            if (t.size() > 5 && t.substr(t.size() - 5) == ".json") {
+                paths.push_back(t);
+                continue;
+            }
+            ensure_scanned();
+            auto it = std::find_if(files.begin(), files.end(), [&](const CaseFile& f) { return f.id == t; });
+            if (it == files.end()) throw InputError(t + ": no case with this id in " + cases_dir);
+            paths.push_back(it->path);
+        }
+    }
+    std::vector<CaseSpec> cases;
+    for (const auto& p : paths) cases.push_back(load_case(p, sets)); // all validated before running
+    const json report = run_cases(cases, RunOptions{jobs});
+    write_reports(report, out_dir);
+    out << render_summary(report) << "Reports: " << out_dir << "/report.json, " << out_dir << "/report.md\n";
+    return report["summary"]["checks_failed"].get<std::int64_t>() == 0 ? 0 : 1;
+}
+
+} // namespace
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+    CLI::App app{"dampsym: verification harness for structure-preserving integrators of damped "
+                 "Hamiltonian systems"};
+    app.require_subcommand(1);
+    std::string cases_dir = default_cases_dir();
+    app.add_option("--cases", cases_dir, "directory of case files (default: verify/cases)");
+
+    auto* list = app.add_subcommand("list", "list every registered case, problem and method");
+    bool list_json = false;
+    list->add_flag("--json", list_json, "machine-readable output");
+
+    auto* run = app.add_subcommand("run", "run cases (default: the default suite) and write reports");
+    std::vector<std::string> targets, sets;
+    std::string suite = "default", out_dir = "reports";
+    int jobs = 1;
+    run->add_option("cases", targets, "case ids or case files (.json)");
+    run->add_option("--suite", suite, "suite to run when no case is named (default: default)");
+    run->add_option("--out", out_dir, "directory for report.json and report.md (default: reports)");
+    run->add_option("--jobs,-j", jobs, "worker threads (results do not depend on it)");
+    run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")->take_all();
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        out << app.help();
+        return 0;
+    } catch (const CLI::CallForAllHelp&) {
+        out << app.help("", CLI::AppFormatMode::All);
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        err << "dampsym: " << e.what() << "\n";
+        return 2;
+    }
+    try {
+        if (*list) return cmd_list(list_json, cases_dir, out);
+        if (*run) return cmd_run(targets, suite, out_dir, jobs, sets, cases_dir, out);
+    } catch (const InputError& e) {
+        err << "dampsym: " << e.what() << "\n";
+        return 2;
+    }
+    return 2;
+}
+
+} // namespace dampsym

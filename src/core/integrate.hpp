@@ -1,0 +1,52 @@
+// The fixed-step integration loop. With NoObserver it is the bare step loop: no virtual call and no
+// allocation per step; an observer is attached only when a case asks for a diagnostic that needs
+// the trajectory.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <cmath>
+#include <type_traits>
+
+namespace dampsym {
+
+struct NoObserver {};
+
+enum class RunStatus { ok, diverged, solve_failed };
+
+inline const char* to_string(RunStatus s) {
+    switch (s) {
+    case RunStatus::ok: return "ok";
+    case RunStatus::diverged: return "diverged";
+    case RunStatus::solve_failed: return "solve-failed";
+    }
+    return "?";
+}
+
+struct IntegrateOutcome {
+    RunStatus status = RunStatus::ok;
+    std::int64_t steps_done = 0; // completed steps; on failure the failing step is steps_done + 1
+};
+
+// A state is "diverged" when any component is NaN/inf or exceeds 1e100 in magnitude.
+inline bool state_diverged(const Vec& z) {
+    for (Eigen::Index i = 0; i < z.size(); ++i)
+        if (!(std::abs(z[i]) <= 1e100)) return true;
+    return false;
+}
+
+// Advances z from t0 by n steps of size h. Stepper: StepStatus step(double t, Vec& z).
+// Observer (if any): void operator()(std::int64_t n, double t_n, const Vec& z_n) after each step.
+template <class Stepper, class Observer = NoObserver>
+IntegrateOutcome integrate(Stepper& stepper, Vec& z, double t0, double h, std::int64_t n,
+                           Observer* observer = nullptr) {
+    for (std::int64_t k = 0; k < n; ++k) {
+        if (stepper.step(time_at(t0, h, k), z) != StepStatus::ok)
+            return {RunStatus::solve_failed, k};
+        if (state_diverged(z)) return {RunStatus::diverged, k};
+        if constexpr (!std::is_same_v<Observer, NoObserver>) (*observer)(k + 1, time_at(t0, h, k + 1), z);
+    }
+    return {RunStatus::ok, n};
+}
+
+} // namespace dampsym

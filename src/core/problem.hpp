@@ -1,0 +1,86 @@
+// What a problem is. A problem is a small struct (one header in src/problems/) with:
+//   static constexpr std::string_view id, title;
+//   static std::vector<ParamSpec> param_specs();       parameters with defaults and ranges
+//   static P from_params(const ParamMap&);              build from validated parameters
+//   int dim() const;  Vec initial_state() const;        full state z = [q; p]
+//   double Gamma(double t) const;                       Γ(t) = ∫₀ᵗ γ(s) ds
+//   double dGamma(double t, double h) const;            Γ(t+h) − Γ(t), without cancellation
+//   forms: separable Rayleigh form (grad_T, force, hess_T, force_jacobian), from which
+//          SeparableProblem derives the conformal form N(z,t) and the plain form f(t,z);
+//   invariants: names, values, all decaying as e^{-2Γ(t)} (B Def. 1.1);
+//   optionally: energy(z), exact(t, z) (when has_exact).
+#pragma once
+
+#include "core/types.hpp"
+
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace dampsym {
+
+enum class Range { any, positive, nonnegative };
+
+struct ParamSpec {
+    std::string name;
+    double default_value;
+    Range range;
+    std::string doc;
+};
+
+using ParamMap = std::map<std::string, double>;
+
+// Separable Rayleigh form q' = ∇T(p), p' = F(q,t) − 2γ(t)p with F = −∇_q V(q,t) (+ forcing).
+// Derived provides: n() (degrees of freedom), gamma_at(t), grad_T(p, out), hess_T(p, out),
+// force(t, q, out), force_jacobian(t, q, out). This base derives the other two forms of SPEC §1:
+//   conformal form: z' = N(z,t) − γ(t)z, N = J⁻¹∇H_γ = [∇T(p) + γq; F(q,t) − γp]
+//   plain form:     z' = f(t,z) = [∇T(p); F(q,t) − 2γp]
+template <class Derived>
+struct SeparableProblem {
+    static constexpr bool has_separable = true;
+
+    const Derived& self() const { return static_cast<const Derived&>(*this); }
+    int dim() const { return 2 * self().n(); }
+
+    void N(double t, const Vec& z, Vec& out) const {
+        const int n = self().n();
+        const double g = self().gamma_at(t);
+        auto qo = out.head(n);
+        auto po = out.tail(n);
+        self().grad_T(z.tail(n), qo);
+        self().force(t, z.head(n), po);
+        qo += g * z.head(n);
+        po -= g * z.tail(n);
+    }
+    void N_jacobian(double t, const Vec& z, Mat& J) const {
+        const int n = self().n();
+        const double g = self().gamma_at(t);
+        J.setZero();
+        auto Jqp = J.block(0, n, n, n);
+        auto Jpq = J.block(n, 0, n, n);
+        self().hess_T(z.tail(n), Jqp);
+        self().force_jacobian(t, z.head(n), Jpq);
+        J.block(0, 0, n, n).diagonal().setConstant(g);
+        J.block(n, n, n, n).diagonal().setConstant(-g);
+    }
+    void rhs(double t, const Vec& z, Vec& out) const {
+        const int n = self().n();
+        auto qo = out.head(n);
+        auto po = out.tail(n);
+        self().grad_T(z.tail(n), qo);
+        self().force(t, z.head(n), po);
+        po -= 2.0 * self().gamma_at(t) * z.tail(n);
+    }
+    void rhs_jacobian(double t, const Vec& z, Mat& J) const {
+        const int n = self().n();
+        J.setZero();
+        auto Jqp = J.block(0, n, n, n);
+        auto Jpq = J.block(n, 0, n, n);
+        self().hess_T(z.tail(n), Jqp);
+        self().force_jacobian(t, z.head(n), Jpq);
+        J.block(n, n, n, n).diagonal().setConstant(-2.0 * self().gamma_at(t));
+    }
+};
+
+} // namespace dampsym

@@ -1,0 +1,37 @@
+// Basic types shared by problems, methods, diagnostics and the harness.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace dampsym {
+
+using Vec = Eigen::VectorXd;
+using Mat = Eigen::MatrixXd;
+
+// Work counters filled by a stepper. "rhs_evals" counts evaluations of whatever the method calls
+// (the force -grad V for split methods, N or f for the others), as F Table 4.1 does.
+struct Counters {
+    std::int64_t rhs_evals = 0;
+    std::int64_t jac_evals = 0;
+    std::int64_t newton_iters = 0;
+    int max_newton_iters_per_step = 0;
+};
+
+enum class StepStatus { ok, solve_failed };
+
+// Compile-time list of types; the registries of problems and method kernels are such lists.
+template <class... Ts>
+struct TypeList {};
+
+template <class... Ts, class F>
+constexpr void for_each_type(TypeList<Ts...>, F&& f) {
+    (f.template operator()<Ts>(), ...);
+}
+
+// Exact time of step n: t0 + n*h, never accumulated.
+inline double time_at(double t0, double h, std::int64_t n) { return t0 + static_cast<double>(n) * h; }
+
+} // namespace dampsym

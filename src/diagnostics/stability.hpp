@@ -1,0 +1,42 @@
+// Linear stability on the oscillator (SPEC §5 "stability", F ch.3). The one-step matrix M of a
+// method is obtained by stepping the unit vectors (the step map is linear on a linear problem),
+// so it is the method's own M, not a formula. F calls a method "stable" when |½ tr M| < e^{−γh}
+// (both eigenvalues on the circle of radius e^{−γh}); power-boundedness (spectral radius ≤ 1, with
+// a defective eigenvalue on the unit circle counted as unbounded) is reported beside it.
+#pragma once
+
+#include "core/method.hpp"
+#include "core/types.hpp"
+
+#include <complex>
+#include <limits>
+
+namespace dampsym {
+
+struct OneStepAnalysis {
+    double det = 0.0, half_trace = 0.0;
+    std::complex<double> eig[2];
+    double spectral_radius = 0.0;
+    bool finite = true;
+    bool F_condition = false;   // |½ tr M| < e^{−γh}
+    bool power_bounded = false; // ρ(M) ≤ 1 (and not defective on |λ| = 1)
+};
+
+OneStepAnalysis analyse_one_step(const Mat& M, double gamma, double h);
+
+// Steps each unit vector once from t = 0 with a fresh stepper of kernel K.
+template <class K, class P>
+Mat one_step_matrix(const P& problem, const MethodInfo& info, double h) {
+    const int d = problem.dim();
+    Mat M(d, d);
+    Counters scratch;
+    for (int i = 0; i < d; ++i) {
+        K stepper(problem, info, h, scratch);
+        Vec z = Vec::Unit(d, i);
+        if (stepper.step(0.0, z) != StepStatus::ok) z.setConstant(std::numeric_limits<double>::quiet_NaN());
+        M.col(i) = z;
+    }
+    return M;
+}
+
+} // namespace dampsym

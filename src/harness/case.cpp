@@ -1,0 +1,409 @@
+#include "harness/case.hpp"
+
+#include "harness/registry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace dampsym {
+namespace {
+
+using json = nlohmann::json;
+
+[[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& what) {
+    throw InputError(file + ": " + key + ": " + what);
+}
+
+double number(const json& v, const std::string& file, const std::string& key) {
+    if (!v.is_number()) fail(file, key, "must be a number, got " + v.dump());
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(file, key, "must be finite, got " + v.dump());
+    return x;
+}
+
+std::string string_of(const json& v, const std::string& file, const std::string& key) {
+    if (!v.is_string()) fail(file, key, "must be a string, got " + v.dump());
+    return v.get<std::string>();
+}
+
+bool boolean(const json& v, const std::string& file, const std::string& key) {
+    if (!v.is_boolean()) fail(file, key, "must be true or false, got " + v.dump());
+    return v.get<bool>();
+}
+
+void only_keys(const json& obj, const std::set<std::string>& allowed, const std::string& file,
+               const std::string& prefix) {
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+        if (!allowed.count(it.key())) {
+            std::string list;
+            for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+            fail(file, prefix + it.key(), "unknown key (allowed: " + list + ")");
+        }
+    }
+}
+
+// Steps of size dt in [t0, t_end]; t_end − t0 must be an integer multiple of dt to 1e-9 relative.
+std::int64_t step_count(double span, double dt, const std::string& file, const std::string& key) {
+    const double ratio = span / dt;
+    if (!(ratio < 1e12)) fail(file, key, "too many steps (" + std::to_string(ratio) + ")");
+    const auto n = static_cast<std::int64_t>(std::llround(ratio));
+    if (n < 1 || std::abs(static_cast<double>(n) * dt - span) > 1e-9 * span) {
+        std::ostringstream os;
+        os.precision(17);
+        os << "t_end - t0 = " << span << " is not an integer multiple of dt = " << dt;
+        fail(file, key, os.str());
+    }
+    return n;
+}
+
+// Metric names each run-level or method-level diagnostic produces (for validating "expect").
+std::vector<std::string> metric_names(const std::string& diagnostic, const ProblemInfo& problem) {
+    if (diagnostic == "error") return {"final_abs", "final_rel", "max_abs", "max_rel"};
+    if (diagnostic == "order") return {"slope", "r2", "points"};
+    if (diagnostic == "invariants") {
+        std::vector<std::string> out;
+        for (const auto& inv : problem.invariants)
+            for (const char* stat : {"max_step_rel", "last_step_rel", "max_global_rel", "drift_slope"})
+                out.push_back(inv + "." + stat);
+        return out;
+    }
+    if (diagnostic == "energy")
+        return {"max_abs_error", "final_abs_error", "drift_slope", "rel_drift_slope", "max_abs_change",
+                "change_slope"};
+    if (diagnostic == "dissipation-drift") return {"slope", "range", "maxima"};
+    if (diagnostic == "stability")
+        return {"det",           "det_rel_err",     "half_trace",        "half_trace_formula_rel_err",
+                "half_trace_exact_err", "spectral_radius", "F_condition", "power_bounded"};
+    if (diagnostic == "stability-sweep")
+        return {"max_boundary_mismatch_cells", "mismatch_points", "violations_omega_gt_gamma",
+                "F_violations", "power_bounded_violations"};
+    if (diagnostic == "trace-taylor") return {"h4_coeff", "h4_coeff_expected", "h4_coeff_rel_err"};
+    if (diagnostic == "cost")
+        return {"rhs_evals_per_step", "jac_evals_per_step", "newton_iters_per_step",
+                "max_newton_iters", "wall_seconds"};
+    return {};
+}
+
+Range3 parse_range(const json& v, const std::string& file, const std::string& key) {
+    if (!v.is_array() || v.size() != 3)
+        fail(file, key, "must be [from, to, step], got " + v.dump());
+    Range3 r{number(v[0], file, key + "[0]"), number(v[1], file, key + "[1]"),
+             number(v[2], file, key + "[2]")};
+    if (!(r.step > 0.0)) fail(file, key + "[2]", "step must be > 0");
+    if (r.to < r.from) fail(file, key + "[1]", "must be >= from");
+    if ((r.to - r.from) / r.step > 10000.0) fail(file, key, "more than 10000 grid points");
+    return r;
+}
+
+void set_path(json& root, const std::string& dotted, const json& value) {
+    json* node = &root;
+    std::string::size_type start = 0;
+    while (true) {
+        const auto dot = dotted.find('.', start);
+        const std::string part = dotted.substr(start, dot - start);
+        if (part.empty()) throw InputError("--set " + dotted + ": empty key component");
+        if (dot == std::string::npos) {
+            (*node)[part] = value;
+            return;
+        }
+        if (!node->contains(part)) (*node)[part] = json::object();
+        node = &(*node)[part];
+        if (!node->is_object()) throw InputError("--set " + dotted + ": '" + part + "' is not an object");
+        start = dot + 1;
+    }
+}
+
+} // namespace
+
+std::vector<double> Range3::values() const {
+    std::vector<double> out;
+    const auto n = static_cast<std::int64_t>(std::floor((to - from) / step + 1e-9));
+    for (std::int64_t i = 0; i <= n; ++i) out.push_back(from + static_cast<double>(i) * step);
+    return out;
+}
+
+bool CaseSpec::wants(const std::string& d) const {
+    return std::find(diagnostics.begin(), diagnostics.end(), d) != diagnostics.end();
+}
+
+const std::vector<std::string>& known_diagnostics() {
+    static const std::vector<std::string> names{
+        "error",     "order",           "invariants",   "energy", "dissipation-drift",
+        "stability", "stability-sweep", "trace-taylor", "cost"};
+    return names;
+}
+
+bool diagnostic_is_method_level(const std::string& d) {
+    return d == "order" || d == "stability-sweep" || d == "trace-taylor";
+}
+
+std::pair<std::string, json> parse_override(const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw InputError("--set " + text + ": expected KEY=VALUE");
+    const std::string key = text.substr(0, eq);
+    const std::string value = text.substr(eq + 1);
+    json parsed = json::parse(value, nullptr, false);
+    if (!parsed.is_discarded()) return {key, parsed};
+    char* end = nullptr;
+    const double x = std::strtod(value.c_str(), &end);
+    if (!value.empty() && end == value.c_str() + value.size()) return {key, x};
+    return {key, value};
+}
+
+CaseSpec load_case(const std::string& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path + ": cannot open case file");
+    std::stringstream buf;
+    buf << in.rdbuf();
+    json j;
+    try {
+        j = json::parse(buf.str());
+    } catch (const json::parse_error& e) {
+        throw InputError(path + ": malformed JSON: " + e.what());
+    }
+    return parse_case(j, path, overrides);
+}
+
+CaseSpec parse_case(const json& input, const std::string& file,
+                    const std::vector<std::string>& overrides) {
+    if (!input.is_object()) fail(file, "(top level)", "a case must be a JSON object");
+    CaseSpec c;
+    c.file = file;
+    json j = input;
+    for (const auto& o : overrides) {
+        auto [key, value] = parse_override(o);
+        set_path(j, key, value);
+        c.overrides[key] = value;
+    }
+    c.raw = j;
+
+    only_keys(j,
+              {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
+               "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "notes"},
+              file, "");
+    for (const char* k : {"id", "problem", "methods", "t_end"})
+        if (!j.contains(k)) fail(file, k, "missing required key");
+
+    c.id = string_of(j["id"], file, "id");
+    if (c.id.empty()) fail(file, "id", "must not be empty");
+    if (j.contains("title")) c.title = string_of(j["title"], file, "title");
+    if (j.contains("source")) c.source = string_of(j["source"], file, "source");
+    if (j.contains("notes")) string_of(j["notes"], file, "notes");
+    if (j.contains("suites")) {
+        if (!j["suites"].is_array()) fail(file, "suites", "must be an array of suite names");
+        for (std::size_t i = 0; i < j["suites"].size(); ++i)
+            c.suites.push_back(string_of(j["suites"][i], file, "suites[" + std::to_string(i) + "]"));
+    }
+
+    // problem
+    const json& pj = j["problem"];
+    if (!pj.is_object()) fail(file, "problem", "must be an object with an \"id\"");
+    if (!pj.contains("id")) fail(file, "problem.id", "missing required key");
+    c.problem_id = string_of(pj["id"], file, "problem.id");
+    const ProblemInfo* prob = find_problem(c.problem_id);
+    if (!prob) {
+        std::string list;
+        for (const auto& p : problem_catalog()) list += (list.empty() ? "" : ", ") + p.id;
+        fail(file, "problem.id", "unknown problem '" + c.problem_id + "' (known: " + list + ")");
+    }
+    std::set<std::string> allowed{"id"};
+    for (const auto& ps : prob->params) {
+        allowed.insert(ps.name);
+        c.params[ps.name] = ps.default_value;
+    }
+    only_keys(pj, allowed, file, "problem.");
+    for (const auto& ps : prob->params) {
+        if (!pj.contains(ps.name)) continue;
+        const std::string key = "problem." + ps.name;
+        const double x = number(pj[ps.name], file, key);
+        if (ps.range == Range::positive && !(x > 0.0)) fail(file, key, "must be > 0");
+        if (ps.range == Range::nonnegative && !(x >= 0.0)) fail(file, key, "must be >= 0");
+        c.params[ps.name] = x;
+    }
+
+    // methods
+    if (!j["methods"].is_array() || j["methods"].empty())
+        fail(file, "methods", "must be a non-empty array of method ids");
+    for (std::size_t i = 0; i < j["methods"].size(); ++i) {
+        const std::string key = "methods[" + std::to_string(i) + "]";
+        const std::string m = string_of(j["methods"][i], file, key);
+        if (!find_method(m)) {
+            std::string list;
+            for (const auto& mi : method_catalog()) list += (list.empty() ? "" : ", ") + std::string(mi.id);
+            fail(file, key, "unknown method '" + m + "' (known: " + list + ")");
+        }
+        if (std::find(c.methods.begin(), c.methods.end(), m) != c.methods.end())
+            fail(file, key, "method '" + m + "' listed twice");
+        c.methods.push_back(m);
+    }
+
+    // time grid
+    if (j.contains("t0")) c.t0 = number(j["t0"], file, "t0");
+    c.t_end = number(j["t_end"], file, "t_end");
+    if (!(c.t_end > c.t0)) fail(file, "t_end", "must be > t0");
+    if (j.contains("dt") == j.contains("dt_ladder"))
+        fail(file, "dt", "give exactly one of \"dt\" and \"dt_ladder\"");
+    if (j.contains("dt")) {
+        c.dts.push_back(number(j["dt"], file, "dt"));
+        if (!(c.dts[0] > 0.0)) fail(file, "dt", "must be > 0");
+        c.steps.push_back(step_count(c.t_end - c.t0, c.dts[0], file, "dt"));
+    } else {
+        c.ladder = true;
+        const json& lj = j["dt_ladder"];
+        if (!lj.is_array() || lj.empty()) fail(file, "dt_ladder", "must be a non-empty array");
+        for (std::size_t i = 0; i < lj.size(); ++i) {
+            const std::string key = "dt_ladder[" + std::to_string(i) + "]";
+            const double dt = number(lj[i], file, key);
+            if (!(dt > 0.0)) fail(file, key, "must be > 0");
+            if (std::find(c.dts.begin(), c.dts.end(), dt) != c.dts.end())
+                fail(file, key, "step size listed twice");
+            c.dts.push_back(dt);
+            c.steps.push_back(step_count(c.t_end - c.t0, dt, file, key));
+        }
+    }
+    if (j.contains("output_dt")) {
+        const double odt = number(j["output_dt"], file, "output_dt");
+        if (!(odt > 0.0)) fail(file, "output_dt", "must be > 0");
+        step_count(c.t_end - c.t0, odt, file, "output_dt");
+        for (double dt : c.dts) {
+            const double r = odt / dt;
+            if (std::abs(r - std::round(r)) > 1e-9 * r || std::round(r) < 1.0)
+                fail(file, "output_dt", "must be an integer multiple of every dt");
+        }
+        c.output_dt = odt;
+    }
+
+    // diagnostics
+    if (j.contains("diagnostics")) {
+        if (!j["diagnostics"].is_array()) fail(file, "diagnostics", "must be an array");
+        for (std::size_t i = 0; i < j["diagnostics"].size(); ++i) {
+            const std::string key = "diagnostics[" + std::to_string(i) + "]";
+            const std::string d = string_of(j["diagnostics"][i], file, key);
+            const auto& known = known_diagnostics();
+            if (std::find(known.begin(), known.end(), d) == known.end()) {
+                std::string list;
+                for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+                fail(file, key, "unknown diagnostic '" + d + "' (known: " + list + ")");
+            }
+            if (!c.wants(d)) c.diagnostics.push_back(d);
+        }
+    } else {
+        c.diagnostics.push_back("error");
+    }
+    if (c.wants("order")) {
+        if (c.dts.size() < 3) fail(file, "dt_ladder", "the order diagnostic needs >= 3 step sizes");
+        if (!c.wants("error")) c.diagnostics.push_back("error");
+    }
+    if ((c.wants("error") || c.wants("energy")) && !prob->has_exact)
+        fail(file, "diagnostics", "problem '" + c.problem_id + "' has no reference yet");
+    if (c.wants("energy") && !prob->has_energy)
+        fail(file, "diagnostics", "problem '" + c.problem_id + "' declares no energy");
+    for (const char* d : {"stability", "stability-sweep", "trace-taylor"})
+        if (c.wants(d) && c.problem_id != "oscillator")
+            fail(file, "diagnostics", std::string(d) + " is defined on the oscillator only");
+    if (c.wants("stability-sweep") != j.contains("stability_sweep"))
+        fail(file, "stability_sweep",
+             "give \"stability_sweep\" exactly when the stability-sweep diagnostic is requested");
+    if (j.contains("stability_sweep")) {
+        const json& sj = j["stability_sweep"];
+        if (!sj.is_object()) fail(file, "stability_sweep", "must be an object");
+        only_keys(sj, {"omega", "gamma", "h"}, file, "stability_sweep.");
+        SweepSpec s;
+        if (sj.contains("omega")) s.omega = number(sj["omega"], file, "stability_sweep.omega");
+        if (!(s.omega > 0.0)) fail(file, "stability_sweep.omega", "must be > 0");
+        if (!sj.contains("gamma") || !sj.contains("h"))
+            fail(file, "stability_sweep", "needs \"gamma\" and \"h\" ranges");
+        s.gamma = parse_range(sj["gamma"], file, "stability_sweep.gamma");
+        s.h = parse_range(sj["h"], file, "stability_sweep.h");
+        if (s.gamma.from < 0.0) fail(file, "stability_sweep.gamma[0]", "must be >= 0");
+        if (!(s.h.from > 0.0)) fail(file, "stability_sweep.h[0]", "must be > 0");
+        c.sweep = s;
+    }
+
+    // expectations
+    if (j.contains("expect")) {
+        const json& ej = j["expect"];
+        if (!ej.is_object()) fail(file, "expect", "must be an object of named checks");
+        for (auto it = ej.begin(); it != ej.end(); ++it) {
+            const std::string base = "expect." + it.key();
+            const json& cj = it.value();
+            if (!cj.is_object()) fail(file, base, "must be an object");
+            only_keys(cj,
+                      {"metric", "methods", "near", "le", "ge", "lt", "gt", "tol", "abs",
+                       "negative_control", "dt", "note"},
+                      file, base + ".");
+            CheckSpec cs;
+            cs.name = it.key();
+            if (!cj.contains("metric")) fail(file, base + ".metric", "missing required key");
+            cs.metric = string_of(cj["metric"], file, base + ".metric");
+            const auto dot = cs.metric.find('.');
+            const std::string diag = cs.metric.substr(0, dot);
+            if (dot == std::string::npos || !c.wants(diag))
+                fail(file, base + ".metric",
+                     "'" + cs.metric + "' is not a metric of a requested diagnostic");
+            const auto names = metric_names(diag, *prob);
+            if (std::find(names.begin(), names.end(), cs.metric.substr(dot + 1)) == names.end()) {
+                std::string list;
+                for (const auto& n : names) list += (list.empty() ? "" : ", ") + diag + "." + n;
+                fail(file, base + ".metric", "unknown metric '" + cs.metric + "' (known: " + list + ")");
+            }
+            if (!cj.contains("methods")) fail(file, base + ".methods", "missing required key");
+            const json& mj = cj["methods"];
+            if (mj.is_string() && mj.get<std::string>() == "all") {
+                cs.methods = c.methods;
+            } else {
+                if (!mj.is_array() || mj.empty())
+                    fail(file, base + ".methods", "must be \"all\" or a non-empty array");
+                for (std::size_t i = 0; i < mj.size(); ++i) {
+                    const std::string key = base + ".methods[" + std::to_string(i) + "]";
+                    const std::string m = string_of(mj[i], file, key);
+                    if (std::find(c.methods.begin(), c.methods.end(), m) == c.methods.end())
+                        fail(file, key, "method '" + m + "' is not among the case's methods");
+                    cs.methods.push_back(m);
+                }
+            }
+            int ops = 0;
+            const std::pair<const char*, CheckOp> op_names[] = {{"near", CheckOp::near},
+                                                                {"le", CheckOp::le},
+                                                                {"ge", CheckOp::ge},
+                                                                {"lt", CheckOp::lt},
+                                                                {"gt", CheckOp::gt}};
+            for (const auto& [name, op] : op_names) {
+                if (!cj.contains(name)) continue;
+                ++ops;
+                cs.op = op;
+                const json& v = cj[name];
+                cs.value = v.is_boolean() ? (v.get<bool>() ? 1.0 : 0.0)
+                                          : number(v, file, base + "." + name);
+            }
+            if (ops != 1) fail(file, base, "give exactly one of near, le, ge, lt, gt");
+            if (cs.op == CheckOp::near) {
+                if (!cj.contains("tol")) fail(file, base + ".tol", "\"near\" needs a tolerance");
+                cs.tol = number(cj["tol"], file, base + ".tol");
+                if (!(cs.tol >= 0.0)) fail(file, base + ".tol", "must be >= 0");
+            } else if (cj.contains("tol")) {
+                fail(file, base + ".tol", "only \"near\" takes a tolerance");
+            }
+            if (cj.contains("abs")) cs.use_abs = boolean(cj["abs"], file, base + ".abs");
+            if (cj.contains("negative_control"))
+                cs.negative_control = boolean(cj["negative_control"], file, base + ".negative_control");
+            if (cj.contains("note")) cs.note = string_of(cj["note"], file, base + ".note");
+            if (cj.contains("dt")) {
+                const double dt = number(cj["dt"], file, base + ".dt");
+                if (std::find(c.dts.begin(), c.dts.end(), dt) == c.dts.end())
+                    fail(file, base + ".dt", "not one of the case's step sizes");
+                if (diagnostic_is_method_level(diag))
+                    fail(file, base + ".dt", "'" + diag + "' is a per-method metric; no dt");
+                cs.dt = dt;
+            }
+            c.checks.push_back(cs);
+        }
+    }
+    return c;
+}
+
+} // namespace dampsym

@@ -1,0 +1,80 @@
+// A case ("scene"): one problem instance, methods, a step or step ladder, the diagnostics it asks
+// for and the checks it expects. Cases are JSON files in verify/cases/ (SPEC §7); this is their
+// parsed and validated form. Every validation error names the file and the key (exit status 2).
+#pragma once
+
+#include "core/problem.hpp"
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dampsym {
+
+// Bad input: the message already names the file and the key.
+struct InputError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+enum class CheckOp { near, le, ge, lt, gt };
+
+struct CheckSpec {
+    std::string name;
+    std::string metric; // "<diagnostic>.<path>"
+    std::vector<std::string> methods;
+    CheckOp op = CheckOp::near;
+    double value = 0.0;
+    double tol = 0.0;     // for near
+    bool use_abs = false; // compare |metric|
+    bool negative_control = false;
+    std::optional<double> dt; // run-level metrics: only runs at this dt
+    std::string note;
+};
+
+struct Range3 {
+    double from, to, step;
+    std::vector<double> values() const;
+};
+
+struct SweepSpec {
+    double omega = 1.0;
+    Range3 gamma{0.0, 0.0, 1.0};
+    Range3 h{0.1, 0.1, 1.0};
+};
+
+struct CaseSpec {
+    std::string id, title, source, file;
+    std::vector<std::string> suites;
+    std::string problem_id;
+    ParamMap params;
+    std::vector<std::string> methods;
+    double t0 = 0.0, t_end = 0.0;
+    std::vector<double> dts;
+    std::vector<std::int64_t> steps; // per dt
+    bool ladder = false;
+    std::vector<std::string> diagnostics;
+    std::optional<double> output_dt;
+    std::vector<CheckSpec> checks;
+    std::optional<SweepSpec> sweep;
+    nlohmann::json overrides = nlohmann::json::object();
+    nlohmann::json raw; // the case JSON after overrides
+
+    bool wants(const std::string& diagnostic) const;
+};
+
+// The diagnostics dampsym knows, and the metric names each one produces.
+const std::vector<std::string>& known_diagnostics();
+bool diagnostic_is_method_level(const std::string& diagnostic);
+
+// Parses "KEY=VALUE" overrides; VALUE is JSON if it parses as JSON, else a number (nan/inf
+// included, so that validation can name the key) or a string.
+std::pair<std::string, nlohmann::json> parse_override(const std::string& text);
+
+// Reads, overrides and validates one case file. Throws InputError naming file and key.
+CaseSpec load_case(const std::string& path, const std::vector<std::string>& overrides);
+CaseSpec parse_case(const nlohmann::json& j, const std::string& file,
+                    const std::vector<std::string>& overrides);
+
+} // namespace dampsym

@@ -1,0 +1,34 @@
+#include "harness/registry.hpp"
+
+namespace dampsym {
+
+const std::vector<ProblemInfo>& problem_catalog() {
+    static const std::vector<ProblemInfo> catalog = [] {
+        std::vector<ProblemInfo> out;
+        for_each_type(ProblemList{}, [&]<class P>() {
+            std::vector<std::string> inv(P::invariant_names.begin(), P::invariant_names.end());
+            out.push_back({std::string(P::id), std::string(P::title), P::param_specs(), inv,
+                           P::is_linear, P::has_exact, P::has_energy, P::constant_gamma});
+        });
+        return out;
+    }();
+    return catalog;
+}
+
+const ProblemInfo* find_problem(std::string_view id) {
+    for (const auto& p : problem_catalog())
+        if (p.id == id) return &p;
+    return nullptr;
+}
+
+bool method_applies(std::string_view method_id, std::string_view problem_id) {
+    const MethodInfo* m = find_method(method_id);
+    if (!m) return false;
+    bool ok = false;
+    with_problem_type(problem_id, [&]<class P>() {
+        ok = with_kernel<P>(*m, []<class K>() {}) == KernelMatch::applied;
+    });
+    return ok;
+}
+
+} // namespace dampsym

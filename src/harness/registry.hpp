@@ -1,0 +1,77 @@
+// The two registries: the problem types and the method kernels. Adding a problem = one header in
+// src/problems/ plus one entry in ProblemList; adding a family kernel = one header plus one entry
+// in KernelList; adding a method of an existing family = one row in src/methods/catalog.cpp.
+// Nothing in the runner changes.
+#pragma once
+
+#include "core/method.hpp"
+#include "core/problem.hpp"
+#include "methods/cimp.hpp"
+#include "methods/csv1.hpp"
+#include "methods/csv2.hpp"
+#include "methods/explicit_rk.hpp"
+#include "problems/oscillator.hpp"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dampsym {
+
+using ProblemList = TypeList<Oscillator>;
+
+template <template <class> class... Ks>
+struct KernelList {};
+using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK>;
+
+// Runtime facts about a problem type, for validation, `dampsym list` and reports.
+struct ProblemInfo {
+    std::string id, title;
+    std::vector<ParamSpec> params;
+    std::vector<std::string> invariants;
+    bool is_linear, has_exact, has_energy, constant_gamma;
+};
+const std::vector<ProblemInfo>& problem_catalog();
+const ProblemInfo* find_problem(std::string_view id);
+
+// Calls f.template operator()<P>() for the problem type with this id; false if none.
+template <class F>
+bool with_problem_type(std::string_view id, F&& f) {
+    bool found = false;
+    for_each_type(ProblemList{}, [&]<class P>() {
+        if (!found && P::id == id) {
+            found = true;
+            f.template operator()<P>();
+        }
+    });
+    return found;
+}
+
+enum class KernelMatch { applied, not_applicable, unknown_kernel };
+
+// Calls f.template operator()<K<P>>() for the kernel that steps `info` on problem type P.
+template <class P, class F>
+KernelMatch with_kernel(const MethodInfo& info, F&& f) {
+    return [&]<template <class> class... Ks>(KernelList<Ks...>) {
+        KernelMatch result = KernelMatch::unknown_kernel;
+        (
+            [&] {
+                using K = Ks<P>;
+                if (result == KernelMatch::unknown_kernel && K::kernel_id == info.kernel) {
+                    if constexpr (K::template applies<P>) {
+                        f.template operator()<K>();
+                        result = KernelMatch::applied;
+                    } else {
+                        result = KernelMatch::not_applicable;
+                    }
+                }
+            }(),
+            ...);
+        return result;
+    }(Kernels{});
+}
+
+// Whether `method` can run on problem `problem_id` (false if not applicable).
+bool method_applies(std::string_view method_id, std::string_view problem_id);
+
+} // namespace dampsym

@@ -1,0 +1,582 @@
+#include "harness/runner.hpp"
+
+#include "core/integrate.hpp"
+#include "diagnostics/order_fit.hpp"
+#include "diagnostics/recorder.hpp"
+#include "diagnostics/stability.hpp"
+#include "harness/registry.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace dampsym {
+namespace {
+
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+json state_json(const Vec& z) {
+    json a = json::array();
+    for (Eigen::Index i = 0; i < z.size(); ++i) a.push_back(z[i]); // NaN/inf are written as null
+    return a;
+}
+
+// Runs tasks on `jobs` threads; rethrows the first exception after all threads stop.
+void run_parallel(std::vector<std::function<void()>>& tasks, int jobs) {
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto worker = [&] {
+        for (std::size_t i; (i = next.fetch_add(1)) < tasks.size();) {
+            try {
+                tasks[i]();
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(error_mutex);
+                if (!error) error = std::current_exception();
+            }
+        }
+    };
+    const int n = std::max(1, std::min<int>(jobs, static_cast<int>(tasks.size())));
+    std::vector<std::thread> threads;
+    for (int i = 1; i < n; ++i) threads.emplace_back(worker);
+    worker();
+    for (auto& t : threads) t.join();
+    if (error) std::rethrow_exception(error);
+}
+
+// A case in progress, type-erased at case level only (the step loops inside are not).
+class CaseJob {
+public:
+    virtual ~CaseJob() = default;
+    virtual void prepare() = 0;
+    virtual void add_tasks(std::vector<std::function<void()>>& tasks) = 0;
+    virtual json finish() = 0;
+};
+
+// Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000
+// points; the last point is t_end.
+std::int64_t output_points(const CaseSpec& c) {
+    const double span = c.t_end - c.t0;
+    if (c.output_dt) return std::llround(span / *c.output_dt);
+    std::size_t coarse = 0;
+    for (std::size_t i = 1; i < c.dts.size(); ++i)
+        if (c.dts[i] > c.dts[coarse]) coarse = i;
+    for (double dt : c.dts) {
+        const double r = c.dts[coarse] / dt;
+        if (std::abs(r - std::round(r)) > 1e-9 * r) return 1; // no common grid: final time only
+    }
+    const std::int64_t n = c.steps[coarse];
+    for (std::int64_t k = 1; k <= n; ++k)
+        if (n % k == 0 && n / k <= 20000) return n / k;
+    return 1;
+}
+
+template <class P>
+class TypedCase final : public CaseJob {
+public:
+    explicit TypedCase(const CaseSpec& spec) : c_(spec), problem_(P::from_params(spec.params)) {}
+
+    void prepare() override {
+        runs_.assign(c_.methods.size() * c_.dts.size(), json());
+        method_metrics_.assign(c_.methods.size(), json::object());
+        points_ = output_points(c_);
+        needs_grid_ = c_.wants("energy") || (c_.wants("error") && points_ > 1);
+        if (c_.wants("error") || c_.wants("energy")) {
+            // Reference on the output grid (exact solution; numerical references come later).
+            const std::int64_t np = needs_grid_ ? points_ + 1 : 1;
+            ref_times_.resize(static_cast<std::size_t>(np));
+            ref_.resize(problem_.dim(), np);
+            Vec tmp(problem_.dim());
+            for (std::int64_t i = 0; i < np; ++i) {
+                const double t = needs_grid_ ? c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) /
+                                                           static_cast<double>(points_)
+                                             : c_.t_end;
+                ref_times_[static_cast<std::size_t>(i)] = t;
+                problem_.exact(t, tmp);
+                ref_.col(i) = tmp;
+            }
+            reference_ = {{"kind", "exact"}, {"error_estimate", 0.0}, {"points", np}};
+        } else {
+            reference_ = {{"kind", "none"}};
+        }
+    }
+
+    void add_tasks(std::vector<std::function<void()>>& tasks) override {
+        for (std::size_t m = 0; m < c_.methods.size(); ++m) {
+            for (std::size_t d = 0; d < c_.dts.size(); ++d)
+                tasks.emplace_back([this, m, d] { run_one(m, d); });
+            if (c_.wants("stability-sweep")) tasks.emplace_back([this, m] { sweep(m); });
+            if (c_.wants("trace-taylor")) tasks.emplace_back([this, m] { trace_taylor(m); });
+        }
+    }
+
+    json finish() override;
+
+private:
+    const MethodInfo& method(std::size_t m) const { return *find_method(c_.methods[m]); }
+    json& run_slot(std::size_t m, std::size_t d) { return runs_[m * c_.dts.size() + d]; }
+
+    void run_one(std::size_t m, std::size_t d) {
+        const MethodInfo& info = method(m);
+        json& out = run_slot(m, d);
+        const double h = c_.dts[d];
+        const std::int64_t n = c_.steps[d];
+        out = {{"method", info.id}, {"dt", h}, {"steps_planned", n}};
+        const KernelMatch match = with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
+        if (match != KernelMatch::applied) {
+            out["status"] = "not-applicable";
+            out["steps"] = 0;
+            out["metrics"] = json::object();
+        }
+    }
+
+    template <class K>
+    void integrate_with(const MethodInfo& info, double h, std::int64_t n, json& out) {
+        Counters counters;
+        K stepper(problem_, info, h, counters);
+        Vec z = problem_.initial_state();
+        const bool observe = needs_grid_ || c_.wants("invariants") || c_.wants("dissipation-drift");
+        Recorder<P> rec(problem_, c_.t0, h);
+        IntegrateOutcome res;
+        const auto start = Clock::now();
+        if (observe) {
+            if (needs_grid_) rec.record_grid(n / points_, points_ + 1);
+            if (c_.wants("invariants")) rec.track_invariants();
+            if (c_.wants("dissipation-drift")) rec.track_maxima();
+            rec.start(z);
+            res = integrate(stepper, z, c_.t0, h, n, &rec);
+        } else {
+            res = integrate(stepper, z, c_.t0, h, n);
+        }
+        const double wall = seconds_since(start);
+
+        out["status"] = to_string(res.status);
+        out["steps"] = res.steps_done;
+        out["final_time"] = time_at(c_.t0, h, res.steps_done);
+        out["final_state"] = state_json(z);
+        if (res.status != RunStatus::ok) out["failed_at_step"] = res.steps_done + 1;
+        out["rhs_evals"] = counters.rhs_evals;
+        out["jac_evals"] = counters.jac_evals;
+        out["newton_iters"] = counters.newton_iters;
+        out["max_newton_iters_per_step"] = counters.max_newton_iters_per_step;
+        out["wall_seconds"] = wall;
+        json metrics = json::object();
+        const bool ok = res.status == RunStatus::ok;
+        const double steps = static_cast<double>(std::max<std::int64_t>(res.steps_done, 1));
+        if (c_.wants("cost")) {
+            metrics["cost"] = {{"rhs_evals_per_step", static_cast<double>(counters.rhs_evals) / steps},
+                               {"jac_evals_per_step", static_cast<double>(counters.jac_evals) / steps},
+                               {"newton_iters_per_step", static_cast<double>(counters.newton_iters) / steps},
+                               {"max_newton_iters", counters.max_newton_iters_per_step},
+                               {"wall_seconds", wall}};
+        }
+        if (ok && c_.wants("error")) metrics["error"] = error_metrics(rec, z);
+        if (ok && c_.wants("energy")) metrics["energy"] = energy_metrics(rec);
+        if (ok && c_.wants("invariants")) {
+            json inv = json::object();
+            for (std::size_t k = 0; k < P::invariant_names.size(); ++k) {
+                const InvariantStats& s = rec.invariant_stats()[k];
+                inv[std::string(P::invariant_names[k])] = {{"max_step_rel", s.max_step_rel},
+                                                           {"last_step_rel", s.last_step_rel},
+                                                           {"max_global_rel", s.max_global_rel},
+                                                           {"drift_slope", s.drift_slope()}};
+            }
+            metrics["invariants"] = inv;
+        }
+        if (ok && c_.wants("dissipation-drift")) metrics["dissipation-drift"] = drift_metrics(rec);
+        if (c_.wants("stability")) {
+            if constexpr (P::is_linear) metrics["stability"] = stability_metrics<K>(info, h);
+        }
+        out["metrics"] = metrics;
+    }
+
+    json error_metrics(const Recorder<P>& rec, const Vec& z_final) const {
+        double max_abs = 0.0, max_rel = 0.0;
+        if (needs_grid_) {
+            const Mat& g = rec.grid();
+            for (Eigen::Index i = 0; i < g.cols(); ++i) {
+                const double e = (g.col(i) - ref_.col(i)).norm();
+                max_abs = std::max(max_abs, e);
+                max_rel = std::max(max_rel, e / ref_.col(i).norm());
+            }
+        }
+        const Vec ref_final = ref_.col(ref_.cols() - 1);
+        const double final_abs = (z_final - ref_final).norm();
+        const double final_rel = final_abs / ref_final.norm();
+        max_abs = std::max(max_abs, final_abs);
+        max_rel = std::max(max_rel, final_rel);
+        return {{"final_abs", final_abs}, {"final_rel", final_rel}, {"max_abs", max_abs}, {"max_rel", max_rel}};
+    }
+
+    json energy_metrics(const Recorder<P>& rec) const {
+        if constexpr (P::has_energy) {
+            const Mat& g = rec.grid();
+            std::vector<double> t, err, rel, change;
+            const double e0 = problem_.energy(g.col(0));
+            double max_err = 0.0, max_change = 0.0;
+            for (Eigen::Index i = 0; i < g.cols(); ++i) {
+                const double en = problem_.energy(g.col(i));
+                t.push_back(ref_times_[static_cast<std::size_t>(i)]);
+                const double exact = problem_.energy(ref_.col(i));
+                err.push_back(exact - en); // H_exact − H_approx (F Fig 4.3)
+                rel.push_back(err.back() / exact);
+                change.push_back(en - e0);
+                max_err = std::max(max_err, std::abs(err.back()));
+                max_change = std::max(max_change, std::abs(change.back()));
+            }
+            return {{"max_abs_error", max_err},
+                    {"final_abs_error", std::abs(err.back())},
+                    {"drift_slope", least_squares(t, err).slope},
+                    {"rel_drift_slope", least_squares(t, rel).slope},
+                    {"max_abs_change", max_change},
+                    {"change_slope", least_squares(t, change).slope}};
+        } else {
+            (void)rec;
+            return json::object();
+        }
+    }
+
+    static json drift_metrics(const Recorder<P>& rec) {
+        const auto& mx = rec.maxima();
+        json out = {{"maxima", mx.size()}};
+        if (mx.size() < 3) return out; // slope missing: a check on it fails with that reason
+        std::vector<double> t, d;
+        double lo = mx[0].d, hi = mx[0].d;
+        for (const auto& m : mx) {
+            t.push_back(m.t);
+            d.push_back(m.d);
+            lo = std::min(lo, m.d);
+            hi = std::max(hi, m.d);
+        }
+        out["slope"] = least_squares(t, d).slope;
+        out["range"] = hi - lo;
+        out["first"] = {mx.front().t, mx.front().d};
+        out["last"] = {mx.back().t, mx.back().d};
+        return out;
+    }
+
+    template <class K>
+    json stability_metrics(const MethodInfo& info, double h) const {
+        const Mat M = one_step_matrix<K>(problem_, info, h);
+        const double g = problem_.gamma_at(0.0);
+        const OneStepAnalysis a = analyse_one_step(M, g, h);
+        const double det_expected = std::exp(-2.0 * g * h);
+        const double exact_half_trace = oscillator_damped_cs(problem_.omega, g, h).c;
+        json out = {{"det", a.det},
+                    {"det_expected", det_expected},
+                    {"det_rel_err", std::abs(a.det - det_expected) / det_expected},
+                    {"half_trace", a.half_trace},
+                    {"half_trace_exact", exact_half_trace},
+                    {"half_trace_exact_err", std::abs(a.half_trace - exact_half_trace)},
+                    {"eigenvalues", {{a.eig[0].real(), a.eig[0].imag()}, {a.eig[1].real(), a.eig[1].imag()}}},
+                    {"spectral_radius", a.spectral_radius},
+                    {"F_condition", a.F_condition ? 1 : 0},
+                    {"power_bounded", a.power_bounded ? 1 : 0},
+                    {"matrix", {{M(0, 0), M(0, 1)}, {M(1, 0), M(1, 1)}}}};
+        if (info.oscillator.half_trace) {
+            const double f = info.oscillator.half_trace(problem_.omega, g, h);
+            out["half_trace_formula"] = f;
+            out["half_trace_formula_rel_err"] = std::abs(a.half_trace - f) / std::abs(f);
+            out["formula_source"] = info.oscillator.source;
+        }
+        return out;
+    }
+
+    // (γ, h) sweep of F's condition and power-boundedness (SPEC §5, F Figs 3.1–3.3).
+    void sweep(std::size_t m) {
+        const MethodInfo& info = method(m);
+        json& out = method_metrics_[m]["stability-sweep"];
+        if constexpr (P::is_linear) {
+            const SweepSpec& s = *c_.sweep;
+            const auto gammas = s.gamma.values();
+            const auto hs = s.h.values();
+            json rows = json::array();
+            std::int64_t mismatch_points = 0, violations_inside = 0, f_viol = 0, pb_viol = 0;
+            std::int64_t max_cells = 0;
+            bool has_formula = info.oscillator.F_condition != nullptr;
+            const auto nh = static_cast<std::int64_t>(hs.size());
+            for (double g : gammas) {
+                std::int64_t first_emp = nh, first_formula = nh, first_pb = nh;
+                double max_trace_err = 0.0; // |½trM − e^{−γh}cos(βh)| over the row (F Fig 3.4)
+                for (std::int64_t i = 0; i < nh; ++i) {
+                    const double h = hs[static_cast<std::size_t>(i)];
+                    Oscillator osc;
+                    osc.omega = s.omega;
+                    osc.gamma = g;
+                    OneStepAnalysis a;
+                    with_kernel<Oscillator>(info, [&]<class K>() {
+                        a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
+                    });
+                    max_trace_err = std::max(
+                        max_trace_err, std::abs(a.half_trace - oscillator_damped_cs(s.omega, g, h).c));
+                    if (!a.F_condition) {
+                        first_emp = std::min(first_emp, i);
+                        ++f_viol;
+                        if (s.omega > g) ++violations_inside;
+                    }
+                    if (!a.power_bounded) {
+                        first_pb = std::min(first_pb, i);
+                        ++pb_viol;
+                    }
+                    if (has_formula) {
+                        const bool fc = info.oscillator.F_condition(s.omega, g, h);
+                        if (!fc) first_formula = std::min(first_formula, i);
+                        if (fc != a.F_condition) ++mismatch_points;
+                    }
+                }
+                auto h_at = [&](std::int64_t i) { return i < nh ? json(hs[static_cast<std::size_t>(i)]) : json(nullptr); };
+                json row = {{"gamma", g}, {"h_F_empirical", h_at(first_emp)}, {"h_power_unbounded", h_at(first_pb)},
+                            {"max_half_trace_err", max_trace_err}};
+                if (has_formula) {
+                    row["h_F_formula"] = h_at(first_formula);
+                    max_cells = std::max(max_cells, std::abs(first_emp - first_formula));
+                }
+                rows.push_back(row);
+            }
+            out = {{"omega", s.omega},
+                   {"rows", rows},
+                   {"F_violations", f_viol},
+                   {"power_bounded_violations", pb_viol},
+                   {"violations_omega_gt_gamma", violations_inside},
+                   {"grid", {{"gamma", gammas.size()}, {"h", hs.size()}}}};
+            if (has_formula) {
+                out["max_boundary_mismatch_cells"] = max_cells;
+                out["mismatch_points"] = mismatch_points;
+                out["formula_source"] = info.oscillator.source;
+            }
+        }
+    }
+
+    // Leading coefficient of ½trM − e^{−γh}cos(βh) = c h⁴ + O(h⁵), by Richardson extrapolation of
+    // the measured (½trM − exact)/h⁴ at h = 0.02 and 0.01 (SPEC §5).
+    void trace_taylor(std::size_t m) {
+        const MethodInfo& info = method(m);
+        json& out = method_metrics_[m]["trace-taylor"];
+        if constexpr (P::is_linear) {
+            const double w = problem_.omega, g = problem_.gamma;
+            auto coeff = [&](double h) {
+                double c = std::numeric_limits<double>::quiet_NaN();
+                with_kernel<P>(info, [&]<class K>() {
+                    const OneStepAnalysis a = analyse_one_step(one_step_matrix<K>(problem_, info, h), g, h);
+                    c = (a.half_trace - oscillator_damped_cs(w, g, h).c) / (h * h * h * h);
+                });
+                return c;
+            };
+            const double c = std::abs(2.0 * coeff(0.01) - coeff(0.02));
+            out = {{"h4_coeff", c}};
+            if (info.oscillator.h4_coefficient) {
+                const double e = std::abs(info.oscillator.h4_coefficient(w, g));
+                out["h4_coeff_expected"] = e;
+                out["h4_coeff_rel_err"] = std::abs(c - e) / e;
+            }
+        }
+    }
+
+    const CaseSpec& c_;
+    P problem_;
+    bool needs_grid_ = false;
+    std::int64_t points_ = 1;
+    std::vector<double> ref_times_;
+    Mat ref_;
+    json reference_;
+    std::vector<json> runs_;
+    std::vector<json> method_metrics_;
+};
+
+const json* lookup(const json& root, const std::string& dotted) {
+    const json* node = &root;
+    std::string::size_type start = 0;
+    while (true) {
+        const auto next = dotted.find('.', start);
+        const std::string part =
+            dotted.substr(start, next == std::string::npos ? std::string::npos : next - start);
+        if (!node->is_object() || !node->contains(part)) return nullptr;
+        node = &(*node)[part];
+        if (next == std::string::npos) return node;
+        start = next + 1;
+    }
+}
+
+const char* op_name(CheckOp op) {
+    switch (op) {
+    case CheckOp::near: return "near";
+    case CheckOp::le: return "le";
+    case CheckOp::ge: return "ge";
+    case CheckOp::lt: return "lt";
+    case CheckOp::gt: return "gt";
+    }
+    return "?";
+}
+
+template <class P>
+json TypedCase<P>::finish() {
+    // Order fits (method level) from the error of each run of the ladder.
+    if (c_.wants("order")) {
+        const double floor = 1000.0 * std::numeric_limits<double>::epsilon() *
+                             std::max(1.0, ref_.col(ref_.cols() - 1).norm());
+        for (std::size_t m = 0; m < c_.methods.size(); ++m) {
+            std::vector<OrderPoint> pts;
+            for (std::size_t d = 0; d < c_.dts.size(); ++d) {
+                const json& r = run_slot(m, d);
+                const json* e = lookup(r["metrics"], "error.final_abs");
+                pts.push_back({c_.dts[d], e ? e->get<double>() : std::numeric_limits<double>::quiet_NaN()});
+            }
+            const OrderFit fit = fit_order(pts, floor);
+            json o = {{"ok", fit.ok}, {"window_dt", fit.window_h}, {"local_orders", fit.local_orders}, {"floor", floor}};
+            if (fit.ok) {
+                o["slope"] = fit.slope;
+                o["r2"] = fit.r2;
+                o["points"] = fit.window_h.size();
+            } else {
+                o["reason"] = fit.reason;
+            }
+            json dropped = json::array();
+            for (const auto& dp : fit.dropped) dropped.push_back({{"dt", dp.h}, {"error", dp.error}, {"reason", dp.reason}});
+            o["dropped"] = dropped;
+            method_metrics_[m]["order"] = o;
+        }
+    }
+
+    json checks = json::array();
+    for (const CheckSpec& cs : c_.checks) {
+        const std::string diag = cs.metric.substr(0, cs.metric.find('.'));
+        const bool method_level = diagnostic_is_method_level(diag);
+        for (const std::string& mid : cs.methods) {
+            const auto mi = static_cast<std::size_t>(
+                std::find(c_.methods.begin(), c_.methods.end(), mid) - c_.methods.begin());
+            auto evaluate = [&](const json& metrics, const json* run) {
+                json ck = {{"name", cs.name}, {"metric", cs.metric}, {"method", mid}, {"op", op_name(cs.op)},
+                           {"expected", cs.value}, {"negative_control", cs.negative_control}};
+                if (cs.op == CheckOp::near) ck["tolerance"] = cs.tol;
+                if (cs.use_abs) ck["abs"] = true;
+                if (!cs.note.empty()) ck["note"] = cs.note;
+                if (run) ck["dt"] = (*run)["dt"];
+                const json* v = lookup(metrics, cs.metric);
+                if (run && (*run)["status"] != "ok") {
+                    ck["passed"] = false;
+                    ck["value"] = nullptr;
+                    ck["message"] = "run " + (*run)["status"].get<std::string>() +
+                                    ((*run).contains("failed_at_step")
+                                         ? " at step " + std::to_string((*run)["failed_at_step"].get<std::int64_t>())
+                                         : std::string());
+                } else if (!v || !v->is_number()) {
+                    ck["passed"] = false;
+                    ck["value"] = nullptr;
+                    ck["message"] = "metric not produced" +
+                                    (method_level && metrics.contains(diag) && metrics[diag].contains("reason")
+                                         ? ": " + metrics[diag]["reason"].get<std::string>()
+                                         : std::string());
+                } else {
+                    const double x = v->get<double>();
+                    ck["value"] = x;
+                    ck["passed"] = check_passes(cs, x);
+                }
+                checks.push_back(ck);
+            };
+            if (method_level) {
+                evaluate(method_metrics_[mi], nullptr);
+            } else {
+                for (std::size_t d = 0; d < c_.dts.size(); ++d) {
+                    if (cs.dt && *cs.dt != c_.dts[d]) continue;
+                    const json& r = run_slot(mi, d);
+                    evaluate(r["metrics"], &r);
+                }
+            }
+        }
+    }
+
+    json runs = json::array();
+    for (const auto& r : runs_) runs.push_back(r);
+    json mm = json::object();
+    for (std::size_t m = 0; m < c_.methods.size(); ++m)
+        if (!method_metrics_[m].empty()) mm[c_.methods[m]] = method_metrics_[m];
+    json params = json::object();
+    for (const auto& [k, v] : c_.params) params[k] = v;
+    json out = {{"id", c_.id},
+                {"title", c_.title},
+                {"source", c_.source},
+                {"file", c_.file},
+                {"problem", {{"id", c_.problem_id}, {"params", params}}},
+                {"methods", c_.methods},
+                {"t0", c_.t0},
+                {"t_end", c_.t_end},
+                {"dt_ladder", c_.dts},
+                {"diagnostics", c_.diagnostics},
+                {"overrides", c_.overrides},
+                {"reference", reference_},
+                {"runs", runs},
+                {"method_metrics", mm},
+                {"checks", checks}};
+    return out;
+}
+
+} // namespace
+
+bool check_passes(const CheckSpec& cs, double value) {
+    const double x = cs.use_abs ? std::abs(value) : value;
+    switch (cs.op) {
+    case CheckOp::near: return std::abs(x - cs.value) <= cs.tol;
+    case CheckOp::le: return x <= cs.value;
+    case CheckOp::ge: return x >= cs.value;
+    case CheckOp::lt: return x < cs.value;
+    case CheckOp::gt: return x > cs.value;
+    }
+    return false;
+}
+
+json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
+    const auto start = Clock::now();
+    std::vector<std::unique_ptr<CaseJob>> jobs;
+    for (const CaseSpec& c : cases) {
+        std::unique_ptr<CaseJob> job;
+        with_problem_type(c.problem_id, [&]<class P>() { job = std::make_unique<TypedCase<P>>(c); });
+        jobs.push_back(std::move(job));
+    }
+    std::vector<std::function<void()>> tasks;
+    for (auto& j : jobs) tasks.emplace_back([&j] { j->prepare(); });
+    run_parallel(tasks, options.jobs);
+    tasks.clear();
+    for (auto& j : jobs) j->add_tasks(tasks);
+    run_parallel(tasks, options.jobs);
+
+    json out_cases = json::array();
+    std::int64_t passed = 0, failed = 0, runs = 0, failed_cases = 0;
+    for (auto& j : jobs) {
+        json c = j->finish();
+        bool case_ok = true;
+        for (const auto& ck : c["checks"]) {
+            if (ck["passed"].get<bool>()) {
+                ++passed;
+            } else {
+                ++failed;
+                case_ok = false;
+            }
+        }
+        if (!case_ok) ++failed_cases;
+        runs += static_cast<std::int64_t>(c["runs"].size());
+        out_cases.push_back(std::move(c));
+    }
+    return {{"schema_version", 1},
+            {"tool", {{"name", "dampsym"}, {"version", DAMPSYM_VERSION}}},
+            {"cases", out_cases},
+            {"summary",
+             {{"cases", cases.size()},
+              {"failed_cases", failed_cases},
+              {"runs", runs},
+              {"checks_passed", passed},
+              {"checks_failed", failed},
+              {"jobs", options.jobs},
+              {"wall_seconds", seconds_since(start)}}}};
+}
+
+} // namespace dampsym

@@ -1,0 +1,23 @@
+// Runs validated cases and assembles report JSON (SPEC §7). Work is split into independent tasks
+// (one per method × step size, one per method-level sweep) run on --jobs threads; results are
+// stored by index and assembled in a fixed order, so the numbers do not depend on --jobs.
+#pragma once
+
+#include "harness/case.hpp"
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+namespace dampsym {
+
+struct RunOptions {
+    int jobs = 1;
+};
+
+// Returns the report: {"schema_version", "tool", "cases": [...], "summary": {...}}.
+nlohmann::json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options);
+
+// Evaluates one check against a metric value (exposed for tests).
+bool check_passes(const CheckSpec& check, double value);
+
+} // namespace dampsym

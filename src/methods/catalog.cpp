@@ -1,0 +1,97 @@
+// The method catalog: one row per method (SPEC §3). Coefficients are exact fractions.
+// Adding a method of an existing family = one row here (plus its tableau); the runner, the CLI and
+// the reports pick it up from this list, and tests/test_methods.cpp loops over it.
+#include "core/method.hpp"
+
+#include <cmath>
+
+namespace dampsym {
+namespace {
+
+// ---- Butcher tableaux (explicit RK) ----
+// Explicit Euler, HLW(1.4).
+const ButcherTableau euler_tableau{1, {0.0}, {1.0}, {0.0}};
+// Heun's method (explicit trapezoidal rule), B(3.8).
+const ButcherTableau heun_tableau{2, {0.0, 0.0, 1.0, 0.0}, {0.5, 0.5}, {0.0, 1.0}};
+// Kutta's third-order method (F ch.4): c = (0, ½, 1), b = (⅙, ⅔, ⅙).
+const ButcherTableau rk3_tableau{3,
+                                 {0.0, 0.0, 0.0, 0.5, 0.0, 0.0, -1.0, 2.0, 0.0},
+                                 {1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0},
+                                 {0.0, 0.5, 1.0}};
+// The classical fourth-order method.
+const ButcherTableau rk4_tableau{
+    4,
+    {0.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0},
+    {1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0},
+    {0.0, 0.5, 0.5, 1.0}};
+
+// ---- F ch.3 closed forms on the oscillator (our γ) ----
+double beta2(double w, double g) { return (w - g) * (w + g); }
+
+// F(3.10): ½trM = e^{−γh}(1 − h²β²/4)/(1 + h²β²/4).
+double cimp_half_trace(double w, double g, double h) {
+    const double x = 0.25 * h * h * beta2(w, g);
+    return std::exp(-g * h) * (1.0 - x) / (1.0 + x);
+}
+// F(3.12): ω > γ.
+bool cimp_condition(double w, double g, double) { return w > g; }
+double cimp_h4(double w, double g) { return beta2(w, g) * beta2(w, g) / 12.0; }
+
+// F(3.15): ½trM = e^{−γh}(1 − h²ω²/2) cosh(γh).
+double csv1_half_trace(double w, double g, double h) {
+    return std::exp(-g * h) * (1.0 - 0.5 * h * h * w * w) * std::cosh(g * h);
+}
+// F(3.17): 1 − sech(γh) < h²ω²/2 < 1 + sech(γh).
+bool csv1_condition(double w, double g, double h) {
+    const double x = 0.5 * h * h * w * w;
+    const double sech = 1.0 / std::cosh(g * h);
+    return 1.0 - sech < x && x < 1.0 + sech;
+}
+double csv1_h4(double w, double g) { return w * w * (w * w + 4.0 * g * g) / 24.0; }
+
+// F(3.20): ½trM = e^{−γh}[(4+γ²h²)/(4−γ²h²) − 2h²ω² cosh(γh/2)/(4−γ²h²)].
+double csv2_half_trace(double w, double g, double h) {
+    const double gh2 = g * g * h * h;
+    return std::exp(-g * h) *
+           ((4.0 + gh2) / (4.0 - gh2) - 2.0 * h * h * w * w * std::cosh(0.5 * g * h) / (4.0 - gh2));
+}
+// F(3.22): γ² sech(γh/2) < ω² < 4 sech(γh/2)/h², and γh < 2 (SPEC §5).
+bool csv2_condition(double w, double g, double h) {
+    const double sech = 1.0 / std::cosh(0.5 * g * h);
+    return g * h < 2.0 && g * g * sech < w * w && w * w < 4.0 * sech / (h * h);
+}
+double csv2_h4(double w, double g) {
+    return (2.0 * w * w * w * w + 5.0 * g * g * w * w - 4.0 * g * g * g * g) / 48.0;
+}
+
+constexpr unsigned csv_claims =
+    claim_conformal_symplectic | claim_angular_momentum; // + linear momentum for csv1 (below)
+
+} // namespace
+
+const std::vector<MethodInfo>& method_catalog() {
+    static const std::vector<MethodInfo> catalog{
+        {"cimp", "cimp", 2, true, "conformal",
+         claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum,
+         "F(2.3), B(2.11)", nullptr,
+         {cimp_half_trace, cimp_condition, cimp_h4, "F(3.10), F(3.12)"}},
+        {"csv1", "csv1", 2, false, "separable", csv_claims | claim_linear_momentum,
+         "F(2.12), B(2.20)", nullptr,
+         {csv1_half_trace, csv1_condition, csv1_h4, "F(3.15), F(3.17)"}},
+        {"csv2", "csv2", 2, false, "separable", csv_claims, "F(2.16), B(2.21)", nullptr,
+         {csv2_half_trace, csv2_condition, csv2_h4, "F(3.20), F(3.22)"}},
+        {"euler", "explicit-rk", 1, false, "plain", claim_none, "HLW(1.4)", &euler_tableau, {}},
+        {"heun", "explicit-rk", 2, false, "plain", claim_none, "B(3.8)", &heun_tableau, {}},
+        {"rk3", "explicit-rk", 3, false, "plain", claim_none, "Kutta, F ch.4", &rk3_tableau, {}},
+        {"rk4", "explicit-rk", 4, false, "plain", claim_none, "classical RK4", &rk4_tableau, {}},
+    };
+    return catalog;
+}
+
+const MethodInfo* find_method(std::string_view id) {
+    for (const auto& m : method_catalog())
+        if (m.id == id) return &m;
+    return nullptr;
+}
+
+} // namespace dampsym

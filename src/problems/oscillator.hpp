@@ -1,0 +1,69 @@
+// Damped harmonic oscillator q'' + 2γq' + ω²q = 0 (F(2.5), F ch.3–4, B Ex. 1.2).
+// T = p²/2, V = ω²q²/2; conformal invariant H_γ = ½(ω²q² + p²) + γqp (B Ex. 1.2), which decays as
+// e^{-2γt}; energy H = ½(p² + ω²q²) (F Figs 4.2–4.5). Exact solution in all three regimes.
+#pragma once
+
+#include "core/problem.hpp"
+#include "reference/oscillator_exact.hpp"
+
+#include <array>
+#include <string_view>
+
+namespace dampsym {
+
+struct Oscillator : SeparableProblem<Oscillator> {
+    static constexpr std::string_view id = "oscillator";
+    static constexpr std::string_view title = "damped harmonic oscillator q''+2γq'+ω²q=0";
+    static constexpr bool constant_gamma = true;
+    static constexpr bool is_linear = true;
+    static constexpr bool has_exact = true;
+    static constexpr bool has_energy = true;
+    static constexpr std::array<std::string_view, 1> invariant_names{"H_gamma"};
+
+    double omega = 1.0, gamma = 0.0, q0 = 1.0, p0 = 0.0;
+
+    static std::vector<ParamSpec> param_specs() {
+        return {{"omega", 1.0, Range::positive, "natural frequency ω"},
+                {"gamma", 0.0, Range::nonnegative, "damping γ (SPEC §1 convention)"},
+                {"q0", 1.0, Range::any, "initial position"},
+                {"p0", 0.0, Range::any, "initial momentum"}};
+    }
+    static Oscillator from_params(const ParamMap& m) {
+        Oscillator o;
+        o.omega = m.at("omega");
+        o.gamma = m.at("gamma");
+        o.q0 = m.at("q0");
+        o.p0 = m.at("p0");
+        return o;
+    }
+
+    int n() const { return 1; }
+    Vec initial_state() const { return Vec{{q0, p0}}; }
+    double gamma_at(double) const { return gamma; }
+    double Gamma(double t) const { return gamma * t; }
+    double dGamma(double, double h) const { return gamma * h; }
+
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const { out = p; }
+    template <class In, class Out>
+    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    template <class In, class Out>
+    void force(double, const In& q, Out& out) const { out = -(omega * omega) * q; }
+    template <class In, class Out>
+    void force_jacobian(double, const In&, Out& out) const {
+        out.setIdentity();
+        out *= -(omega * omega);
+    }
+
+    void invariants(double, const Vec& z, double* out) const {
+        out[0] = 0.5 * (omega * omega * z[0] * z[0] + z[1] * z[1]) + gamma * z[0] * z[1];
+    }
+    double energy(const Vec& z) const { return 0.5 * (z[1] * z[1] + omega * omega * z[0] * z[0]); }
+    void exact(double t, Vec& out) const {
+        const OscillatorState s = oscillator_exact(omega, gamma, q0, p0, t);
+        out[0] = s.q;
+        out[1] = s.p;
+    }
+};
+
+} // namespace dampsym
