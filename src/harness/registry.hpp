@@ -10,7 +10,10 @@
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
 #include "methods/explicit_rk.hpp"
+#include "problems/driven_pendulum.hpp"
+#include "problems/hill.hpp"
 #include "problems/oscillator.hpp"
+#include "problems/pendulum.hpp"
 
 #include <string>
 #include <string_view>
@@ -18,7 +21,7 @@
 
 namespace dampsym {
 
-using ProblemList = TypeList<Oscillator>;
+using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill>;
 
 template <template <class> class... Ks>
 struct KernelList {};

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the Debian packages dampsym needs (idempotent, non-interactive; run as root or with sudo).
+set -euo pipefail
+packages=(
+  g++ cmake make
+  libeigen3-dev libgsl-dev nlohmann-json3-dev catch2 libcli11-dev libboost-dev libbenchmark-dev
+  python3 python3-numpy python3-scipy
+  clang-format
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "ci/setup.sh: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

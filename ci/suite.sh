@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# README command (a): set up, build, run the default suite (reports/report.json, reports/report.md),
+# then reproduce it independently with the Python cross-check (reports/crosscheck.{json,md}).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash ci/setup.sh
+bash ci/build.sh release
+jobs="$(nproc 2>/dev/null || echo 2)"
+status=0
+./build/dampsym run --out reports --jobs "$jobs" || status=$?
+if [ "$status" -eq 2 ]; then exit 2; fi
+if [ -f verify/crosscheck.py ]; then
+  /usr/bin/python3 verify/crosscheck.py reports/report.json --out reports || status=1
+fi
+exit "$status"

@@ -1,0 +1,65 @@
+// Damped driven pendulum q'' + 2γq' + λ² sin q = f sin t (B(3.5), B §3.2.2). Not Hamiltonian for
+// f ≠ 0 but conformal symplectic; V(q, t) = −λ² cos q − f q sin t. Numerical reference.
+#pragma once
+
+#include "core/problem.hpp"
+
+#include <array>
+#include <cmath>
+#include <string_view>
+
+namespace dampsym {
+
+struct DrivenPendulum : SeparableProblem<DrivenPendulum> {
+    static constexpr std::string_view id = "driven-pendulum";
+    static constexpr std::string_view title = "damped driven pendulum q''+2γq'+λ² sin q=f sin t";
+    static constexpr bool constant_gamma = true;
+    static constexpr bool is_linear = false;
+    static constexpr bool has_exact = false;
+    static constexpr bool has_energy = false;
+    static constexpr std::array<std::string_view, 0> invariant_names{};
+
+    double gamma = 0.1, lambda = 1.0, f = 1.0, q0 = 0.0, p0 = 0.0;
+
+    static std::vector<ParamSpec> param_specs() {
+        return {{"gamma", 0.1, Range::nonnegative, "damping γ"},
+                {"lambda", 1.0, Range::positive, "λ, λ² = g/(lΩ²)"},
+                {"f", 1.0, Range::any, "driving amplitude"},
+                {"q0", 0.0, Range::any, "initial angle"},
+                {"p0", 0.0, Range::any, "initial angular velocity"}};
+    }
+    static DrivenPendulum from_params(const ParamMap& m) {
+        DrivenPendulum o;
+        o.gamma = m.at("gamma");
+        o.lambda = m.at("lambda");
+        o.f = m.at("f");
+        o.q0 = m.at("q0");
+        o.p0 = m.at("p0");
+        return o;
+    }
+
+    int n() const { return 1; }
+    Vec initial_state() const { return Vec{{q0, p0}}; }
+    double gamma_at(double) const { return gamma; }
+    double Gamma(double t) const { return gamma * t; }
+    double dGamma(double, double h) const { return gamma * h; }
+
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const { out = p; }
+    template <class In, class Out>
+    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    template <class In, class Out>
+    void force(double t, const In& q, Out& out) const {
+        out[0] = -lambda * lambda * std::sin(q[0]) + f * std::sin(t);
+    }
+    template <class In, class Out>
+    void force_jacobian(double, const In& q, Out& out) const {
+        out(0, 0) = -lambda * lambda * std::cos(q[0]);
+    }
+
+    void invariants(double, const Vec&, double*) const {}
+    double energy(const Vec&) const { return 0.0; }
+    void exact(double, Vec&) const {}
+};
+
+} // namespace dampsym

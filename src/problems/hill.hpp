@@ -1,0 +1,63 @@
+// Hill's equation with time-dependent damping q'' + 2γ(t)q' + κ²q = 0, γ(t) = ½ε cos 2t
+// (B §3.1.2, B(3.2)). Γ(t) = ¼ε sin 2t; Γ(t+h) − Γ(t) = ½ε cos(2t+h) sin h (no cancellation).
+// Conformal symplectic structure with time-dependent γ. Numerical reference.
+#pragma once
+
+#include "core/problem.hpp"
+
+#include <array>
+#include <cmath>
+#include <string_view>
+
+namespace dampsym {
+
+struct Hill : SeparableProblem<Hill> {
+    static constexpr std::string_view id = "hill";
+    static constexpr std::string_view title = "Hill equation q''+2γ(t)q'+κ²q=0, γ(t)=½ε cos 2t";
+    static constexpr bool constant_gamma = false;
+    static constexpr bool is_linear = false; // linear but time-dependent: no constant one-step matrix
+    static constexpr bool has_exact = false;
+    static constexpr bool has_energy = false;
+    static constexpr std::array<std::string_view, 0> invariant_names{};
+
+    double epsilon = 0.1, kappa = 1.0, q0 = 1.0, p0 = 0.0;
+
+    static std::vector<ParamSpec> param_specs() {
+        return {{"epsilon", 0.1, Range::any, "ε in γ(t) = ½ε cos 2t"},
+                {"kappa", 1.0, Range::positive, "frequency κ"},
+                {"q0", 1.0, Range::any, "initial position"},
+                {"p0", 0.0, Range::any, "initial momentum"}};
+    }
+    static Hill from_params(const ParamMap& m) {
+        Hill o;
+        o.epsilon = m.at("epsilon");
+        o.kappa = m.at("kappa");
+        o.q0 = m.at("q0");
+        o.p0 = m.at("p0");
+        return o;
+    }
+
+    int n() const { return 1; }
+    Vec initial_state() const { return Vec{{q0, p0}}; }
+    double gamma_at(double t) const { return 0.5 * epsilon * std::cos(2.0 * t); }
+    double Gamma(double t) const { return 0.25 * epsilon * std::sin(2.0 * t); }
+    double dGamma(double t, double h) const { return 0.5 * epsilon * std::cos(2.0 * t + h) * std::sin(h); }
+
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const { out = p; }
+    template <class In, class Out>
+    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    template <class In, class Out>
+    void force(double, const In& q, Out& out) const { out = -(kappa * kappa) * q; }
+    template <class In, class Out>
+    void force_jacobian(double, const In&, Out& out) const {
+        out.setIdentity();
+        out *= -(kappa * kappa);
+    }
+
+    void invariants(double, const Vec&, double*) const {}
+    double energy(const Vec&) const { return 0.0; }
+    void exact(double, Vec&) const {}
+};
+
+} // namespace dampsym

@@ -1,0 +1,58 @@
+// Damped nonlinear pendulum q'' + 2γq' + sin q = 0 (F(4.5) with its typo 2γq corrected to 2γq',
+// SPEC §6; B §3.2.1). T = p²/2, V = −cos q; energy ½p² − cos q with the balance
+// d/dt(½p² − cos q) = −2γp² (B(3.4)). No closed form: numerical (certified GSL) reference.
+#pragma once
+
+#include "core/problem.hpp"
+
+#include <array>
+#include <cmath>
+#include <string_view>
+
+namespace dampsym {
+
+struct Pendulum : SeparableProblem<Pendulum> {
+    static constexpr std::string_view id = "pendulum";
+    static constexpr std::string_view title = "damped pendulum q''+2γq'+sin q=0";
+    static constexpr bool constant_gamma = true;
+    static constexpr bool is_linear = false;
+    static constexpr bool has_exact = false;
+    static constexpr bool has_energy = true;
+    static constexpr std::array<std::string_view, 0> invariant_names{};
+
+    double gamma = 0.0, q0 = 1.0, p0 = 0.0;
+
+    static std::vector<ParamSpec> param_specs() {
+        return {{"gamma", 0.0, Range::nonnegative, "damping γ (SPEC §1 convention)"},
+                {"q0", 1.0, Range::any, "initial angle"},
+                {"p0", 0.0, Range::any, "initial angular velocity"}};
+    }
+    static Pendulum from_params(const ParamMap& m) {
+        Pendulum o;
+        o.gamma = m.at("gamma");
+        o.q0 = m.at("q0");
+        o.p0 = m.at("p0");
+        return o;
+    }
+
+    int n() const { return 1; }
+    Vec initial_state() const { return Vec{{q0, p0}}; }
+    double gamma_at(double) const { return gamma; }
+    double Gamma(double t) const { return gamma * t; }
+    double dGamma(double, double h) const { return gamma * h; }
+
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const { out = p; }
+    template <class In, class Out>
+    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    template <class In, class Out>
+    void force(double, const In& q, Out& out) const { out[0] = -std::sin(q[0]); }
+    template <class In, class Out>
+    void force_jacobian(double, const In& q, Out& out) const { out(0, 0) = -std::cos(q[0]); }
+
+    void invariants(double, const Vec&, double*) const {}
+    double energy(const Vec& z) const { return 0.5 * z[1] * z[1] - std::cos(z[0]); }
+    void exact(double, Vec&) const {}
+};
+
+} // namespace dampsym
