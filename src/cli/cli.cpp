@@ -45,12 +45,14 @@ std::vector<CaseFile> scan_cases(const std::string& dir) {
         buf << in.rdbuf();
         const json j = json::parse(buf.str(), nullptr, false);
         if (j.is_discarded() || !j.is_object()) throw InputError(p + ": malformed JSON");
-        if (!j.contains("id") || !j["id"].is_string()) throw InputError(p + ": id: missing or not a string");
+        if (!j.contains("id") || !j["id"].is_string())
+            throw InputError(p + ": id: missing or not a string");
         CaseFile cf{p, j["id"].get<std::string>(), {}};
         if (j.contains("suites") && j["suites"].is_array())
             for (const auto& s : j["suites"])
                 if (s.is_string()) cf.suites.push_back(s.get<std::string>());
-        if (seen.count(cf.id)) throw InputError(p + ": id: '" + cf.id + "' is also the id of " + seen[cf.id]);
+        if (seen.count(cf.id))
+            throw InputError(p + ": id: '" + cf.id + "' is also the id of " + seen[cf.id]);
         seen[cf.id] = p;
         out.push_back(cf);
     }
@@ -73,7 +75,8 @@ int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
     for (const auto& p : problem_catalog()) {
         json params = json::object();
         for (const auto& ps : p.params) params[ps.name] = ps.default_value;
-        problems.push_back({{"id", p.id}, {"title", p.title}, {"params", params}, {"invariants", p.invariants}});
+        problems.push_back(
+            {{"id", p.id}, {"title", p.title}, {"params", params}, {"invariants", p.invariants}});
     }
     json methods = json::array();
     for (const auto& m : method_catalog())
@@ -90,22 +93,26 @@ int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
     out << "Cases (" << cases_dir << "):\n";
     for (const auto& c : cases) {
         std::string suites, methods_s;
-        for (const auto& s : c["suites"]) suites += (suites.empty() ? "" : ",") + s.get<std::string>();
-        for (const auto& m : c["methods"]) methods_s += (methods_s.empty() ? "" : ",") + m.get<std::string>();
-        out << "  " << c["id"].get<std::string>() << "  [" << c["problem"].get<std::string>() << "; " << methods_s
-            << "; suites: " << (suites.empty() ? "-" : suites) << "]\n";
+        for (const auto& s : c["suites"])
+            suites += (suites.empty() ? "" : ",") + s.get<std::string>();
+        for (const auto& m : c["methods"])
+            methods_s += (methods_s.empty() ? "" : ",") + m.get<std::string>();
+        out << "  " << c["id"].get<std::string>() << "  [" << c["problem"].get<std::string>()
+            << "; " << methods_s << "; suites: " << (suites.empty() ? "-" : suites) << "]\n";
     }
     out << "Problems:\n";
-    for (const auto& p : problems) out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
+    for (const auto& p : problems)
+        out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
     out << "Methods:\n";
     for (const auto& m : method_catalog())
-        out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit") << ", "
-            << m.form << " form, " << m.citation << "\n";
+        out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
+            << ", " << m.form << " form, " << m.citation << "\n";
     return 0;
 }
 
-int cmd_run(const std::vector<std::string>& targets, const std::string& suite, const std::string& out_dir,
-            int jobs, const std::vector<std::string>& sets, const std::string& cases_dir, std::ostream& out) {
+int cmd_run(const std::vector<std::string>& targets, const std::string& suite,
+            const std::string& out_dir, int jobs, const std::vector<std::string>& sets,
+            const std::string& cases_dir, std::ostream& out) {
     if (jobs < 1) throw InputError("--jobs: must be >= 1");
     for (const auto& s : sets) parse_override(s); // usage errors before any work
     std::vector<std::string> paths;
@@ -116,8 +123,11 @@ int cmd_run(const std::vector<std::string>& targets, const std::string& suite, c
     if (targets.empty()) {
         ensure_scanned();
         for (const auto& f : files)
-            if (std::find(f.suites.begin(), f.suites.end(), suite) != f.suites.end()) paths.push_back(f.path);
-        if (paths.empty()) throw InputError("--suite: no case in " + cases_dir + " belongs to suite '" + suite + "'");
+            if (std::find(f.suites.begin(), f.suites.end(), suite) != f.suites.end())
+                paths.push_back(f.path);
+        if (paths.empty())
+            throw InputError("--suite: no case in " + cases_dir + " belongs to suite '" + suite +
+                             "'");
     } else {
         for (const auto& t : targets) {
             if (t.size() > 5 && t.substr(t.size() - 5) == ".json") {
@@ -125,7 +135,8 @@ int cmd_run(const std::vector<std::string>& targets, const std::string& suite, c
                 continue;
             }
             ensure_scanned();
-            auto it = std::find_if(files.begin(), files.end(), [&](const CaseFile& f) { return f.id == t; });
+            auto it = std::find_if(files.begin(), files.end(),
+                                   [&](const CaseFile& f) { return f.id == t; });
             if (it == files.end()) throw InputError(t + ": no case with this id in " + cases_dir);
             paths.push_back(it->path);
         }
@@ -134,7 +145,8 @@ int cmd_run(const std::vector<std::string>& targets, const std::string& suite, c
     for (const auto& p : paths) cases.push_back(load_case(p, sets)); // all validated before running
     const json report = run_cases(cases, RunOptions{jobs});
     write_reports(report, out_dir);
-    out << render_summary(report) << "Reports: " << out_dir << "/report.json, " << out_dir << "/report.md\n";
+    out << render_summary(report) << "Reports: " << out_dir << "/report.json, " << out_dir
+        << "/report.md\n";
     return report["summary"]["checks_failed"].get<std::int64_t>() == 0 ? 0 : 1;
 }
 
@@ -151,7 +163,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     bool list_json = false;
     list->add_flag("--json", list_json, "machine-readable output");
 
-    auto* run = app.add_subcommand("run", "run cases (default: the default suite) and write reports");
+    auto* run =
+        app.add_subcommand("run", "run cases (default: the default suite) and write reports");
     std::vector<std::string> targets, sets;
     std::string suite = "default", out_dir = "reports";
     int jobs = 1;
@@ -159,7 +172,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     run->add_option("--suite", suite, "suite to run when no case is named (default: default)");
     run->add_option("--out", out_dir, "directory for report.json and report.md (default: reports)");
     run->add_option("--jobs,-j", jobs, "worker threads (results do not depend on it)");
-    run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")->take_all();
+    run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")
+        ->take_all();
 
     try {
         app.parse(argc, argv);

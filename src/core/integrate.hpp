@@ -16,9 +16,12 @@ enum class RunStatus { ok, diverged, solve_failed };
 
 inline const char* to_string(RunStatus s) {
     switch (s) {
-    case RunStatus::ok: return "ok";
-    case RunStatus::diverged: return "diverged";
-    case RunStatus::solve_failed: return "solve-failed";
+    case RunStatus::ok:
+        return "ok";
+    case RunStatus::diverged:
+        return "diverged";
+    case RunStatus::solve_failed:
+        return "solve-failed";
     }
     return "?";
 }
@@ -44,7 +47,8 @@ IntegrateOutcome integrate(Stepper& stepper, Vec& z, double t0, double h, std::i
         if (stepper.step(time_at(t0, h, k), z) != StepStatus::ok)
             return {RunStatus::solve_failed, k};
         if (state_diverged(z)) return {RunStatus::diverged, k};
-        if constexpr (!std::is_same_v<Observer, NoObserver>) (*observer)(k + 1, time_at(t0, h, k + 1), z);
+        if constexpr (!std::is_same_v<Observer, NoObserver>)
+            (*observer)(k + 1, time_at(t0, h, k + 1), z);
     }
     return {RunStatus::ok, n};
 }

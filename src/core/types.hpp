@@ -32,6 +32,8 @@ constexpr void for_each_type(TypeList<Ts...>, F&& f) {
 }
 
 // Exact time of step n: t0 + n*h, never accumulated.
-inline double time_at(double t0, double h, std::int64_t n) { return t0 + static_cast<double>(n) * h; }
+inline double time_at(double t0, double h, std::int64_t n) {
+    return t0 + static_cast<double>(n) * h;
+}
 
 } // namespace dampsym

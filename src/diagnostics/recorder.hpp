@@ -77,14 +77,16 @@ private:
         for (std::size_t k = 0; k < stats_.size(); ++k) {
             InvariantStats& s = stats_[k];
             const double expected = decay_step * inv_prev_[k];
-            const double rel = std::abs(now[k] - expected) / std::max(std::abs(inv_prev_[k]), 1e-300);
+            const double rel =
+                std::abs(now[k] - expected) / std::max(std::abs(inv_prev_[k]), 1e-300);
             s.max_step_rel = std::max(s.max_step_rel, rel);
             s.last_step_rel = rel;
             // ratio I_n / (e^{−2Γ} I_0) in log form so that long runs do not underflow
             double ratio = 0.0;
             if (now[k] != 0.0 && inv0_[k] != 0.0) {
                 const double sign = (now[k] > 0) == (inv0_[k] > 0) ? 1.0 : -1.0;
-                ratio = sign * std::exp(std::log(std::abs(now[k])) - std::log(std::abs(inv0_[k])) + two_gamma);
+                ratio = sign * std::exp(std::log(std::abs(now[k])) - std::log(std::abs(inv0_[k])) +
+                                        two_gamma);
             }
             const double g = ratio - 1.0;
             s.max_global_rel = std::max(s.max_global_rel, std::abs(g));

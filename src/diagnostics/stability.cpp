@@ -25,9 +25,11 @@ OneStepAnalysis analyse_one_step(const Mat& M, double gamma, double h) {
     if (a.spectral_radius < 1.0 - tol) {
         a.power_bounded = true;
     } else if (a.spectral_radius <= 1.0 + tol) {
-        // On the unit circle: bounded only if M is diagonalizable (distinct eigenvalues, or M = λI).
+        // On the unit circle: bounded only if M is diagonalizable (distinct eigenvalues, or M =
+        // λI).
         const bool distinct = std::abs(a.eig[0] - a.eig[1]) > 1e-8;
-        const bool scalar = std::abs(M(0, 1)) + std::abs(M(1, 0)) + std::abs(M(0, 0) - M(1, 1)) < 1e-14;
+        const bool scalar =
+            std::abs(M(0, 1)) + std::abs(M(1, 0)) + std::abs(M(0, 0) - M(1, 1)) < 1e-14;
         a.power_bounded = distinct || scalar;
     } else {
         a.power_bounded = false;

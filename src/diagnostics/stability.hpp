@@ -33,7 +33,8 @@ Mat one_step_matrix(const P& problem, const MethodInfo& info, double h) {
     for (int i = 0; i < d; ++i) {
         K stepper(problem, info, h, scratch);
         Vec z = Vec::Unit(d, i);
-        if (stepper.step(0.0, z) != StepStatus::ok) z.setConstant(std::numeric_limits<double>::quiet_NaN());
+        if (stepper.step(0.0, z) != StepStatus::ok)
+            z.setConstant(std::numeric_limits<double>::quiet_NaN());
         M.col(i) = z;
     }
     return M;

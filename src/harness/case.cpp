@@ -61,22 +61,30 @@ std::int64_t step_count(double span, double dt, const std::string& file, const s
 
 // Metric names each run-level or method-level diagnostic produces (for validating "expect").
 std::vector<std::string> metric_names(const std::string& diagnostic, const ProblemInfo& problem) {
-    if (diagnostic == "error") return {"final_abs", "final_rel", "max_abs", "max_rel"};
+    if (diagnostic == "error")
+        return {"final_abs", "final_rel", "max_abs", "max_rel", "reference_error_estimate"};
     if (diagnostic == "order") return {"slope", "r2", "points"};
     if (diagnostic == "invariants") {
         std::vector<std::string> out;
         for (const auto& inv : problem.invariants)
-            for (const char* stat : {"max_step_rel", "last_step_rel", "max_global_rel", "drift_slope"})
+            for (const char* stat :
+                 {"max_step_rel", "last_step_rel", "max_global_rel", "drift_slope"})
                 out.push_back(inv + "." + stat);
         return out;
     }
     if (diagnostic == "energy")
-        return {"max_abs_error", "final_abs_error", "drift_slope", "rel_drift_slope", "max_abs_change",
-                "change_slope"};
+        return {"max_abs_error",   "final_abs_error", "drift_slope",
+                "rel_drift_slope", "max_abs_change",  "change_slope"};
     if (diagnostic == "dissipation-drift") return {"slope", "range", "maxima"};
     if (diagnostic == "stability")
-        return {"det",           "det_rel_err",     "half_trace",        "half_trace_formula_rel_err",
-                "half_trace_exact_err", "spectral_radius", "F_condition", "power_bounded"};
+        return {"det",
+                "det_rel_err",
+                "half_trace",
+                "half_trace_formula_rel_err",
+                "half_trace_exact_err",
+                "spectral_radius",
+                "F_condition",
+                "power_bounded"};
     if (diagnostic == "stability-sweep")
         return {"max_boundary_mismatch_cells", "mismatch_points", "violations_omega_gt_gamma",
                 "F_violations", "power_bounded_violations"};
@@ -111,7 +119,8 @@ void set_path(json& root, const std::string& dotted, const json& value) {
         }
         if (!node->contains(part)) (*node)[part] = json::object();
         node = &(*node)[part];
-        if (!node->is_object()) throw InputError("--set " + dotted + ": '" + part + "' is not an object");
+        if (!node->is_object())
+            throw InputError("--set " + dotted + ": '" + part + "' is not an object");
         start = dot + 1;
     }
 }
@@ -183,7 +192,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
 
     only_keys(j,
               {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
-               "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "notes"},
+               "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
+               "notes"},
               file, "");
     for (const char* k : {"id", "problem", "methods", "t_end"})
         if (!j.contains(k)) fail(file, k, "missing required key");
@@ -196,7 +206,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
     if (j.contains("suites")) {
         if (!j["suites"].is_array()) fail(file, "suites", "must be an array of suite names");
         for (std::size_t i = 0; i < j["suites"].size(); ++i)
-            c.suites.push_back(string_of(j["suites"][i], file, "suites[" + std::to_string(i) + "]"));
+            c.suites.push_back(
+                string_of(j["suites"][i], file, "suites[" + std::to_string(i) + "]"));
     }
 
     // problem
@@ -233,7 +244,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
         const std::string m = string_of(j["methods"][i], file, key);
         if (!find_method(m)) {
             std::string list;
-            for (const auto& mi : method_catalog()) list += (list.empty() ? "" : ", ") + std::string(mi.id);
+            for (const auto& mi : method_catalog())
+                list += (list.empty() ? "" : ", ") + std::string(mi.id);
             fail(file, key, "unknown method '" + m + "' (known: " + list + ")");
         }
         if (std::find(c.methods.begin(), c.methods.end(), m) != c.methods.end())
@@ -298,8 +310,22 @@ CaseSpec parse_case(const json& input, const std::string& file,
         if (c.dts.size() < 3) fail(file, "dt_ladder", "the order diagnostic needs >= 3 step sizes");
         if (!c.wants("error")) c.diagnostics.push_back("error");
     }
-    if ((c.wants("error") || c.wants("energy")) && !prob->has_exact)
-        fail(file, "diagnostics", "problem '" + c.problem_id + "' has no reference yet");
+    if (j.contains("reference")) {
+        const json& rj = j["reference"];
+        if (!rj.is_object()) fail(file, "reference", "must be an object");
+        only_keys(rj, {"stepper", "epsrel", "epsabs"}, file, "reference.");
+        if (rj.contains("stepper")) {
+            c.reference.stepper = string_of(rj["stepper"], file, "reference.stepper");
+            if (c.reference.stepper != "rkf45" && c.reference.stepper != "rk8pd")
+                fail(file, "reference.stepper", "must be \"rkf45\" or \"rk8pd\"");
+        }
+        for (const char* k : {"epsrel", "epsabs"}) {
+            if (!rj.contains(k)) continue;
+            const double x = number(rj[k], file, std::string("reference.") + k);
+            if (!(x > 0.0)) fail(file, std::string("reference.") + k, "must be > 0");
+            (std::string(k) == "epsrel" ? c.reference.epsrel : c.reference.epsabs) = x;
+        }
+    }
     if (c.wants("energy") && !prob->has_energy)
         fail(file, "diagnostics", "problem '" + c.problem_id + "' declares no energy");
     for (const char* d : {"stability", "stability-sweep", "trace-taylor"})
@@ -349,7 +375,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
             if (std::find(names.begin(), names.end(), cs.metric.substr(dot + 1)) == names.end()) {
                 std::string list;
                 for (const auto& n : names) list += (list.empty() ? "" : ", ") + diag + "." + n;
-                fail(file, base + ".metric", "unknown metric '" + cs.metric + "' (known: " + list + ")");
+                fail(file, base + ".metric",
+                     "unknown metric '" + cs.metric + "' (known: " + list + ")");
             }
             if (!cj.contains("methods")) fail(file, base + ".methods", "missing required key");
             const json& mj = cj["methods"];
@@ -390,7 +417,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
             }
             if (cj.contains("abs")) cs.use_abs = boolean(cj["abs"], file, base + ".abs");
             if (cj.contains("negative_control"))
-                cs.negative_control = boolean(cj["negative_control"], file, base + ".negative_control");
+                cs.negative_control =
+                    boolean(cj["negative_control"], file, base + ".negative_control");
             if (cj.contains("note")) cs.note = string_of(cj["note"], file, base + ".note");
             if (cj.contains("dt")) {
                 const double dt = number(cj["dt"], file, base + ".dt");

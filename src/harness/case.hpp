@@ -44,6 +44,13 @@ struct SweepSpec {
     Range3 h{0.1, 0.1, 1.0};
 };
 
+// Numerical reference settings (SPEC §4); ignored for problems with an exact solution.
+struct ReferenceSpec {
+    std::string stepper = "rkf45";
+    double epsrel = 1e-13;
+    double epsabs = 1e-14;
+};
+
 struct CaseSpec {
     std::string id, title, source, file;
     std::vector<std::string> suites;
@@ -58,6 +65,7 @@ struct CaseSpec {
     std::optional<double> output_dt;
     std::vector<CheckSpec> checks;
     std::optional<SweepSpec> sweep;
+    ReferenceSpec reference;
     nlohmann::json overrides = nlohmann::json::object();
     nlohmann::json raw; // the case JSON after overrides
 

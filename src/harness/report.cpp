@@ -40,11 +40,13 @@ std::string check_line(const json& ck) {
                                                         : "> ") +
                                               num(ck["expected"]);
     if (ck.value("abs", false)) expected = "|x| " + expected;
-    os << "| " << (ck["passed"].get<bool>() ? "pass" : "**FAIL**") << " | " << ck["name"].get<std::string>()
+    os << "| " << (ck["passed"].get<bool>() ? "pass" : "**FAIL**") << " | "
+       << ck["name"].get<std::string>()
        << (ck["negative_control"].get<bool>() ? " (negative control)" : "") << " | "
-       << ck["method"].get<std::string>() << " | " << (ck.contains("dt") ? num(ck["dt"]) : "") << " | `"
-       << ck["metric"].get<std::string>() << "` | " << num(ck["value"], 6) << " | " << expected << " | "
-       << (ck.contains("message") ? ck["message"].get<std::string>() : "") << " |\n";
+       << ck["method"].get<std::string>() << " | " << (ck.contains("dt") ? num(ck["dt"]) : "")
+       << " | `" << ck["metric"].get<std::string>() << "` | " << num(ck["value"], 6) << " | "
+       << expected << " | " << (ck.contains("message") ? ck["message"].get<std::string>() : "")
+       << " |\n";
     return os.str();
 }
 
@@ -53,8 +55,10 @@ void order_table(std::ostringstream& os, const json& c) {
     for (auto it = c["method_metrics"].begin(); it != c["method_metrics"].end(); ++it)
         if (it.value().contains("order")) any = true;
     if (!any) return;
-    os << "\nConvergence (least-squares slope of log error vs log dt over the asymptotic window):\n\n"
-       << "| method | order | R² | window dt | local orders | dropped |\n|---|---|---|---|---|---|\n";
+    os << "\nConvergence (least-squares slope of log error vs log dt over the asymptotic "
+          "window):\n\n"
+       << "| method | order | R² | window dt | local orders | dropped "
+          "|\n|---|---|---|---|---|---|\n";
     for (auto it = c["method_metrics"].begin(); it != c["method_metrics"].end(); ++it) {
         if (!it.value().contains("order")) continue;
         const json& o = it.value()["order"];
@@ -62,10 +66,13 @@ void order_table(std::ostringstream& os, const json& c) {
         for (const auto& h : o["window_dt"]) window += (window.empty() ? "" : ", ") + num(h);
         for (const auto& p : o["local_orders"]) local += (local.empty() ? "" : ", ") + num(p, 3);
         for (const auto& d : o["dropped"])
-            dropped += (dropped.empty() ? "" : "; ") + num(d["dt"]) + ": " + d["reason"].get<std::string>();
-        os << "| " << it.key() << " | " << (o["ok"].get<bool>() ? num(o["slope"], 4) : "failed: " + o["reason"].get<std::string>())
-           << " | " << (o.contains("r2") ? num(o["r2"], 6) : "—") << " | " << window << " | " << local << " | "
-           << dropped << " |\n";
+            dropped += (dropped.empty() ? "" : "; ") + num(d["dt"]) + ": " +
+                       d["reason"].get<std::string>();
+        os << "| " << it.key() << " | "
+           << (o["ok"].get<bool>() ? num(o["slope"], 4)
+                                   : "failed: " + o["reason"].get<std::string>())
+           << " | " << (o.contains("r2") ? num(o["r2"], 6) : "—") << " | " << window << " | "
+           << local << " | " << dropped << " |\n";
     }
 }
 
@@ -75,9 +82,11 @@ void sweep_table(std::ostringstream& os, const json& c) {
         const json& s = it.value()["stability-sweep"];
         os << "\nStability sweep of " << it.key() << " (ω = " << num(s["omega"])
            << "): first grid h where F's condition |½trM| < e^{−γh} fails (empirical, and by "
-           << (s.contains("formula_source") ? s["formula_source"].get<std::string>() : std::string("no formula"))
+           << (s.contains("formula_source") ? s["formula_source"].get<std::string>()
+                                            : std::string("no formula"))
            << "), and first h where M is not power-bounded.\n\n"
-           << "| γ | h F empirical | h F formula | h not power-bounded | max \\|½trM − e^{−γh}cos βh\\| |\n"
+           << "| γ | h F empirical | h F formula | h not power-bounded | max \\|½trM − e^{−γh}cos "
+              "βh\\| |\n"
            << "|---|---|---|---|---|\n";
         for (const auto& r : s["rows"])
             os << "| " << num(r["gamma"]) << " | " << num(r["h_F_empirical"]) << " | "
@@ -87,16 +96,17 @@ void sweep_table(std::ostringstream& os, const json& c) {
 }
 
 void runs_table(std::ostringstream& os, const json& c) {
-    os << "\n| method | dt | status | steps | final error | max error | rhs evals | Newton its | wall s |\n"
+    os << "\n| method | dt | status | steps | final error | max error | rhs evals | Newton its | "
+          "wall s |\n"
           "|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : c["runs"]) {
         const json& m = r["metrics"];
         const bool has_err = m.contains("error");
         std::string status = r["status"].get<std::string>();
         if (r.contains("failed_at_step")) status += " at step " + r["failed_at_step"].dump();
-        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " | " << status << " | "
-           << num(r["steps"]) << " | " << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
-           << (has_err ? num(m["error"]["max_abs"], 3) : "—") << " | "
+        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " | " << status
+           << " | " << num(r["steps"]) << " | " << (has_err ? num(m["error"]["final_abs"], 3) : "—")
+           << " | " << (has_err ? num(m["error"]["max_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
            << (r.contains("newton_iters") ? num(r["newton_iters"]) : "—") << " | "
            << (r.contains("wall_seconds") ? num(r["wall_seconds"], 3) : "—") << " |\n";
@@ -145,7 +155,8 @@ void metrics_table(std::ostringstream& os, const json& c) {
                 if (std::string(col->key).empty()) {
                     cell.clear();
                     for (auto it = d.begin(); it != d.end(); ++it)
-                        cell += (cell.empty() ? "" : ", ") + it.key() + " " + num(it.value()["max_step_rel"], 3);
+                        cell += (cell.empty() ? "" : ", ") + it.key() + " " +
+                                num(it.value()["max_step_rel"], 3);
                 } else if (d.contains(col->key)) {
                     cell = num(d[col->key], 4);
                 }
@@ -162,10 +173,13 @@ std::string render_markdown(const json& report) {
     std::ostringstream os;
     const json& s = report["summary"];
     os << "# dampsym report\n\n"
-       << s["cases"] << " cases, " << s["runs"] << " runs: **" << s["checks_passed"] << " checks passed, "
-       << s["checks_failed"] << " failed** (" << num(s["wall_seconds"], 3) << " s with --jobs " << s["jobs"]
-       << ").\n\nCases with a failing check come first; in each case failing checks come first. A *negative "
-          "control* is a check that passes only when the structure check detects a method that lacks the "
+       << s["cases"] << " cases, " << s["runs"] << " runs: **" << s["checks_passed"]
+       << " checks passed, " << s["checks_failed"] << " failed** (" << num(s["wall_seconds"], 3)
+       << " s with --jobs " << s["jobs"]
+       << ").\n\nCases with a failing check come first; in each case failing checks come first. A "
+          "*negative "
+          "control* is a check that passes only when the structure check detects a method that "
+          "lacks the "
           "property.\n";
     std::vector<const json*> order;
     for (const auto& c : report["cases"])
@@ -177,13 +191,14 @@ std::string render_markdown(const json& report) {
         os << "\n## " << (case_passed(c) ? "" : "FAILED: ") << c["id"].get<std::string>();
         if (!c["title"].get<std::string>().empty()) os << " — " << c["title"].get<std::string>();
         os << "\n\n";
-        if (!c["source"].get<std::string>().empty()) os << "Source: " << c["source"].get<std::string>() << ". ";
+        if (!c["source"].get<std::string>().empty())
+            os << "Source: " << c["source"].get<std::string>() << ". ";
         os << "Problem `" << c["problem"]["id"].get<std::string>() << "` ";
         std::string params;
         for (auto it = c["problem"]["params"].begin(); it != c["problem"]["params"].end(); ++it)
             params += (params.empty() ? "" : ", ") + it.key() + " = " + num(it.value(), 6);
-        os << "(" << params << "), t ∈ [" << num(c["t0"]) << ", " << num(c["t_end"]) << "], reference: "
-           << c["reference"]["kind"].get<std::string>() << ".";
+        os << "(" << params << "), t ∈ [" << num(c["t0"]) << ", " << num(c["t_end"])
+           << "], reference: " << c["reference"]["kind"].get<std::string>() << ".";
         if (!c["overrides"].empty()) os << " Overrides: `" << c["overrides"].dump() << "`.";
         os << "\n\n| result | check | method | dt | metric | value | expected | note |\n"
               "|---|---|---|---|---|---|---|---|\n";
@@ -222,8 +237,9 @@ std::string render_summary(const json& report) {
         os << "\n";
     }
     const json& s = report["summary"];
-    os << s["cases"] << " cases, " << s["runs"] << " runs, " << s["checks_passed"] << " checks passed, "
-       << s["checks_failed"] << " failed, " << num(s["wall_seconds"], 3) << " s\n";
+    os << s["cases"] << " cases, " << s["runs"] << " runs, " << s["checks_passed"]
+       << " checks passed, " << s["checks_failed"] << " failed, " << num(s["wall_seconds"], 3)
+       << " s\n";
     return os.str();
 }
 

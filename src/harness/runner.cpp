@@ -5,12 +5,14 @@
 #include "diagnostics/recorder.hpp"
 #include "diagnostics/stability.hpp"
 #include "harness/registry.hpp"
+#include "reference/gsl_reference.hpp"
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -54,6 +56,55 @@ void run_parallel(std::vector<std::function<void()>>& tasks, int jobs) {
     if (error) std::rethrow_exception(error);
 }
 
+// Numerical references are computed once per problem instance (problem, parameters, initial state,
+// output times, tolerances) and shared by every method, step size and case that needs them.
+class ReferenceCache {
+public:
+    template <class Compute>
+    std::shared_ptr<const ReferenceSolution> get(const std::string& key, Compute&& compute) {
+        std::shared_ptr<Entry> e;
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            auto& slot = map_[key];
+            if (!slot) slot = std::make_shared<Entry>();
+            e = slot;
+        }
+        std::call_once(e->once,
+                       [&] { e->solution = std::make_shared<const ReferenceSolution>(compute()); });
+        return e->solution;
+    }
+
+private:
+    struct Entry {
+        std::once_flag once;
+        std::shared_ptr<const ReferenceSolution> solution;
+    };
+    std::mutex m_;
+    std::map<std::string, std::shared_ptr<Entry>> map_;
+};
+
+ReferenceCache& reference_cache() {
+    static ReferenceCache cache;
+    return cache;
+}
+
+std::string reference_key(const CaseSpec& c, const std::vector<double>& times) {
+    std::string key = c.problem_id;
+    char buf[256];
+    for (const auto& [k, v] : c.params) {
+        std::snprintf(buf, sizeof buf, ";%s=%.17g", k.c_str(), v);
+        key += buf;
+    }
+    std::snprintf(buf, sizeof buf, ";%s;%.17g;%.17g;t0=%.17g;", c.reference.stepper.c_str(),
+                  c.reference.epsrel, c.reference.epsabs, c.t0);
+    key += buf;
+    for (double t : times) {
+        std::snprintf(buf, sizeof buf, "%.17g,", t);
+        key += buf;
+    }
+    return key;
+}
+
 // A case in progress, type-erased at case level only (the step loops inside are not).
 class CaseJob {
 public:
@@ -92,23 +143,69 @@ public:
         points_ = output_points(c_);
         needs_grid_ = c_.wants("energy") || (c_.wants("error") && points_ > 1);
         if (c_.wants("error") || c_.wants("energy")) {
-            // Reference on the output grid (exact solution; numerical references come later).
             const std::int64_t np = needs_grid_ ? points_ + 1 : 1;
             ref_times_.resize(static_cast<std::size_t>(np));
-            ref_.resize(problem_.dim(), np);
-            Vec tmp(problem_.dim());
-            for (std::int64_t i = 0; i < np; ++i) {
-                const double t = needs_grid_ ? c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) /
-                                                           static_cast<double>(points_)
-                                             : c_.t_end;
-                ref_times_[static_cast<std::size_t>(i)] = t;
-                problem_.exact(t, tmp);
-                ref_.col(i) = tmp;
+            for (std::int64_t i = 0; i < np; ++i)
+                ref_times_[static_cast<std::size_t>(i)] =
+                    needs_grid_ ? c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) /
+                                              static_cast<double>(points_)
+                                : c_.t_end;
+            if (needs_grid_) ref_times_.back() = c_.t_end;
+            if constexpr (P::has_exact) {
+                ref_.resize(problem_.dim(), np);
+                Vec tmp(problem_.dim());
+                for (std::int64_t i = 0; i < np; ++i) {
+                    problem_.exact(ref_times_[static_cast<std::size_t>(i)], tmp);
+                    ref_.col(i) = tmp;
+                }
+                reference_ = {{"kind", "exact"}, {"error_estimate", 0.0}, {"points", np}};
+            } else {
+                numerical_reference();
             }
-            reference_ = {{"kind", "exact"}, {"error_estimate", 0.0}, {"points", np}};
         } else {
             reference_ = {{"kind", "none"}};
         }
+    }
+
+    // Certified GSL reference (SPEC §4) on the output grid, shared through the cache.
+    void numerical_reference() {
+        auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
+            ReferenceRequest req;
+            req.dim = problem_.dim();
+            req.t0 = c_.t0;
+            req.y0 = problem_.initial_state();
+            req.times = ref_times_;
+            req.stepper = c_.reference.stepper;
+            req.epsrel = c_.reference.epsrel;
+            req.epsabs = c_.reference.epsabs;
+            const P problem = problem_;
+            req.rhs = [problem](double t, const double* y, double* dydt) {
+                const int d = problem.dim();
+                Vec z = Eigen::Map<const Vec>(y, d);
+                Vec f(d);
+                problem.rhs(t, z, f);
+                Eigen::Map<Vec>(dydt, d) = f;
+            };
+            return certified_reference(req);
+        });
+        reference_ = {{"kind", "gsl-certified"},
+                      {"ok", sol->ok},
+                      {"stepper", sol->stepper},
+                      {"epsrel", sol->epsrel},
+                      {"epsabs", sol->epsabs},
+                      {"certifier", sol->certifier},
+                      {"certifier_epsrel", sol->cert_epsrel},
+                      {"certifier_epsabs", sol->cert_epsabs},
+                      {"error_estimate", sol->ok ? json(sol->error_estimate) : json(nullptr)},
+                      {"rhs_evals", sol->rhs_evals},
+                      {"points", ref_times_.size()}};
+        if (!sol->ok) {
+            reference_["error"] = sol->error;
+            reference_ok_ = false;
+            return;
+        }
+        ref_ = sol->states;
+        ref_error_ = sol->error_estimate;
     }
 
     void add_tasks(std::vector<std::function<void()>>& tasks) override {
@@ -132,7 +229,8 @@ private:
         const double h = c_.dts[d];
         const std::int64_t n = c_.steps[d];
         out = {{"method", info.id}, {"dt", h}, {"steps_planned", n}};
-        const KernelMatch match = with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
+        const KernelMatch match =
+            with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
         if (match != KernelMatch::applied) {
             out["status"] = "not-applicable";
             out["steps"] = 0;
@@ -174,14 +272,15 @@ private:
         const bool ok = res.status == RunStatus::ok;
         const double steps = static_cast<double>(std::max<std::int64_t>(res.steps_done, 1));
         if (c_.wants("cost")) {
-            metrics["cost"] = {{"rhs_evals_per_step", static_cast<double>(counters.rhs_evals) / steps},
-                               {"jac_evals_per_step", static_cast<double>(counters.jac_evals) / steps},
-                               {"newton_iters_per_step", static_cast<double>(counters.newton_iters) / steps},
-                               {"max_newton_iters", counters.max_newton_iters_per_step},
-                               {"wall_seconds", wall}};
+            metrics["cost"] = {
+                {"rhs_evals_per_step", static_cast<double>(counters.rhs_evals) / steps},
+                {"jac_evals_per_step", static_cast<double>(counters.jac_evals) / steps},
+                {"newton_iters_per_step", static_cast<double>(counters.newton_iters) / steps},
+                {"max_newton_iters", counters.max_newton_iters_per_step},
+                {"wall_seconds", wall}};
         }
-        if (ok && c_.wants("error")) metrics["error"] = error_metrics(rec, z);
-        if (ok && c_.wants("energy")) metrics["energy"] = energy_metrics(rec);
+        if (ok && reference_ok_ && c_.wants("error")) metrics["error"] = error_metrics(rec, z);
+        if (ok && reference_ok_ && c_.wants("energy")) metrics["energy"] = energy_metrics(rec);
         if (ok && c_.wants("invariants")) {
             json inv = json::object();
             for (std::size_t k = 0; k < P::invariant_names.size(); ++k) {
@@ -215,7 +314,11 @@ private:
         const double final_rel = final_abs / ref_final.norm();
         max_abs = std::max(max_abs, final_abs);
         max_rel = std::max(max_rel, final_rel);
-        return {{"final_abs", final_abs}, {"final_rel", final_rel}, {"max_abs", max_abs}, {"max_rel", max_rel}};
+        return {{"final_abs", final_abs},
+                {"final_rel", final_rel},
+                {"max_abs", max_abs},
+                {"max_rel", max_rel},
+                {"reference_error_estimate", ref_error_}};
     }
 
     json energy_metrics(const Recorder<P>& rec) const {
@@ -278,7 +381,8 @@ private:
                     {"half_trace", a.half_trace},
                     {"half_trace_exact", exact_half_trace},
                     {"half_trace_exact_err", std::abs(a.half_trace - exact_half_trace)},
-                    {"eigenvalues", {{a.eig[0].real(), a.eig[0].imag()}, {a.eig[1].real(), a.eig[1].imag()}}},
+                    {"eigenvalues",
+                     {{a.eig[0].real(), a.eig[0].imag()}, {a.eig[1].real(), a.eig[1].imag()}}},
                     {"spectral_radius", a.spectral_radius},
                     {"F_condition", a.F_condition ? 1 : 0},
                     {"power_bounded", a.power_bounded ? 1 : 0},
@@ -317,8 +421,9 @@ private:
                     with_kernel<Oscillator>(info, [&]<class K>() {
                         a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
                     });
-                    max_trace_err = std::max(
-                        max_trace_err, std::abs(a.half_trace - oscillator_damped_cs(s.omega, g, h).c));
+                    max_trace_err =
+                        std::max(max_trace_err,
+                                 std::abs(a.half_trace - oscillator_damped_cs(s.omega, g, h).c));
                     if (!a.F_condition) {
                         first_emp = std::min(first_emp, i);
                         ++f_viol;
@@ -334,8 +439,12 @@ private:
                         if (fc != a.F_condition) ++mismatch_points;
                     }
                 }
-                auto h_at = [&](std::int64_t i) { return i < nh ? json(hs[static_cast<std::size_t>(i)]) : json(nullptr); };
-                json row = {{"gamma", g}, {"h_F_empirical", h_at(first_emp)}, {"h_power_unbounded", h_at(first_pb)},
+                auto h_at = [&](std::int64_t i) {
+                    return i < nh ? json(hs[static_cast<std::size_t>(i)]) : json(nullptr);
+                };
+                json row = {{"gamma", g},
+                            {"h_F_empirical", h_at(first_emp)},
+                            {"h_power_unbounded", h_at(first_pb)},
                             {"max_half_trace_err", max_trace_err}};
                 if (has_formula) {
                     row["h_F_formula"] = h_at(first_formula);
@@ -367,7 +476,8 @@ private:
             auto coeff = [&](double h) {
                 double c = std::numeric_limits<double>::quiet_NaN();
                 with_kernel<P>(info, [&]<class K>() {
-                    const OneStepAnalysis a = analyse_one_step(one_step_matrix<K>(problem_, info, h), g, h);
+                    const OneStepAnalysis a =
+                        analyse_one_step(one_step_matrix<K>(problem_, info, h), g, h);
                     c = (a.half_trace - oscillator_damped_cs(w, g, h).c) / (h * h * h * h);
                 });
                 return c;
@@ -389,6 +499,8 @@ private:
     std::vector<double> ref_times_;
     Mat ref_;
     json reference_;
+    bool reference_ok_ = true;
+    double ref_error_ = 0.0; // the reference's certified error estimate (0 for exact references)
     std::vector<json> runs_;
     std::vector<json> method_metrics_;
 };
@@ -409,11 +521,16 @@ const json* lookup(const json& root, const std::string& dotted) {
 
 const char* op_name(CheckOp op) {
     switch (op) {
-    case CheckOp::near: return "near";
-    case CheckOp::le: return "le";
-    case CheckOp::ge: return "ge";
-    case CheckOp::lt: return "lt";
-    case CheckOp::gt: return "gt";
+    case CheckOp::near:
+        return "near";
+    case CheckOp::le:
+        return "le";
+    case CheckOp::ge:
+        return "ge";
+    case CheckOp::lt:
+        return "lt";
+    case CheckOp::gt:
+        return "gt";
     }
     return "?";
 }
@@ -422,17 +539,27 @@ template <class P>
 json TypedCase<P>::finish() {
     // Order fits (method level) from the error of each run of the ladder.
     if (c_.wants("order")) {
-        const double floor = 1000.0 * std::numeric_limits<double>::epsilon() *
-                             std::max(1.0, ref_.col(ref_.cols() - 1).norm());
+        // Round-off floor, and SPEC §4: no fit uses an error within 100× the reference's estimate.
+        const double roundoff =
+            1000.0 * std::numeric_limits<double>::epsilon() *
+            (reference_ok_ ? std::max(1.0, ref_.col(ref_.cols() - 1).norm()) : 1.0);
+        const double floor = std::max(roundoff, 100.0 * ref_error_);
         for (std::size_t m = 0; m < c_.methods.size(); ++m) {
             std::vector<OrderPoint> pts;
             for (std::size_t d = 0; d < c_.dts.size(); ++d) {
                 const json& r = run_slot(m, d);
                 const json* e = lookup(r["metrics"], "error.final_abs");
-                pts.push_back({c_.dts[d], e ? e->get<double>() : std::numeric_limits<double>::quiet_NaN()});
+                pts.push_back(
+                    {c_.dts[d], e ? e->get<double>() : std::numeric_limits<double>::quiet_NaN()});
             }
             const OrderFit fit = fit_order(pts, floor);
-            json o = {{"ok", fit.ok}, {"window_dt", fit.window_h}, {"local_orders", fit.local_orders}, {"floor", floor}};
+            json o = {{"ok", fit.ok},
+                      {"window_dt", fit.window_h},
+                      {"local_orders", fit.local_orders},
+                      {"floor", floor},
+                      {"floor_source", 100.0 * ref_error_ > roundoff
+                                           ? "100x reference error estimate"
+                                           : "round-off"}};
             if (fit.ok) {
                 o["slope"] = fit.slope;
                 o["r2"] = fit.r2;
@@ -441,7 +568,8 @@ json TypedCase<P>::finish() {
                 o["reason"] = fit.reason;
             }
             json dropped = json::array();
-            for (const auto& dp : fit.dropped) dropped.push_back({{"dt", dp.h}, {"error", dp.error}, {"reason", dp.reason}});
+            for (const auto& dp : fit.dropped)
+                dropped.push_back({{"dt", dp.h}, {"error", dp.error}, {"reason", dp.reason}});
             o["dropped"] = dropped;
             method_metrics_[m]["order"] = o;
         }
@@ -455,7 +583,8 @@ json TypedCase<P>::finish() {
             const auto mi = static_cast<std::size_t>(
                 std::find(c_.methods.begin(), c_.methods.end(), mid) - c_.methods.begin());
             auto evaluate = [&](const json& metrics, const json* run) {
-                json ck = {{"name", cs.name}, {"metric", cs.metric}, {"method", mid}, {"op", op_name(cs.op)},
+                json ck = {{"name", cs.name},      {"metric", cs.metric},
+                           {"method", mid},        {"op", op_name(cs.op)},
                            {"expected", cs.value}, {"negative_control", cs.negative_control}};
                 if (cs.op == CheckOp::near) ck["tolerance"] = cs.tol;
                 if (cs.use_abs) ck["abs"] = true;
@@ -465,17 +594,25 @@ json TypedCase<P>::finish() {
                 if (run && (*run)["status"] != "ok") {
                     ck["passed"] = false;
                     ck["value"] = nullptr;
-                    ck["message"] = "run " + (*run)["status"].get<std::string>() +
-                                    ((*run).contains("failed_at_step")
-                                         ? " at step " + std::to_string((*run)["failed_at_step"].get<std::int64_t>())
-                                         : std::string());
+                    ck["message"] =
+                        "run " + (*run)["status"].get<std::string>() +
+                        ((*run).contains("failed_at_step")
+                             ? " at step " +
+                                   std::to_string((*run)["failed_at_step"].get<std::int64_t>())
+                             : std::string());
+                } else if ((!v || !v->is_number()) && !reference_ok_ &&
+                           (diag == "error" || diag == "energy" || diag == "order")) {
+                    ck["passed"] = false;
+                    ck["value"] = nullptr;
+                    ck["message"] = "reference failed: " + reference_.value("error", std::string());
                 } else if (!v || !v->is_number()) {
                     ck["passed"] = false;
                     ck["value"] = nullptr;
-                    ck["message"] = "metric not produced" +
-                                    (method_level && metrics.contains(diag) && metrics[diag].contains("reason")
-                                         ? ": " + metrics[diag]["reason"].get<std::string>()
-                                         : std::string());
+                    ck["message"] =
+                        "metric not produced" +
+                        (method_level && metrics.contains(diag) && metrics[diag].contains("reason")
+                             ? ": " + metrics[diag]["reason"].get<std::string>()
+                             : std::string());
                 } else {
                     const double x = v->get<double>();
                     ck["value"] = x;
@@ -525,11 +662,16 @@ json TypedCase<P>::finish() {
 bool check_passes(const CheckSpec& cs, double value) {
     const double x = cs.use_abs ? std::abs(value) : value;
     switch (cs.op) {
-    case CheckOp::near: return std::abs(x - cs.value) <= cs.tol;
-    case CheckOp::le: return x <= cs.value;
-    case CheckOp::ge: return x >= cs.value;
-    case CheckOp::lt: return x < cs.value;
-    case CheckOp::gt: return x > cs.value;
+    case CheckOp::near:
+        return std::abs(x - cs.value) <= cs.tol;
+    case CheckOp::le:
+        return x <= cs.value;
+    case CheckOp::ge:
+        return x >= cs.value;
+    case CheckOp::lt:
+        return x < cs.value;
+    case CheckOp::gt:
+        return x > cs.value;
     }
     return false;
 }
@@ -539,7 +681,8 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
     std::vector<std::unique_ptr<CaseJob>> jobs;
     for (const CaseSpec& c : cases) {
         std::unique_ptr<CaseJob> job;
-        with_problem_type(c.problem_id, [&]<class P>() { job = std::make_unique<TypedCase<P>>(c); });
+        with_problem_type(c.problem_id,
+                          [&]<class P>() { job = std::make_unique<TypedCase<P>>(c); });
         jobs.push_back(std::move(job));
     }
     std::vector<std::function<void()>> tasks;

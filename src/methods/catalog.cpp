@@ -26,7 +26,9 @@ const ButcherTableau rk4_tableau{
     {0.0, 0.5, 0.5, 1.0}};
 
 // ---- F ch.3 closed forms on the oscillator (our γ) ----
-double beta2(double w, double g) { return (w - g) * (w + g); }
+double beta2(double w, double g) {
+    return (w - g) * (w + g);
+}
 
 // F(3.10): ½trM = e^{−γh}(1 − h²β²/4)/(1 + h²β²/4).
 double cimp_half_trace(double w, double g, double h) {
@@ -34,8 +36,12 @@ double cimp_half_trace(double w, double g, double h) {
     return std::exp(-g * h) * (1.0 - x) / (1.0 + x);
 }
 // F(3.12): ω > γ.
-bool cimp_condition(double w, double g, double) { return w > g; }
-double cimp_h4(double w, double g) { return beta2(w, g) * beta2(w, g) / 12.0; }
+bool cimp_condition(double w, double g, double) {
+    return w > g;
+}
+double cimp_h4(double w, double g) {
+    return beta2(w, g) * beta2(w, g) / 12.0;
+}
 
 // F(3.15): ½trM = e^{−γh}(1 − h²ω²/2) cosh(γh).
 double csv1_half_trace(double w, double g, double h) {
@@ -47,7 +53,9 @@ bool csv1_condition(double w, double g, double h) {
     const double sech = 1.0 / std::cosh(g * h);
     return 1.0 - sech < x && x < 1.0 + sech;
 }
-double csv1_h4(double w, double g) { return w * w * (w * w + 4.0 * g * g) / 24.0; }
+double csv1_h4(double w, double g) {
+    return w * w * (w * w + 4.0 * g * g) / 24.0;
+}
 
 // F(3.20): ½trM = e^{−γh}[(4+γ²h²)/(4−γ²h²) − 2h²ω² cosh(γh/2)/(4−γ²h²)].
 double csv2_half_trace(double w, double g, double h) {
@@ -71,14 +79,32 @@ constexpr unsigned csv_claims =
 
 const std::vector<MethodInfo>& method_catalog() {
     static const std::vector<MethodInfo> catalog{
-        {"cimp", "cimp", 2, true, "conformal",
+        {"cimp",
+         "cimp",
+         2,
+         true,
+         "conformal",
          claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum,
-         "F(2.3), B(2.11)", nullptr,
+         "F(2.3), B(2.11)",
+         nullptr,
          {cimp_half_trace, cimp_condition, cimp_h4, "F(3.10), F(3.12)"}},
-        {"csv1", "csv1", 2, false, "separable", csv_claims | claim_linear_momentum,
-         "F(2.12), B(2.20)", nullptr,
+        {"csv1",
+         "csv1",
+         2,
+         false,
+         "separable",
+         csv_claims | claim_linear_momentum,
+         "F(2.12), B(2.20)",
+         nullptr,
          {csv1_half_trace, csv1_condition, csv1_h4, "F(3.15), F(3.17)"}},
-        {"csv2", "csv2", 2, false, "separable", csv_claims, "F(2.16), B(2.21)", nullptr,
+        {"csv2",
+         "csv2",
+         2,
+         false,
+         "separable",
+         csv_claims,
+         "F(2.16), B(2.21)",
+         nullptr,
          {csv2_half_trace, csv2_condition, csv2_h4, "F(3.20), F(3.22)"}},
         {"euler", "explicit-rk", 1, false, "plain", claim_none, "HLW(1.4)", &euler_tableau, {}},
         {"heun", "explicit-rk", 2, false, "plain", claim_none, "B(3.8)", &heun_tableau, {}},

@@ -39,7 +39,7 @@ public:
             c_.rhs_evals += 1;
             c_.jac_evals += 1;
             c_.newton_iters += 1;
-            r_ = m_ - y0_ - (0.5 * h_) * r_;           // residual F(m)
+            r_ = m_ - y0_ - (0.5 * h_) * r_;              // residual F(m)
             J_ = Mat::Identity(d_, d_) - (0.5 * h_) * J_; // F'(m)
             lu_.compute(J_);
             dm_ = lu_.solve(r_);

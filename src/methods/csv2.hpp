@@ -18,7 +18,7 @@ class Csv2 {
 public:
     static constexpr std::string_view kernel_id = "csv2";
     template <class Q>
-    static constexpr bool applies = Q::has_separable && Q::constant_gamma;
+    static constexpr bool applies = Q::has_separable&& Q::constant_gamma;
 
     Csv2(const P& problem, const MethodInfo&, double h, Counters& counters)
         : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_) {

@@ -45,9 +45,13 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum> {
     double dGamma(double, double h) const { return gamma * h; }
 
     template <class In, class Out>
-    void grad_T(const In& p, Out& out) const { out = p; }
+    void grad_T(const In& p, Out& out) const {
+        out = p;
+    }
     template <class In, class Out>
-    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    void hess_T(const In&, Out& out) const {
+        out.setIdentity();
+    }
     template <class In, class Out>
     void force(double t, const In& q, Out& out) const {
         out[0] = -lambda * lambda * std::sin(q[0]) + f * std::sin(t);

@@ -15,7 +15,8 @@ struct Hill : SeparableProblem<Hill> {
     static constexpr std::string_view id = "hill";
     static constexpr std::string_view title = "Hill equation q''+2γ(t)q'+κ²q=0, γ(t)=½ε cos 2t";
     static constexpr bool constant_gamma = false;
-    static constexpr bool is_linear = false; // linear but time-dependent: no constant one-step matrix
+    static constexpr bool is_linear =
+        false; // linear but time-dependent: no constant one-step matrix
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = false;
     static constexpr std::array<std::string_view, 0> invariant_names{};
@@ -41,14 +42,22 @@ struct Hill : SeparableProblem<Hill> {
     Vec initial_state() const { return Vec{{q0, p0}}; }
     double gamma_at(double t) const { return 0.5 * epsilon * std::cos(2.0 * t); }
     double Gamma(double t) const { return 0.25 * epsilon * std::sin(2.0 * t); }
-    double dGamma(double t, double h) const { return 0.5 * epsilon * std::cos(2.0 * t + h) * std::sin(h); }
+    double dGamma(double t, double h) const {
+        return 0.5 * epsilon * std::cos(2.0 * t + h) * std::sin(h);
+    }
 
     template <class In, class Out>
-    void grad_T(const In& p, Out& out) const { out = p; }
+    void grad_T(const In& p, Out& out) const {
+        out = p;
+    }
     template <class In, class Out>
-    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    void hess_T(const In&, Out& out) const {
+        out.setIdentity();
+    }
     template <class In, class Out>
-    void force(double, const In& q, Out& out) const { out = -(kappa * kappa) * q; }
+    void force(double, const In& q, Out& out) const {
+        out = -(kappa * kappa) * q;
+    }
     template <class In, class Out>
     void force_jacobian(double, const In&, Out& out) const {
         out.setIdentity();

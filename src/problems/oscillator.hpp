@@ -44,11 +44,17 @@ struct Oscillator : SeparableProblem<Oscillator> {
     double dGamma(double, double h) const { return gamma * h; }
 
     template <class In, class Out>
-    void grad_T(const In& p, Out& out) const { out = p; }
+    void grad_T(const In& p, Out& out) const {
+        out = p;
+    }
     template <class In, class Out>
-    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    void hess_T(const In&, Out& out) const {
+        out.setIdentity();
+    }
     template <class In, class Out>
-    void force(double, const In& q, Out& out) const { out = -(omega * omega) * q; }
+    void force(double, const In& q, Out& out) const {
+        out = -(omega * omega) * q;
+    }
     template <class In, class Out>
     void force_jacobian(double, const In&, Out& out) const {
         out.setIdentity();

@@ -42,13 +42,21 @@ struct Pendulum : SeparableProblem<Pendulum> {
     double dGamma(double, double h) const { return gamma * h; }
 
     template <class In, class Out>
-    void grad_T(const In& p, Out& out) const { out = p; }
+    void grad_T(const In& p, Out& out) const {
+        out = p;
+    }
     template <class In, class Out>
-    void hess_T(const In&, Out& out) const { out.setIdentity(); }
+    void hess_T(const In&, Out& out) const {
+        out.setIdentity();
+    }
     template <class In, class Out>
-    void force(double, const In& q, Out& out) const { out[0] = -std::sin(q[0]); }
+    void force(double, const In& q, Out& out) const {
+        out[0] = -std::sin(q[0]);
+    }
     template <class In, class Out>
-    void force_jacobian(double, const In& q, Out& out) const { out(0, 0) = -std::cos(q[0]); }
+    void force_jacobian(double, const In& q, Out& out) const {
+        out(0, 0) = -std::cos(q[0]);
+    }
 
     void invariants(double, const Vec&, double*) const {}
     double energy(const Vec& z) const { return 0.5 * z[1] * z[1] - std::cos(z[0]); }
