@@ -39,6 +39,7 @@ using ParamMap = std::map<std::string, double>;
 template <class Derived>
 struct SeparableProblem {
     static constexpr bool has_separable = true;
+    static constexpr bool has_conformal = true;
 
     const Derived& self() const { return static_cast<const Derived&>(*this); }
     int dim() const { return 2 * self().n(); }

@@ -21,7 +21,7 @@ class Cimp {
 public:
     static constexpr std::string_view kernel_id = "cimp";
     template <class Q>
-    static constexpr bool applies = Q::has_separable; // needs the conformal form N and its Jacobian
+    static constexpr bool applies = Q::has_conformal; // needs the conformal form N and its Jacobian
     static constexpr int max_iterations = 50;
 
     Cimp(const P& problem, const MethodInfo&, double h, Counters& counters)
