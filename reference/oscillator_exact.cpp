@@ -36,7 +36,8 @@ DampedCS oscillator_damped_cs(double omega, double gamma, double t) {
 
 OscillatorState oscillator_exact(double omega, double gamma, double q0, double p0, double t) {
     const DampedCS cs = oscillator_damped_cs(omega, gamma, t);
-    return {q0 * cs.c + (p0 + gamma * q0) * cs.s, p0 * cs.c - (gamma * p0 + omega * omega * q0) * cs.s};
+    return {q0 * cs.c + (p0 + gamma * q0) * cs.s,
+            p0 * cs.c - (gamma * p0 + omega * omega * q0) * cs.s};
 }
 
 } // namespace dampsym

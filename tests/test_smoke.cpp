@@ -7,7 +7,8 @@ TEST_CASE("every catalogued method names a known kernel") {
         INFO(m.id);
         bool known = false;
         dampsym::with_problem_type("oscillator", [&]<class P>() {
-            known = dampsym::with_kernel<P>(m, []<class K>() {}) != dampsym::KernelMatch::unknown_kernel;
+            known = dampsym::with_kernel<P>(m, []<class K>() {}) !=
+                    dampsym::KernelMatch::unknown_kernel;
         });
         CHECK(known);
     }

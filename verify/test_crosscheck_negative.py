@@ -35,8 +35,9 @@ def fail(msg):
 
 def perturb(report, workdir):
     # first ok run of an implicit method (the looser 1e-9 tolerance), else the first ok run
+    # only runs the cross-check reproduces (oscillator and pendulum), so the change is seen
     runs = [(c, r) for c in report["cases"] for r in c["runs"] if r["status"] == "ok"
-            and any(r["final_state"])]
+            and any(r["final_state"]) and c["problem"]["id"] in ("oscillator", "pendulum")]
     case, run = next(((c, r) for c, r in runs if r["method"] == "cimp"), runs[0])
     run["final_state"] = [x * (1.0 + 1e-6) for x in run["final_state"]]
     name = "%s / %s / dt=%g" % (case["id"], run["method"], run["dt"])
@@ -51,8 +52,8 @@ def perturb(report, workdir):
 
 def swap(report, workdir):
     # prefer a case that also fits orders, so the order comparison is exercised as well
-    cases = [c for c in report["cases"]
-             if {"csv1", "rk3"} <= {r["method"] for r in c["runs"] if r["status"] == "ok"}]
+    cases = [c for c in report["cases"] if c["problem"]["id"] in ("oscillator", "pendulum")
+             and {"csv1", "rk3"} <= {r["method"] for r in c["runs"] if r["status"] == "ok"}]
     case = next((c for c in cases if {"csv1", "rk3"} <= set(c.get("method_metrics") or {})),
                 cases[0])
     other = {"csv1": "rk3", "rk3": "csv1"}

@@ -28,7 +28,10 @@ inline const char* to_string(RunStatus s) {
 
 struct IntegrateOutcome {
     RunStatus status = RunStatus::ok;
-    std::int64_t steps_done = 0; // completed steps; on failure the failing step is steps_done + 1
+    // Steps whose result is in z. A diverged step counts (z holds the diverged state, so z is the
+    // state at t0 + steps_done·h); a failed nonlinear solve does not (z is the last good state).
+    std::int64_t steps_done = 0;
+    std::int64_t failed_step = 0; // 1-based index of the step that diverged or failed; 0 if ok
 };
 
 // A state is "diverged" when any component is NaN/inf or exceeds 1e100 in magnitude.
@@ -45,12 +48,12 @@ IntegrateOutcome integrate(Stepper& stepper, Vec& z, double t0, double h, std::i
                            Observer* observer = nullptr) {
     for (std::int64_t k = 0; k < n; ++k) {
         if (stepper.step(time_at(t0, h, k), z) != StepStatus::ok)
-            return {RunStatus::solve_failed, k};
-        if (state_diverged(z)) return {RunStatus::diverged, k};
+            return {RunStatus::solve_failed, k, k + 1};
+        if (state_diverged(z)) return {RunStatus::diverged, k + 1, k + 1};
         if constexpr (!std::is_same_v<Observer, NoObserver>)
             (*observer)(k + 1, time_at(t0, h, k + 1), z);
     }
-    return {RunStatus::ok, n};
+    return {RunStatus::ok, n, 0};
 }
 
 } // namespace dampsym

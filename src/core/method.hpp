@@ -43,7 +43,8 @@ struct OscillatorFormulas {
     double (*half_trace)(double omega, double gamma, double h) = nullptr;
     // F's "stability" condition |½ tr M| < e^{-γh} in closed form: F(3.12), (3.17), (3.22).
     bool (*F_condition)(double omega, double gamma, double h) = nullptr;
-    // |leading coefficient| of ½tr M − e^{-γh}cos(βh) = c h⁴ + O(h⁵) (SPEC §5; F's are typos).
+    // Leading coefficient c of ½tr M − e^{-γh}cos(βh) = c h⁴ + O(h⁵), up to sign (SPEC §5 gives
+    // them up to sign; F's (3.13), (3.18), (3.23) are typos). Checks compare magnitudes.
     double (*h4_coefficient)(double omega, double gamma) = nullptr;
     const char* source = "";
 };

@@ -59,6 +59,7 @@ OrderFit fit_order(std::vector<OrderPoint> points, double floor) {
             for (std::size_t k = i; k < j; ++k)
                 spread = std::max(spread, std::abs(fit.local_orders[k] - mean));
             if (spread > std::max(0.1 * std::abs(mean), 0.05)) continue;
+            if (mean < 0.5) continue; // not converging: a round-off or reference plateau
             const std::size_t len = j - i + 1;
             const std::size_t best_len = best_j - best_i + 1;
             if (!found || len > best_len || (len == best_len && spread <= best_spread)) {

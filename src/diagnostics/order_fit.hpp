@@ -3,8 +3,10 @@
 // Rule: (1) points whose error is not finite or not above `floor` (round-off or reference floor)
 // are dropped; (2) among the remaining points, sorted by h, the asymptotic window is the longest
 // contiguous run of >= 3 points whose neighbour-to-neighbour local orders agree with their mean to
-// within max(0.1·|mean|, 0.05) — coarse pre-asymptotic points and plateau points break that
-// agreement; ties go to the run with the smallest spread, then the finer one; (3) the order is the
+// within max(0.1·|mean|, 0.05) and whose mean local order is at least 0.5 (a run that does not
+// converge is a round-off or reference plateau, however long) — coarse pre-asymptotic points and
+// plateau points break that agreement; ties go to the run with the smallest spread, then the finer
+// one; (3) the order is the
 // least-squares slope of log e against log h over the window, with R². Fewer than 3 usable points,
 // or no consistent window, is a failed fit with a reason, never a guess.
 #pragma once

@@ -262,7 +262,7 @@ private:
         out["steps"] = res.steps_done;
         out["final_time"] = time_at(c_.t0, h, res.steps_done);
         out["final_state"] = state_json(z);
-        if (res.status != RunStatus::ok) out["failed_at_step"] = res.steps_done + 1;
+        if (res.status != RunStatus::ok) out["failed_at_step"] = res.failed_step;
         out["rhs_evals"] = counters.rhs_evals;
         out["jac_evals"] = counters.jac_evals;
         out["newton_iters"] = counters.newton_iters;

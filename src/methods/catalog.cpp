@@ -63,10 +63,15 @@ double csv2_half_trace(double w, double g, double h) {
     return std::exp(-g * h) *
            ((4.0 + gh2) / (4.0 - gh2) - 2.0 * h * h * w * w * std::cosh(0.5 * g * h) / (4.0 - gh2));
 }
-// F(3.22): γ² sech(γh/2) < ω² < 4 sech(γh/2)/h², and γh < 2 (SPEC §5).
+// F(3.22): γ² sech(γh/2) < ω² < 4 sech(γh/2)/h², derived by F multiplying |½trM| < e^{−γh} by
+// 4 − γ²h², i.e. assuming γh < 2. For γh > 2 that factor is negative and the same condition on
+// F(3.20) reverses to 4 sech(γh/2)/h² < ω² < γ² sech(γh/2); at γh = 2 the scheme is undefined.
 bool csv2_condition(double w, double g, double h) {
     const double sech = 1.0 / std::cosh(0.5 * g * h);
-    return g * h < 2.0 && g * g * sech < w * w && w * w < 4.0 * sech / (h * h);
+    const double lo = g * g * sech, hi = 4.0 * sech / (h * h);
+    if (g * h < 2.0) return lo < w * w && w * w < hi;
+    if (g * h > 2.0) return hi < w * w && w * w < lo;
+    return false;
 }
 double csv2_h4(double w, double g) {
     return (2.0 * w * w * w * w + 5.0 * g * g * w * w - 4.0 * g * g * g * g) / 48.0;

@@ -2,8 +2,9 @@
 //   (1 + γh/2) p½ = e^{−γh/2} p − (h/2) ∇V(q)
 //   (1 − γh/2) q₁ = e^{−γh/2} [ (1 + γh/2) e^{−γh/2} q + h ∇T(p½) ]
 //   p₁ = e^{−γh/2} [ (1 − γh/2) p½ − (h/2) ∇V(q₁) ]
-// Defined for constant γ only, and needs γh ≠ 2 (the q-update divides by 1 − γh/2; beyond it the
-// run is reported as diverged, not crashed). Two force evaluations per step.
+// Defined for constant γ only, and for γh ≠ 2 (the q-update divides by 1 − γh/2: at γh = 2 the
+// step produces inf and the run is reported as diverged, not crashed). Two force evaluations per
+// step.
 #pragma once
 
 #include "core/method.hpp"

@@ -1,0 +1,285 @@
+// The report contract of SPEC §7: report.json fields, full-precision final states (checked bit
+// for bit against an independent re-integration with the same kernel), check records, the summary,
+// and report.md listing failing cases first.
+// GCC 12 reports false -Wuse-after-free / -Wstringop-overread positives inside Eigen's aligned
+// allocator when the explicit RK kernel is inlined into the re-integration below (the same kernel
+// code compiles cleanly in the library); they are silenced for this test file only.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wuse-after-free"
+#pragma GCC diagnostic ignored "-Wstringop-overread"
+#endif
+
+#include "cli_support.hpp"
+#include "core/integrate.hpp"
+#include "harness/registry.hpp"
+#include "problems/oscillator.hpp"
+#include "reference/oscillator_exact.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace {
+
+using dampsym_test::copy_data;
+using dampsym_test::describe;
+using dampsym_test::read_json;
+using dampsym_test::read_text;
+using dampsym_test::run;
+using dampsym_test::TempDir;
+using json = nlohmann::json;
+
+struct Reintegrated {
+    dampsym::Vec z;
+    std::int64_t rhs_evals = 0;
+};
+
+// n steps of kernel K from the initial state.
+template <class K>
+void step_n(const dampsym::Oscillator& osc, const dampsym::MethodInfo& info, double dt,
+            std::int64_t n, Reintegrated& r) {
+    dampsym::Counters counters;
+    K stepper(osc, info, dt, counters);
+    dampsym::integrate(stepper, r.z, 0.0, dt, n);
+    r.rhs_evals = counters.rhs_evals;
+}
+
+// Integrates the oscillator with params from the report, by the method's own kernel, n steps.
+Reintegrated reintegrate(const json& params, const std::string& method, double dt, std::int64_t n) {
+    dampsym::ParamMap pm;
+    for (auto it = params.begin(); it != params.end(); ++it)
+        pm[it.key()] = it.value().get<double>();
+    const dampsym::Oscillator osc = dampsym::Oscillator::from_params(pm);
+    const dampsym::MethodInfo* info = dampsym::find_method(method);
+    REQUIRE(info != nullptr);
+    Reintegrated r;
+    r.z = osc.initial_state();
+    const auto match = dampsym::with_kernel<dampsym::Oscillator>(
+        *info, [&]<class K>() { step_n<K>(osc, *info, dt, n, r); });
+    REQUIRE(match == dampsym::KernelMatch::applied);
+    return r;
+}
+
+std::uint64_t bits(double x) {
+    return std::bit_cast<std::uint64_t>(x);
+}
+
+// The final_state arrays as they appear in the report text, parsed with strtod, in file order.
+std::vector<std::vector<double>> final_states_in_text(const std::string& text) {
+    std::vector<std::vector<double>> out;
+    const std::regex re(R"re("final_state"\s*:\s*\[([^\]]*)\])re");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+         ++it) {
+        std::vector<double> v;
+        const std::string body = (*it)[1].str();
+        const char* p = body.c_str();
+        while (*p) {
+            char* end = nullptr;
+            const double x = std::strtod(p, &end);
+            if (end == p) {
+                ++p;
+                continue;
+            }
+            v.push_back(x);
+            p = end;
+        }
+        out.push_back(v);
+    }
+    return out;
+}
+
+} // namespace
+
+TEST_CASE("report.json carries the SPEC §7 fields at full precision", "[report]") {
+    TempDir cases, out;
+    copy_data("cases/cli-pass.json", cases.path());
+    copy_data("cases/cli-wrong-order.json", cases.path());
+    const std::vector<std::string> args{"--cases",         cases.str(), "run",    "cli-pass",
+                                        "cli-wrong-order", "--out",     out.str()};
+    const auto r = run(args);
+    INFO(describe(args, r));
+    REQUIRE(r.status == 1);
+    const std::string text = read_text(out / "report.json");
+    const json rep = json::parse(text);
+
+    CHECK(rep["schema_version"] == 1);
+    REQUIRE(rep["cases"].is_array());
+    REQUIRE(rep["cases"].size() == 2);
+    CHECK(rep["cases"][0]["id"] == "cli-pass"); // command-line order
+    CHECK(rep["cases"][1]["id"] == "cli-wrong-order");
+
+    const auto text_states = final_states_in_text(text);
+    std::size_t state_index = 0;
+    std::int64_t passed = 0, failed = 0;
+    for (const json& c : rep["cases"]) {
+        const std::string id = c["id"];
+        INFO("case " << id);
+        const json spec = read_json(cases / (id + ".json"));
+        // problem: id and every parameter with its value
+        REQUIRE(c["problem"].is_object());
+        CHECK(c["problem"]["id"] == "oscillator");
+        const json& params = c["problem"]["params"];
+        REQUIRE(params.is_object());
+        for (const char* k : {"omega", "gamma", "q0", "p0"}) {
+            REQUIRE(params.contains(k));
+            CHECK(params[k].is_number());
+        }
+        for (const char* k : {"omega", "gamma", "q0", "p0"})
+            if (spec["problem"].contains(k)) CHECK(params[k] == spec["problem"][k]);
+
+        // runs: one per method and step size
+        std::vector<double> dts;
+        if (spec.contains("dt"))
+            dts.push_back(spec["dt"].get<double>());
+        else
+            for (const auto& d : spec["dt_ladder"]) dts.push_back(d.get<double>());
+        const double t_end = spec["t_end"];
+        REQUIRE(c["runs"].is_array());
+        CHECK(c["runs"].size() == spec["methods"].size() * dts.size());
+        for (const json& run_j : c["runs"]) {
+            INFO(run_j.dump());
+            REQUIRE(run_j["method"].is_string());
+            const std::string m = run_j["method"];
+            CHECK(std::find(spec["methods"].begin(), spec["methods"].end(), m) !=
+                  spec["methods"].end());
+            REQUIRE(run_j["dt"].is_number());
+            const double dt = run_j["dt"];
+            CHECK(std::find(dts.begin(), dts.end(), dt) != dts.end());
+            REQUIRE(run_j["steps"].is_number_integer());
+            const std::int64_t steps = run_j["steps"];
+            CHECK(steps == std::llround(t_end / dt));
+            REQUIRE(run_j["final_time"].is_number());
+            CHECK_THAT(run_j["final_time"].get<double>(), Catch::Matchers::WithinRel(t_end, 1e-14));
+            REQUIRE(run_j["rhs_evals"].is_number_integer());
+            REQUIRE(run_j["wall_seconds"].is_number());
+            CHECK(run_j["wall_seconds"].get<double>() >= 0.0);
+            REQUIRE(run_j["metrics"].is_object());
+            REQUIRE(run_j["metrics"].contains("error"));
+            for (const char* k : {"final_abs", "final_rel", "max_abs", "max_rel"})
+                CHECK(run_j["metrics"]["error"][k].is_number());
+
+            // final_state: [q, p] at full precision — the text parses back to exactly the bits
+            // of an independent re-integration with the same kernel
+            REQUIRE(run_j["final_state"].is_array());
+            REQUIRE(run_j["final_state"].size() == 2);
+            const Reintegrated re = reintegrate(params, m, dt, steps);
+            REQUIRE(state_index < text_states.size());
+            const std::vector<double>& from_text = text_states[state_index++];
+            REQUIRE(from_text.size() == 2);
+            for (int i = 0; i < 2; ++i) {
+                INFO("component " << i << ": report " << run_j["final_state"][i].dump()
+                                  << ", re-integrated " << re.z[i]);
+                CHECK(bits(from_text[static_cast<std::size_t>(i)]) == bits(re.z[i]));
+                CHECK(bits(run_j["final_state"][i].get<double>()) == bits(re.z[i]));
+            }
+            // cost: the kernel's own count (2 force evaluations per csv1 step, 3 per rk3 step)
+            CHECK(run_j["rhs_evals"].get<std::int64_t>() == re.rhs_evals);
+            if (m == "csv1") CHECK(re.rhs_evals == 2 * steps);
+            if (m == "rk3") CHECK(re.rhs_evals == 3 * steps);
+            if (m == "cimp") CHECK(re.rhs_evals >= steps);
+            // the error metric is the distance to the exact solution at final_time
+            const auto ex = dampsym::oscillator_exact(params["omega"], params["gamma"],
+                                                      params["q0"], params["p0"], t_end);
+            const double err = std::hypot(re.z[0] - ex.q, re.z[1] - ex.p);
+            CHECK_THAT(run_j["metrics"]["error"]["final_abs"].get<double>(),
+                       Catch::Matchers::WithinRel(err, 1e-12));
+        }
+
+        // checks
+        REQUIRE(c["checks"].is_array());
+        std::size_t expected_checks = 0; // one per (expectation, method)
+        for (const auto& e : spec["expect"])
+            expected_checks +=
+                e["methods"].is_string() ? spec["methods"].size() : e["methods"].size();
+        CHECK(c["checks"].size() == expected_checks);
+        for (const json& ck : c["checks"]) {
+            INFO(ck.dump());
+            CHECK(ck["name"].is_string());
+            CHECK(ck["method"].is_string());
+            REQUIRE(ck["passed"].is_boolean());
+            CHECK((ck["value"].is_number() || ck["value"].is_null()));
+            CHECK(ck["expected"].is_number());
+            const json& e = spec["expect"][ck["name"].get<std::string>()];
+            if (e.contains("near")) {
+                REQUIRE(ck.contains("tolerance"));
+                CHECK(ck["tolerance"] == e["tol"]);
+                CHECK(ck["expected"] == e["near"]);
+            }
+            (ck["passed"].get<bool>() ? passed : failed) += 1;
+        }
+    }
+    CHECK(state_index == text_states.size());
+    // summary
+    const json& s = rep["summary"];
+    CHECK(s["cases"] == 2);
+    CHECK(s["checks_passed"] == passed);
+    CHECK(s["checks_failed"] == failed);
+    CHECK(passed == 3);
+    CHECK(failed == 1);
+}
+
+TEST_CASE("report.md lists a failing case before passing ones", "[report]") {
+    TempDir cases, out;
+    copy_data("cases/cli-pass.json", cases.path());
+    copy_data("cases/cli-wrong-order.json", cases.path());
+    copy_data("cases/cli-just-within.json", cases.path());
+    // passing cases first on the command line (and alphabetically)
+    const std::vector<std::string> args{"--cases",  cases.str(),       "run",   "cli-just-within",
+                                        "cli-pass", "cli-wrong-order", "--out", out.str()};
+    const auto r = run(args);
+    INFO(describe(args, r));
+    REQUIRE(r.status == 1);
+    const std::string md = read_text(out / "report.md");
+    INFO(md);
+    const auto fail_pos = md.find("cli-wrong-order");
+    const auto pass_pos = md.find("cli-pass");
+    const auto within_pos = md.find("cli-just-within");
+    REQUIRE(fail_pos != std::string::npos);
+    REQUIRE(pass_pos != std::string::npos);
+    REQUIRE(within_pos != std::string::npos);
+    CHECK(fail_pos < pass_pos);
+    CHECK(fail_pos < within_pos);
+    // within the failing case, the failing check comes before the passing one
+    const auto bad_check = md.find("csv1 third order (wrong on purpose)", fail_pos);
+    const auto good_check = md.find("rk3 third order", fail_pos);
+    REQUIRE(bad_check != std::string::npos);
+    REQUIRE(good_check != std::string::npos);
+    CHECK(bad_check < good_check);
+    CHECK(good_check < pass_pos);
+}
+
+TEST_CASE("report: a diverged run's final_state is the state at its final_time", "[report]") {
+    // SPEC §7: "final_state is the state at final_time". For a run stopped by divergence the
+    // report gives steps (completed steps), final_time = t0 + steps·dt and failed_at_step.
+    TempDir cases, out;
+    copy_data("cases/cli-diverged.json", cases.path());
+    const auto r = run({"--cases", cases.str(), "run", "cli-diverged", "--out", out.str()});
+    REQUIRE(r.status == 1);
+    const json rep = read_json(out / "report.json");
+    const json& c = rep["cases"][0];
+    for (const json& run_j : c["runs"]) {
+        const std::string m = run_j["method"];
+        const double dt = run_j["dt"];
+        const std::int64_t steps = run_j["steps"];
+        INFO(m << ": status " << run_j["status"] << ", steps " << steps << ", final_time "
+               << run_j["final_time"] << ", final_state " << run_j["final_state"].dump());
+        CHECK(run_j["final_time"].get<double>() == static_cast<double>(steps) * dt);
+        const Reintegrated at_final_time = reintegrate(c["problem"]["params"], m, dt, steps);
+        const Reintegrated one_more = reintegrate(c["problem"]["params"], m, dt, steps + 1);
+        INFO("state after " << steps << " steps: (" << at_final_time.z[0] << ", "
+                            << at_final_time.z[1] << "); after " << steps + 1 << " steps: ("
+                            << one_more.z[0] << ", " << one_more.z[1] << ")");
+        REQUIRE(run_j["final_state"].size() == 2);
+        for (int i = 0; i < 2; ++i) {
+            const json& v = run_j["final_state"][i];
+            REQUIRE(v.is_number());
+            CHECK(bits(v.get<double>()) == bits(at_final_time.z[i]));
+        }
+    }
+}
