@@ -41,6 +41,7 @@ TOL_INV_FACTOR, TOL_INV_FLOOR = 10.0, 1e-13
 TOL_STAB = 1e-12
 TOL_RHO = 1e-7
 TOL_ORDER = 0.02
+TOL_REF = 1e-9         # C++ certified GSL reference against our scipy reference (max norm)
 TINY = 1e-300          # differences below this (subnormal results) count as equal
 MAX_STEPS = 5_000_000  # we do not reproduce runs longer than this (none in the default suite)
 
@@ -280,6 +281,17 @@ def check_case(case):
             raise BadInput("case %s: malformed run (%s)" % (case["id"], exc))
         runs_by_method.setdefault(run_m, []).append(run_dt)
         recs.append(check_run(case, prob, run, t0, my_errors, need_error))
+    ref = case.get("reference") or {}
+    if ref.get("kind") == "gsl-certified" and ref.get("final_state") is not None:
+        # the C++ reference state at t_end against OUR scipy reference (compared, never used)
+        zref, ref_err, note = reference(prob, float(ref["final_time"]) - t0)
+        theirs = np.array([num(x) for x in ref["final_state"]])
+        diff = float(np.max(np.abs(zref - theirs)))
+        recs.append(dict(case=case["id"], method="(reference)", notes=[note],
+                         comparisons=[dict(quantity="reference.final_state", ours=list(zref),
+                                           theirs=list(theirs), tolerance="max-norm %g" % TOL_REF,
+                                           difference=diff, agree=bool(diff <= TOL_REF))],
+                         verdict="agree" if diff <= TOL_REF else "disagree"))
     return recs, check_orders(case, prob, t0, my_errors, runs_by_method)
 
 
@@ -336,7 +348,8 @@ def write_markdown(path, result):
     lines += ["## Per run", "", "| case | method | dt | verdict | quantity | ours | theirs | rel. diff | tolerance |",
               "|---|---|---|---|---|---|---|---|---|"]
     for r in result["runs"] + result["orders"]:
-        dt = fmt(float(r["dt"])) if r.get("dt") is not None else "fit"
+        dt = fmt(float(r["dt"])) if r.get("dt") is not None else (
+            "t_end" if r.get("method") == "(reference)" else "fit")
         for c in r["comparisons"] or [dict(quantity="-", ours="-", theirs="-", tolerance="-")]:
             rd = c.get("rel_diff")
             lines.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (

@@ -206,6 +206,8 @@ public:
         }
         ref_ = sol->states;
         ref_error_ = sol->error_estimate;
+        reference_["final_time"] = ref_times_.back();
+        reference_["final_state"] = state_json(ref_.col(ref_.cols() - 1));
     }
 
     void add_tasks(std::vector<std::function<void()>>& tasks) override {
