@@ -14,6 +14,7 @@
 #include "problems/hill.hpp"
 #include "problems/oscillator.hpp"
 #include "problems/pendulum.hpp"
+#include "problems/rigid_body.hpp"
 
 #include <string>
 #include <string_view>
@@ -21,7 +22,7 @@
 
 namespace dampsym {
 
-using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill>;
+using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody>;
 
 template <template <class> class... Ks>
 struct KernelList {};
