@@ -84,4 +84,25 @@ struct SeparableProblem {
     }
 };
 
+// Unit mass, T(p) = |p|²/2: ∇T(p) = p, ∇²T = I.
+struct UnitMass {
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const {
+        out = p;
+    }
+    template <class In, class Out>
+    void hess_T(const In&, Out& out) const {
+        out.setIdentity();
+    }
+};
+
+// Constant damping: Derived has a member `gamma`; Γ(t) = γt.
+template <class Derived>
+struct ConstantGamma {
+    static constexpr bool constant_gamma = true;
+    double gamma_at(double) const { return static_cast<const Derived&>(*this).gamma; }
+    double Gamma(double t) const { return static_cast<const Derived&>(*this).gamma * t; }
+    double dGamma(double, double h) const { return static_cast<const Derived&>(*this).gamma * h; }
+};
+
 } // namespace dampsym

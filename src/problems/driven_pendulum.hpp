@@ -10,10 +10,9 @@
 
 namespace dampsym {
 
-struct DrivenPendulum : SeparableProblem<DrivenPendulum> {
+struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamma<DrivenPendulum> {
     static constexpr std::string_view id = "driven-pendulum";
     static constexpr std::string_view title = "damped driven pendulum q''+2γq'+λ² sin q=f sin t";
-    static constexpr bool constant_gamma = true;
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = false;
@@ -40,18 +39,7 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum> {
 
     int n() const { return 1; }
     Vec initial_state() const { return Vec{{q0, p0}}; }
-    double gamma_at(double) const { return gamma; }
-    double Gamma(double t) const { return gamma * t; }
-    double dGamma(double, double h) const { return gamma * h; }
 
-    template <class In, class Out>
-    void grad_T(const In& p, Out& out) const {
-        out = p;
-    }
-    template <class In, class Out>
-    void hess_T(const In&, Out& out) const {
-        out.setIdentity();
-    }
     template <class In, class Out>
     void force(double t, const In& q, Out& out) const {
         out[0] = -lambda * lambda * std::sin(q[0]) + f * std::sin(t);
@@ -62,8 +50,6 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum> {
     }
 
     void invariants(double, const Vec&, double*) const {}
-    double energy(const Vec&) const { return 0.0; }
-    void exact(double, Vec&) const {}
 };
 
 } // namespace dampsym

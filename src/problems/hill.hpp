@@ -11,7 +11,7 @@
 
 namespace dampsym {
 
-struct Hill : SeparableProblem<Hill> {
+struct Hill : SeparableProblem<Hill>, UnitMass {
     static constexpr std::string_view id = "hill";
     static constexpr std::string_view title = "Hill equation q''+2γ(t)q'+κ²q=0, γ(t)=½ε cos 2t";
     static constexpr bool constant_gamma = false;
@@ -47,14 +47,6 @@ struct Hill : SeparableProblem<Hill> {
     }
 
     template <class In, class Out>
-    void grad_T(const In& p, Out& out) const {
-        out = p;
-    }
-    template <class In, class Out>
-    void hess_T(const In&, Out& out) const {
-        out.setIdentity();
-    }
-    template <class In, class Out>
     void force(double, const In& q, Out& out) const {
         out = -(kappa * kappa) * q;
     }
@@ -65,8 +57,6 @@ struct Hill : SeparableProblem<Hill> {
     }
 
     void invariants(double, const Vec&, double*) const {}
-    double energy(const Vec&) const { return 0.0; }
-    void exact(double, Vec&) const {}
 };
 
 } // namespace dampsym

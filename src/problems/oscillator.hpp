@@ -11,10 +11,9 @@
 
 namespace dampsym {
 
-struct Oscillator : SeparableProblem<Oscillator> {
+struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscillator> {
     static constexpr std::string_view id = "oscillator";
     static constexpr std::string_view title = "damped harmonic oscillator q''+2γq'+ω²q=0";
-    static constexpr bool constant_gamma = true;
     static constexpr bool is_linear = true;
     static constexpr bool has_exact = true;
     static constexpr bool has_energy = true;
@@ -39,18 +38,7 @@ struct Oscillator : SeparableProblem<Oscillator> {
 
     int n() const { return 1; }
     Vec initial_state() const { return Vec{{q0, p0}}; }
-    double gamma_at(double) const { return gamma; }
-    double Gamma(double t) const { return gamma * t; }
-    double dGamma(double, double h) const { return gamma * h; }
 
-    template <class In, class Out>
-    void grad_T(const In& p, Out& out) const {
-        out = p;
-    }
-    template <class In, class Out>
-    void hess_T(const In&, Out& out) const {
-        out.setIdentity();
-    }
     template <class In, class Out>
     void force(double, const In& q, Out& out) const {
         out = -(omega * omega) * q;

@@ -11,10 +11,9 @@
 
 namespace dampsym {
 
-struct Pendulum : SeparableProblem<Pendulum> {
+struct Pendulum : SeparableProblem<Pendulum>, UnitMass, ConstantGamma<Pendulum> {
     static constexpr std::string_view id = "pendulum";
     static constexpr std::string_view title = "damped pendulum q''+2γq'+sin q=0";
-    static constexpr bool constant_gamma = true;
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = true;
@@ -37,18 +36,7 @@ struct Pendulum : SeparableProblem<Pendulum> {
 
     int n() const { return 1; }
     Vec initial_state() const { return Vec{{q0, p0}}; }
-    double gamma_at(double) const { return gamma; }
-    double Gamma(double t) const { return gamma * t; }
-    double dGamma(double, double h) const { return gamma * h; }
 
-    template <class In, class Out>
-    void grad_T(const In& p, Out& out) const {
-        out = p;
-    }
-    template <class In, class Out>
-    void hess_T(const In&, Out& out) const {
-        out.setIdentity();
-    }
     template <class In, class Out>
     void force(double, const In& q, Out& out) const {
         out[0] = -std::sin(q[0]);
@@ -60,7 +48,6 @@ struct Pendulum : SeparableProblem<Pendulum> {
 
     void invariants(double, const Vec&, double*) const {}
     double energy(const Vec& z) const { return 0.5 * z[1] * z[1] - std::cos(z[0]); }
-    void exact(double, Vec&) const {}
 };
 
 } // namespace dampsym
