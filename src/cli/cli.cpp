@@ -74,7 +74,8 @@ int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
     json problems = json::array();
     for (const auto& p : problem_catalog()) {
         json params = json::object();
-        for (const auto& ps : p.params) params[ps.name] = ps.default_value;
+        for (const auto& ps : p.params)
+            params[ps.name] = ps.is_array ? json(ps.default_array) : json(ps.default_value);
         problems.push_back(
             {{"id", p.id}, {"title", p.title}, {"params", params}, {"invariants", p.invariants}});
     }

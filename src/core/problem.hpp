@@ -16,20 +16,40 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dampsym {
 
 enum class Range { any, positive, nonnegative };
 
+// A parameter: a scalar (default_value), or, when is_array, a list of numbers (default_array;
+// size_multiple > 1 requires the length to be a multiple of it, e.g. 3 for 3-D positions).
 struct ParamSpec {
     std::string name;
     double default_value;
     Range range;
     std::string doc;
+    bool is_array = false;
+    std::vector<double> default_array{};
+    int size_multiple = 1;
 };
 
-using ParamMap = std::map<std::string, double>;
+// Array-valued parameter spec.
+inline ParamSpec array_param(std::string name, std::vector<double> defaults, Range range,
+                             std::string doc, int size_multiple = 1) {
+    return {std::move(name), 0.0, range, std::move(doc), true, std::move(defaults), size_multiple};
+}
+
+// Validated parameter values: scalars by name (at, operator[]) and arrays by name (array).
+struct ParamMap {
+    std::map<std::string, double> scalars;
+    std::map<std::string, std::vector<double>> arrays;
+
+    double at(const std::string& name) const { return scalars.at(name); }
+    double& operator[](const std::string& name) { return scalars[name]; }
+    const std::vector<double>& array(const std::string& name) const { return arrays.at(name); }
+};
 
 // Separable Rayleigh form q' = ∇T(p), p' = F(q,t) − 2γ(t)p with F = −∇_q V(q,t) (+ forcing).
 // Derived provides: n() (degrees of freedom), gamma_at(t), grad_T(p, out), hess_T(p, out),

@@ -224,16 +224,39 @@ CaseSpec parse_case(const json& input, const std::string& file,
     std::set<std::string> allowed{"id"};
     for (const auto& ps : prob->params) {
         allowed.insert(ps.name);
-        c.params[ps.name] = ps.default_value;
+        if (ps.is_array)
+            c.params.arrays[ps.name] = ps.default_array;
+        else
+            c.params.scalars[ps.name] = ps.default_value;
     }
     only_keys(pj, allowed, file, "problem.");
+    auto in_range = [&](const ParamSpec& ps, double x, const std::string& key) {
+        if (ps.range == Range::positive && !(x > 0.0)) fail(file, key, "must be > 0");
+        if (ps.range == Range::nonnegative && !(x >= 0.0)) fail(file, key, "must be >= 0");
+    };
     for (const auto& ps : prob->params) {
         if (!pj.contains(ps.name)) continue;
         const std::string key = "problem." + ps.name;
-        const double x = number(pj[ps.name], file, key);
-        if (ps.range == Range::positive && !(x > 0.0)) fail(file, key, "must be > 0");
-        if (ps.range == Range::nonnegative && !(x >= 0.0)) fail(file, key, "must be >= 0");
-        c.params[ps.name] = x;
+        if (ps.is_array) {
+            const json& a = pj[ps.name];
+            if (!a.is_array() || a.empty())
+                fail(file, key, "must be a non-empty array of numbers, got " + a.dump());
+            if (a.size() % static_cast<std::size_t>(ps.size_multiple) != 0)
+                fail(file, key,
+                     "length " + std::to_string(a.size()) + " is not a multiple of " +
+                         std::to_string(ps.size_multiple));
+            std::vector<double> v;
+            for (std::size_t i = 0; i < a.size(); ++i) {
+                const std::string ki = key + "[" + std::to_string(i) + "]";
+                v.push_back(number(a[i], file, ki));
+                in_range(ps, v.back(), ki);
+            }
+            c.params.arrays[ps.name] = std::move(v);
+        } else {
+            const double x = number(pj[ps.name], file, key);
+            in_range(ps, x, key);
+            c.params.scalars[ps.name] = x;
+        }
     }
 
     // methods

@@ -196,7 +196,18 @@ std::string render_markdown(const json& report) {
         os << "Problem `" << c["problem"]["id"].get<std::string>() << "` ";
         std::string params;
         for (auto it = c["problem"]["params"].begin(); it != c["problem"]["params"].end(); ++it)
-            params += (params.empty() ? "" : ", ") + it.key() + " = " + num(it.value(), 6);
+        {
+            if (!params.empty()) params += ", ";
+            params += it.key();
+            params += " = ";
+            if (it.value().is_array() && it.value().size() > 6) {
+                params += "[";
+                params += std::to_string(it.value().size());
+                params += " values]";
+            } else {
+                params += num(it.value(), 6);
+            }
+        }
         os << "(" << params << "), t ∈ [" << num(c["t0"]) << ", " << num(c["t_end"])
            << "], reference: " << c["reference"]["kind"].get<std::string>() << ".";
         if (!c["overrides"].empty()) os << " Overrides: `" << c["overrides"].dump() << "`.";

@@ -91,9 +91,17 @@ ReferenceCache& reference_cache() {
 std::string reference_key(const CaseSpec& c, const std::vector<double>& times) {
     std::string key = c.problem_id;
     char buf[256];
-    for (const auto& [k, v] : c.params) {
+    for (const auto& [k, v] : c.params.scalars) {
         std::snprintf(buf, sizeof buf, ";%s=%.17g", k.c_str(), v);
         key += buf;
+    }
+    for (const auto& [k, v] : c.params.arrays) {
+        key += ";" + k + "=[";
+        for (double x : v) {
+            std::snprintf(buf, sizeof buf, "%.17g,", x);
+            key += buf;
+        }
+        key += "]";
     }
     std::snprintf(buf, sizeof buf, ";%s;%.17g;%.17g;t0=%.17g;", c.reference.stepper.c_str(),
                   c.reference.epsrel, c.reference.epsabs, c.t0);
@@ -640,7 +648,8 @@ json TypedCase<P>::finish() {
     for (std::size_t m = 0; m < c_.methods.size(); ++m)
         if (!method_metrics_[m].empty()) mm[c_.methods[m]] = method_metrics_[m];
     json params = json::object();
-    for (const auto& [k, v] : c_.params) params[k] = v;
+    for (const auto& [k, v] : c_.params.scalars) params[k] = v;
+    for (const auto& [k, v] : c_.params.arrays) params[k] = v;
     json out = {{"id", c_.id},
                 {"title", c_.title},
                 {"source", c_.source},
