@@ -195,8 +195,7 @@ std::string render_markdown(const json& report) {
             os << "Source: " << c["source"].get<std::string>() << ". ";
         os << "Problem `" << c["problem"]["id"].get<std::string>() << "` ";
         std::string params;
-        for (auto it = c["problem"]["params"].begin(); it != c["problem"]["params"].end(); ++it)
-        {
+        for (auto it = c["problem"]["params"].begin(); it != c["problem"]["params"].end(); ++it) {
             if (!params.empty()) params += ", ";
             params += it.key();
             params += " = ";
