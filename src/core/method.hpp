@@ -26,6 +26,9 @@ enum Claim : unsigned {
     claim_angular_momentum = 1u << 2,
     claim_linear_momentum = 1u << 3,
     claim_symplectic_if_undamped = 1u << 4,
+    // Total linear momentum of a pair-potential system decays per step by the factor
+    // e^{−γh}(2−γh)/(2+γh) instead of the exact e^{−2γh} (B Table 3.1: CSV2, CIMP).
+    claim_linear_momentum_cayley = 1u << 5,
 };
 
 // Butcher tableau of an explicit or implicit RK method, row-major A (s×s).
@@ -59,6 +62,8 @@ struct MethodInfo {
     std::string_view citation;
     const ButcherTableau* tableau = nullptr;
     OscillatorFormulas oscillator{};
+    // Partitioned RK (kernel "partitioned-rk"): the p tableau; `tableau` is then the q tableau.
+    const ButcherTableau* tableau_p = nullptr;
 };
 
 const std::vector<MethodInfo>& method_catalog();

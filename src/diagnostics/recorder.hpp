@@ -6,10 +6,13 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "diagnostics/capabilities.hpp"
+#include "diagnostics/maxima.hpp"
 
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace dampsym {
@@ -26,9 +29,22 @@ struct InvariantStats {
     }
 };
 
-struct Maximum {
-    double t;
-    double d; // ln(q_max) + Γ(t_max)
+// Per-step conformal law of a vector quantity X (total linear or angular momentum):
+// law: X_{n+1} = e^{−2ΔΓ} X_n (B Ex. 1.3); table: X_{n+1} = f X_n with the factor f the method
+// declares (B Table 3.1), when it declares one. Residuals are ‖·‖₂ relative to ‖X_n‖₂.
+struct VectorLawStats {
+    double max_law_rel = 0.0, last_law_rel = 0.0;
+    double max_table_rel = 0.0;                                     // only with a table factor
+    double first_factor = std::numeric_limits<double>::quiet_NaN(); // X_1·X_0/|X_0|²
+    double max_factor_dev = 0.0; // max_n |X_{n+1}·X_n/|X_n|² − f| / f (f = table, else law)
+    double initial_norm = 0.0;
+};
+
+// Energy balance residual R(t_n) = |D_t H_n − Ḣ_n| with the 8th-order central difference D_t and
+// the exact law Ḣ = −2γ(t) p·∇T(p) (B(3.4): for the pendulum Ḣ = −2γp²).
+struct EnergyBalanceStats {
+    double max = 0.0, last = 0.0, sum = 0.0, max_rate = 0.0;
+    std::int64_t count = 0;
 };
 
 template <class P>
@@ -44,6 +60,12 @@ public:
     }
     void track_invariants() { inv_on_ = true; }
     void track_maxima() { max_on_ = true; }
+    // table_factor: the method's declared per-step factor of Σp (NaN if it declares none).
+    void track_momentum(double table_factor) {
+        mom_on_ = true;
+        table_factor_ = table_factor;
+    }
+    void track_energy_balance() { eb_on_ = true; }
 
     void start(const Vec& z0) {
         if (stride_ > 0) grid_.col(0) = z0;
@@ -53,22 +75,106 @@ public:
             stats_.assign(P::invariant_names.size(), InvariantStats{});
         }
         if (max_on_) {
-            q_prev2_ = std::numeric_limits<double>::quiet_NaN();
-            q_prev1_ = z0[0];
+            if constexpr (HasOneDofMaxima<P>) {
+                finder_.emplace(p_);
+                finder_->feed(t0_, z0);
+            }
+        }
+        if constexpr (HasMomentum<P>) {
+            if (mom_on_) {
+                const int k = p_.space_dim() == 3 ? 3 : 1;
+                lin_prev_.resize(p_.space_dim());
+                lin_now_.resize(p_.space_dim());
+                ang_prev_.resize(k);
+                ang_now_.resize(k);
+                p_.linear_momentum(z0, lin_prev_);
+                p_.angular_momentum(z0, ang_prev_);
+                lin_.initial_norm = lin_prev_.norm();
+                ang_.initial_norm = ang_prev_.norm();
+            }
+        }
+        if constexpr (HasEnergyBalance<P>) {
+            if (eb_on_) {
+                grad_t_.resize(p_.n());
+                eb_push(0, t0_, z0);
+            }
         }
     }
 
     void operator()(std::int64_t n, double t, const Vec& z) {
         if (stride_ > 0 && n % stride_ == 0) grid_.col(n / stride_) = z;
         if (inv_on_) invariants_step(n, t, z);
-        if (max_on_) maxima_step(n, z[0]);
+        if constexpr (HasOneDofMaxima<P>)
+            if (max_on_) finder_->feed(t, z);
+        if constexpr (HasMomentum<P>)
+            if (mom_on_) momentum_step(n, z);
+        if constexpr (HasEnergyBalance<P>)
+            if (eb_on_) eb_push(n, t, z);
     }
 
     const Mat& grid() const { return grid_; }
     const std::vector<InvariantStats>& invariant_stats() const { return stats_; }
-    const std::vector<Maximum>& maxima() const { return maxima_; }
+    std::vector<Maximum> maxima() const {
+        return finder_ ? finder_->maxima() : std::vector<Maximum>{};
+    }
+    const VectorLawStats& linear_momentum_stats() const { return lin_; }
+    const VectorLawStats& angular_momentum_stats() const { return ang_; }
+    const EnergyBalanceStats& energy_balance_stats() const { return eb_; }
 
 private:
+    void vector_law(VectorLawStats& s, const Vec& prev, const Vec& now, double law, double table) {
+        const double norm2 = std::max(prev.squaredNorm(), 1e-300);
+        const double norm = std::sqrt(norm2);
+        const double rel = (now - law * prev).norm() / norm;
+        s.max_law_rel = std::max(s.max_law_rel, rel);
+        s.last_law_rel = rel;
+        const double factor = now.dot(prev) / norm2;
+        if (std::isnan(s.first_factor)) s.first_factor = factor;
+        const double f = std::isnan(table) ? law : table;
+        s.max_factor_dev = std::max(s.max_factor_dev, std::abs(factor - f) / std::abs(f));
+        if (!std::isnan(table))
+            s.max_table_rel = std::max(s.max_table_rel, (now - table * prev).norm() / norm);
+    }
+
+    void momentum_step(std::int64_t n, const Vec& z) {
+        if constexpr (HasMomentum<P>) {
+            const double law = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
+            p_.linear_momentum(z, lin_now_);
+            p_.angular_momentum(z, ang_now_);
+            vector_law(lin_, lin_prev_, lin_now_, law, table_factor_);
+            vector_law(ang_, ang_prev_, ang_now_, law, std::numeric_limits<double>::quiet_NaN());
+            lin_prev_.swap(lin_now_);
+            ang_prev_.swap(ang_now_);
+        }
+    }
+
+    // Sliding window of the last 9 energies; R at the window's centre once it is full.
+    void eb_push(std::int64_t n, double t, const Vec& z) {
+        if constexpr (HasEnergyBalance<P>) {
+            const int nq = p_.n();
+            const std::size_t slot = static_cast<std::size_t>(n % 9);
+            eb_energy_[slot] = p_.energy(z);
+            p_.grad_T(z.tail(nq), grad_t_);
+            eb_rate_[slot] = -2.0 * p_.gamma_at(t) * z.tail(nq).dot(grad_t_);
+            if (n < 8) return;
+            static constexpr std::array<double, 4> c{4.0 / 5.0, -1.0 / 5.0, 4.0 / 105.0,
+                                                     -1.0 / 280.0};
+            const std::int64_t m = n - 4; // centre
+            double d = 0.0;
+            for (std::int64_t k = 4; k >= 1; --k)
+                d += c[static_cast<std::size_t>(k - 1)] *
+                     (eb_energy_[static_cast<std::size_t>((m + k) % 9)] -
+                      eb_energy_[static_cast<std::size_t>((m - k) % 9)]);
+            const double rate = eb_rate_[static_cast<std::size_t>(m % 9)];
+            const double r = std::abs(d / h_ - rate);
+            eb_.max = std::max(eb_.max, r);
+            eb_.last = r;
+            eb_.sum += r;
+            eb_.max_rate = std::max(eb_.max_rate, std::abs(rate));
+            ++eb_.count;
+        }
+    }
+
     void invariants_step(std::int64_t n, double t, const Vec& z) {
         std::array<double, max_invariants> now{};
         p_.invariants(t, z, now.data());
@@ -100,32 +206,20 @@ private:
         }
     }
 
-    void maxima_step(std::int64_t n, double q) {
-        // q_prev1_ is a local maximum of the sequence: parabolic vertex through the three points.
-        if (q_prev1_ > q_prev2_ && q_prev1_ >= q && q_prev1_ > 0.0) {
-            const double y0 = q_prev2_, y1 = q_prev1_, y2 = q;
-            const double curv = y0 - 2.0 * y1 + y2;
-            double offset = 0.0, peak = y1;
-            if (curv < 0.0) {
-                offset = 0.5 * (y0 - y2) / curv; // in units of h, within [−½, ½]
-                peak = y1 - 0.125 * (y0 - y2) * (y0 - y2) / curv;
-            }
-            const double tm = time_at(t0_, h_, n - 1) + offset * h_;
-            maxima_.push_back({tm, std::log(peak) + p_.Gamma(tm)});
-        }
-        q_prev2_ = q_prev1_;
-        q_prev1_ = q;
-    }
-
     const P& p_;
     double t0_, h_;
     std::int64_t stride_ = 0;
     Mat grid_;
-    bool inv_on_ = false, max_on_ = false;
+    bool inv_on_ = false, max_on_ = false, mom_on_ = false, eb_on_ = false;
     std::array<double, max_invariants> inv_prev_{}, inv0_{};
     std::vector<InvariantStats> stats_;
-    double q_prev2_ = 0.0, q_prev1_ = 0.0;
-    std::vector<Maximum> maxima_;
+    std::optional<MaximaFinder<P>> finder_;
+    double table_factor_ = std::numeric_limits<double>::quiet_NaN();
+    Vec lin_prev_, lin_now_, ang_prev_, ang_now_;
+    VectorLawStats lin_, ang_;
+    std::array<double, 9> eb_energy_{}, eb_rate_{};
+    Vec grad_t_;
+    EnergyBalanceStats eb_;
 };
 
 } // namespace dampsym

@@ -73,9 +73,29 @@ std::vector<std::string> metric_names(const std::string& diagnostic, const Probl
         return out;
     }
     if (diagnostic == "energy")
-        return {"max_abs_error",   "final_abs_error", "drift_slope",
-                "rel_drift_slope", "max_abs_change",  "change_slope"};
-    if (diagnostic == "dissipation-drift") return {"slope", "range", "maxima"};
+        return {"max_abs_error",  "final_abs_error", "drift_slope",    "rel_drift_slope",
+                "max_abs_change", "change_slope",    "max_rel_change", "rel_change_slope"};
+    if (diagnostic == "dissipation-drift")
+        return {"slope",
+                "range",
+                "maxima",
+                "slope_minus_reference",
+                "max_abs_diff_reference",
+                "maxima_count_diff",
+                "reference.slope"};
+    if (diagnostic == "momentum") {
+        std::vector<std::string> out;
+        for (const char* part : {"linear", "angular"})
+            for (const char* stat : {"max_law_rel", "last_law_rel", "first_factor",
+                                     "max_factor_dev", "max_table_rel", "initial_norm"})
+                out.push_back(std::string(part) + "." + stat);
+        return out;
+    }
+    if (diagnostic == "energy-balance") return {"max", "last", "mean", "max_rel", "points"};
+    if (diagnostic == "poincare")
+        return {"sections", "pointwise_max", "pointwise_final", "set_mean", "set_hausdorff"};
+    if (diagnostic == "temperature")
+        return {"initial", "mean", "min", "max", "max_abs_dev_initial", "max_abs_error"};
     if (diagnostic == "stability")
         return {"det",
                 "det_rel_err",
@@ -140,8 +160,9 @@ bool CaseSpec::wants(const std::string& d) const {
 
 const std::vector<std::string>& known_diagnostics() {
     static const std::vector<std::string> names{
-        "error",     "order",           "invariants",   "energy", "dissipation-drift",
-        "stability", "stability-sweep", "trace-taylor", "cost"};
+        "error",          "order",           "invariants",   "energy", "dissipation-drift",
+        "stability",      "stability-sweep", "trace-taylor", "cost",   "momentum",
+        "energy-balance", "poincare",        "temperature"};
     return names;
 }
 
@@ -259,6 +280,15 @@ CaseSpec parse_case(const json& input, const std::string& file,
         }
     }
 
+    // Problem-level consistency (array lengths, ...) is checked by the problem itself.
+    with_problem_type(c.problem_id, [&]<class P>() {
+        try {
+            (void)P::from_params(c.params);
+        } catch (const std::invalid_argument& e) {
+            fail(file, "problem", e.what());
+        }
+    });
+
     // methods
     if (!j["methods"].is_array() || j["methods"].empty())
         fail(file, "methods", "must be a non-empty array of method ids");
@@ -351,6 +381,15 @@ CaseSpec parse_case(const json& input, const std::string& file,
     }
     if (c.wants("energy") && !prob->has_energy)
         fail(file, "diagnostics", "problem '" + c.problem_id + "' declares no energy");
+    const std::pair<const char*, bool> needs[] = {{"momentum", prob->has_momentum},
+                                                  {"energy-balance", prob->has_energy_balance},
+                                                  {"temperature", prob->has_temperature},
+                                                  {"poincare", prob->has_forcing_period},
+                                                  {"dissipation-drift", prob->has_maxima}};
+    for (const auto& [d, supported] : needs)
+        if (c.wants(d) && !supported)
+            fail(file, "diagnostics",
+                 std::string(d) + " is not defined for problem '" + c.problem_id + "'");
     for (const char* d : {"stability", "stability-sweep", "trace-taylor"})
         if (c.wants(d) && c.problem_id != "oscillator")
             fail(file, "diagnostics", std::string(d) + " is defined on the oscillator only");

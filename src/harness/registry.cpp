@@ -8,7 +8,9 @@ const std::vector<ProblemInfo>& problem_catalog() {
         for_each_type(ProblemList{}, [&]<class P>() {
             std::vector<std::string> inv(P::invariant_names.begin(), P::invariant_names.end());
             out.push_back({std::string(P::id), std::string(P::title), P::param_specs(), inv,
-                           P::is_linear, P::has_exact, P::has_energy, P::constant_gamma});
+                           P::is_linear, P::has_exact, P::has_energy, P::constant_gamma,
+                           HasMomentum<P>, HasEnergyBalance<P>, HasTemperature<P>,
+                           HasForcingPeriod<P>, HasOneDofMaxima<P>});
         });
         return out;
     }();

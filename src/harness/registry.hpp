@@ -6,13 +6,22 @@
 
 #include "core/method.hpp"
 #include "core/problem.hpp"
+#include "diagnostics/capabilities.hpp"
 #include "methods/cimp.hpp"
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
 #include "methods/explicit_rk.hpp"
+#include "methods/ifrk.hpp"
+#include "methods/implicit_rk.hpp"
+#include "methods/partitioned_rk.hpp"
+#include "problems/argon.hpp"
 #include "problems/driven_pendulum.hpp"
 #include "problems/hill.hpp"
+#include "problems/kepler.hpp"
+#include "problems/lotka_volterra.hpp"
+#include "problems/nbody.hpp"
 #include "problems/oscillator.hpp"
+#include "problems/outer_solar_system.hpp"
 #include "problems/pendulum.hpp"
 #include "problems/rigid_body.hpp"
 
@@ -22,11 +31,12 @@
 
 namespace dampsym {
 
-using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody>;
+using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra,
+                             NBody, Kepler, OuterSolarSystem, Argon>;
 
 template <template <class> class... Ks>
 struct KernelList {};
-using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK>;
+using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK>;
 
 // Runtime facts about a problem type, for validation, `dampsym list` and reports.
 struct ProblemInfo {
@@ -34,6 +44,9 @@ struct ProblemInfo {
     std::vector<ParamSpec> params;
     std::vector<std::string> invariants;
     bool is_linear, has_exact, has_energy, constant_gamma;
+    // Optional diagnostics the problem supports (src/diagnostics/capabilities.hpp).
+    bool has_momentum = false, has_energy_balance = false, has_temperature = false,
+         has_forcing_period = false, has_maxima = false;
 };
 const std::vector<ProblemInfo>& problem_catalog();
 const ProblemInfo* find_problem(std::string_view id);

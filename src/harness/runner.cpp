@@ -1,6 +1,8 @@
 #include "harness/runner.hpp"
 
 #include "core/integrate.hpp"
+#include "diagnostics/capabilities.hpp"
+#include "diagnostics/maxima.hpp"
 #include "diagnostics/order_fit.hpp"
 #include "diagnostics/recorder.hpp"
 #include "diagnostics/stability.hpp"
@@ -149,8 +151,11 @@ public:
         runs_.assign(c_.methods.size() * c_.dts.size(), json());
         method_metrics_.assign(c_.methods.size(), json::object());
         points_ = output_points(c_);
-        needs_grid_ = c_.wants("energy") || (c_.wants("error") && points_ > 1);
-        if (c_.wants("error") || c_.wants("energy")) {
+        // A trajectory grid only for diagnostics that read it; a reference only for those that
+        // compare with it (the energy diagnostic without "error" reports changes only).
+        needs_grid_ = c_.wants("energy") || c_.wants("poincare") || c_.wants("temperature") ||
+                      (c_.wants("error") && points_ > 1);
+        if (c_.wants("error") || c_.wants("poincare")) {
             const std::int64_t np = needs_grid_ ? points_ + 1 : 1;
             ref_times_.resize(static_cast<std::size_t>(np));
             for (std::int64_t i = 0; i < np; ++i)
@@ -253,7 +258,9 @@ private:
         Counters counters;
         K stepper(problem_, info, h, counters);
         Vec z = problem_.initial_state();
-        const bool observe = needs_grid_ || c_.wants("invariants") || c_.wants("dissipation-drift");
+        const bool observe = needs_grid_ || c_.wants("invariants") ||
+                             c_.wants("dissipation-drift") || c_.wants("momentum") ||
+                             c_.wants("energy-balance");
         Recorder<P> rec(problem_, c_.t0, h);
         IntegrateOutcome res;
         const auto start = Clock::now();
@@ -261,6 +268,8 @@ private:
             if (needs_grid_) rec.record_grid(n / points_, points_ + 1);
             if (c_.wants("invariants")) rec.track_invariants();
             if (c_.wants("dissipation-drift")) rec.track_maxima();
+            if (c_.wants("momentum")) rec.track_momentum(table_momentum_factor(info, h));
+            if (c_.wants("energy-balance")) rec.track_energy_balance();
             rec.start(z);
             res = integrate(stepper, z, c_.t0, h, n, &rec);
         } else {
@@ -303,6 +312,18 @@ private:
             metrics["invariants"] = inv;
         }
         if (ok && c_.wants("dissipation-drift")) metrics["dissipation-drift"] = drift_metrics(rec);
+        if (ok && c_.wants("momentum")) metrics["momentum"] = momentum_metrics(rec, info, h);
+        if (ok && c_.wants("energy-balance")) {
+            const EnergyBalanceStats& e = rec.energy_balance_stats();
+            metrics["energy-balance"] = {
+                {"max", e.max},
+                {"last", e.last},
+                {"mean", e.count ? e.sum / static_cast<double>(e.count) : 0.0},
+                {"max_rel", e.max_rate > 0.0 ? e.max / e.max_rate : 0.0},
+                {"points", e.count}};
+        }
+        if (ok && c_.wants("poincare")) metrics["poincare"] = poincare_metrics(rec);
+        if (ok && c_.wants("temperature")) metrics["temperature"] = temperature_metrics(rec);
         if (c_.wants("stability")) {
             if constexpr (P::is_linear) metrics["stability"] = stability_metrics<K>(info, h);
         }
@@ -336,31 +357,41 @@ private:
             const Mat& g = rec.grid();
             std::vector<double> t, err, rel, change;
             const double e0 = problem_.energy(g.col(0));
-            double max_err = 0.0, max_change = 0.0;
+            const bool with_ref = reference_ok_ && ref_.cols() == g.cols();
+            std::vector<double> rel_change;
+            double max_err = 0.0, max_change = 0.0, max_rel_change = 0.0;
             for (Eigen::Index i = 0; i < g.cols(); ++i) {
                 const double en = problem_.energy(g.col(i));
-                t.push_back(ref_times_[static_cast<std::size_t>(i)]);
-                const double exact = problem_.energy(ref_.col(i));
-                err.push_back(exact - en); // H_exact − H_approx (F Fig 4.3)
-                rel.push_back(err.back() / exact);
+                t.push_back(grid_time(i));
+                if (with_ref) {
+                    const double exact = problem_.energy(ref_.col(i));
+                    err.push_back(exact - en); // H_exact − H_approx (F Fig 4.3)
+                    rel.push_back(err.back() / exact);
+                    max_err = std::max(max_err, std::abs(err.back()));
+                }
                 change.push_back(en - e0);
-                max_err = std::max(max_err, std::abs(err.back()));
+                rel_change.push_back((en - e0) / std::abs(e0));
                 max_change = std::max(max_change, std::abs(change.back()));
+                max_rel_change = std::max(max_rel_change, std::abs(rel_change.back()));
             }
-            return {{"max_abs_error", max_err},
-                    {"final_abs_error", std::abs(err.back())},
-                    {"drift_slope", least_squares(t, err).slope},
-                    {"rel_drift_slope", least_squares(t, rel).slope},
-                    {"max_abs_change", max_change},
-                    {"change_slope", least_squares(t, change).slope}};
+            json out = {{"max_abs_change", max_change},
+                        {"change_slope", least_squares(t, change).slope},
+                        {"max_rel_change", max_rel_change},
+                        {"rel_change_slope", least_squares(t, rel_change).slope}};
+            if (with_ref) {
+                out["max_abs_error"] = max_err;
+                out["final_abs_error"] = std::abs(err.back());
+                out["drift_slope"] = least_squares(t, err).slope;
+                out["rel_drift_slope"] = least_squares(t, rel).slope;
+            }
+            return out;
         } else {
             (void)rec;
             return json::object();
         }
     }
 
-    static json drift_metrics(const Recorder<P>& rec) {
-        const auto& mx = rec.maxima();
+    static json drift_of(const std::vector<Maximum>& mx) {
         json out = {{"maxima", mx.size()}};
         if (mx.size() < 3) return out; // slope missing: a check on it fails with that reason
         std::vector<double> t, d;
@@ -376,6 +407,152 @@ private:
         out["first"] = {mx.front().t, mx.front().d};
         out["last"] = {mx.back().t, mx.back().d};
         return out;
+    }
+
+    // d(t) of the method; with a reference on the output grid also d(t) of the reference (same
+    // maxima locator on the reference samples) and the differences, maximum by maximum.
+    json drift_metrics(const Recorder<P>& rec) const {
+        const std::vector<Maximum> mx = rec.maxima();
+        json out = drift_of(mx);
+        if constexpr (HasOneDofMaxima<P>) {
+            if (reference_ok_ && ref_.cols() > 2 && ref_.cols() == points_ + 1) {
+                MaximaFinder<P> finder(problem_);
+                for (Eigen::Index i = 0; i < ref_.cols(); ++i)
+                    finder.feed(grid_time(i), ref_.col(i));
+                const auto& rm = finder.maxima();
+                const json ref = drift_of(rm);
+                out["reference"] = ref;
+                if (ref.contains("slope") && out.contains("slope"))
+                    out["slope_minus_reference"] =
+                        out["slope"].get<double>() - ref["slope"].get<double>();
+                double max_diff = 0.0;
+                const std::size_t k = std::min(mx.size(), rm.size());
+                for (std::size_t i = 0; i < k; ++i)
+                    max_diff = std::max(max_diff, std::abs(mx[i].d - rm[i].d));
+                out["max_abs_diff_reference"] = max_diff;
+                out["maxima_count_diff"] =
+                    static_cast<std::int64_t>(mx.size()) - static_cast<std::int64_t>(rm.size());
+            }
+        }
+        return out;
+    }
+
+    double grid_time(Eigen::Index i) const {
+        if (i == points_) return c_.t_end;
+        return c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) / static_cast<double>(points_);
+    }
+
+    // B Table 3.1 factor of Σp per step the method declares (constant γ only), NaN if none.
+    double table_momentum_factor(const MethodInfo& info, double h) const {
+        if (!P::constant_gamma) return std::numeric_limits<double>::quiet_NaN();
+        const double gh = problem_.dGamma(c_.t0, h);
+        if (info.claims & claim_linear_momentum_cayley)
+            return std::exp(-gh) * (2.0 - gh) / (2.0 + gh);
+        if (info.claims & claim_linear_momentum) return std::exp(-2.0 * gh);
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+
+    json momentum_metrics(const Recorder<P>& rec, const MethodInfo& info, double h) const {
+        auto one = [](const VectorLawStats& s, bool with_table) {
+            json o = {{"max_law_rel", s.max_law_rel},
+                      {"last_law_rel", s.last_law_rel},
+                      {"first_factor", s.first_factor},
+                      {"max_factor_dev", s.max_factor_dev},
+                      {"initial_norm", s.initial_norm}};
+            if (with_table) o["max_table_rel"] = s.max_table_rel;
+            return o;
+        };
+        json ang = one(rec.angular_momentum_stats(), false);
+        if constexpr (requires { P::linear_momentum_law; }) {
+            // e.g. Kepler's fixed centre: Σp has no law, only the angular momentum is reported.
+            if (!P::linear_momentum_law)
+                return {{"angular", ang}, {"linear", {{"reason", "no linear momentum law"}}}};
+        }
+        const double table = table_momentum_factor(info, h);
+        json lin = one(rec.linear_momentum_stats(), !std::isnan(table));
+        lin["law_factor"] = std::exp(-2.0 * problem_.dGamma(c_.t0, h));
+        if (!std::isnan(table)) {
+            lin["table_factor"] = table;
+            lin["table_source"] = "B Table 3.1";
+        }
+        return {{"linear", lin}, {"angular", ang}};
+    }
+
+    // Poincaré section at t = t0 + kT, T the forcing period (B §3.2.2): the output grid must be
+    // exactly the section times. The angle is compared on the circle. Pointwise distances to the
+    // reference's section, and set distances (nearest reference point, symmetric Hausdorff) after
+    // the first 10% of sections (transient), which stay meaningful where a chaotic orbit has
+    // separated from the reference pointwise.
+    json poincare_metrics(const Recorder<P>& rec) const {
+        if constexpr (HasForcingPeriod<P>) {
+            const double T = problem_.forcing_period();
+            const double spacing = (c_.t_end - c_.t0) / static_cast<double>(points_);
+            if (std::abs(spacing - T) > 1e-9 * T)
+                return {{"reason", "output_dt must equal the forcing period " + std::to_string(T)}};
+            if (!reference_ok_) return {{"reason", "reference failed"}};
+            const Mat& g = rec.grid();
+            auto dist = [](const Vec& a, const Vec& b) {
+                double s = std::remainder(a[0] - b[0], 2.0 * M_PI);
+                s *= s;
+                for (Eigen::Index i = 1; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
+                return std::sqrt(s);
+            };
+            double pmax = 0.0;
+            for (Eigen::Index k = 0; k < g.cols(); ++k)
+                pmax = std::max(pmax, dist(g.col(k), ref_.col(k)));
+            const Eigen::Index skip = g.cols() / 10;
+            auto nearest = [&](const Mat& from, const Mat& to, double& mean) {
+                double worst = 0.0, sum = 0.0;
+                for (Eigen::Index i = skip; i < from.cols(); ++i) {
+                    double best = std::numeric_limits<double>::infinity();
+                    for (Eigen::Index j = skip; j < to.cols(); ++j)
+                        best = std::min(best, dist(from.col(i), to.col(j)));
+                    worst = std::max(worst, best);
+                    sum += best;
+                }
+                mean = sum / static_cast<double>(std::max<Eigen::Index>(1, from.cols() - skip));
+                return worst;
+            };
+            double mean_mr = 0.0, mean_rm = 0.0;
+            const double h1 = nearest(g, ref_, mean_mr), h2 = nearest(ref_, g, mean_rm);
+            return {{"sections", g.cols()},
+                    {"transient_skipped", skip},
+                    {"pointwise_max", pmax},
+                    {"pointwise_final", dist(g.col(g.cols() - 1), ref_.col(ref_.cols() - 1))},
+                    {"set_mean", 0.5 * (mean_mr + mean_rm)},
+                    {"set_hausdorff", std::max(h1, h2)}};
+        } else {
+            (void)rec;
+            return {{"reason", "problem has no periodic forcing"}};
+        }
+    }
+
+    // HLW(3.8) temperature on the output grid: its fluctuation and, with a reference, its error.
+    json temperature_metrics(const Recorder<P>& rec) const {
+        if constexpr (HasTemperature<P>) {
+            const Mat& g = rec.grid();
+            const double T0 = problem_.temperature(g.col(0));
+            double lo = T0, hi = T0, sum = 0.0, max_err = 0.0;
+            const bool with_ref = reference_ok_ && ref_.cols() == g.cols();
+            for (Eigen::Index i = 0; i < g.cols(); ++i) {
+                const double T = problem_.temperature(g.col(i));
+                lo = std::min(lo, T);
+                hi = std::max(hi, T);
+                sum += T;
+                if (with_ref)
+                    max_err = std::max(max_err, std::abs(T - problem_.temperature(ref_.col(i))));
+            }
+            json out = {{"initial", T0},
+                        {"mean", sum / static_cast<double>(g.cols())},
+                        {"min", lo},
+                        {"max", hi},
+                        {"max_abs_dev_initial", std::max(hi - T0, T0 - lo)}};
+            if (with_ref) out["max_abs_error"] = max_err;
+            return out;
+        } else {
+            (void)rec;
+            return {{"reason", "problem declares no temperature"}};
+        }
     }
 
     template <class K>

@@ -2,6 +2,7 @@
 // Adding a method of an existing family = one row here (plus its tableau); the runner, the CLI and
 // the reports pick it up from this list, and tests/test_methods.cpp loops over it.
 #include "core/method.hpp"
+#include "methods/tableaux.hpp"
 
 #include <cmath>
 
@@ -77,6 +78,11 @@ double csv2_h4(double w, double g) {
     return (2.0 * w * w * w * w + 5.0 * g * g * w * w - 4.0 * g * g * g * g) / 48.0;
 }
 
+// GL-IFRK: conformal symplectic and conformal quadratic invariants (B Thm 2.6, 2.11); angular
+// momentum is a conformal quadratic invariant of the n-body problem.
+constexpr unsigned glifrk_claims =
+    claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum;
+
 constexpr unsigned csv_claims =
     claim_conformal_symplectic | claim_angular_momentum; // + linear momentum for csv1 (below)
 
@@ -89,7 +95,8 @@ const std::vector<MethodInfo>& method_catalog() {
          2,
          true,
          "conformal",
-         claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum,
+         claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum |
+             claim_linear_momentum_cayley,
          "F(2.3), B(2.11)",
          nullptr,
          {cimp_half_trace, cimp_condition, cimp_h4, "F(3.10), F(3.12)"}},
@@ -107,7 +114,7 @@ const std::vector<MethodInfo>& method_catalog() {
          2,
          false,
          "separable",
-         csv_claims,
+         csv_claims | claim_linear_momentum_cayley,
          "F(2.16), B(2.21)",
          nullptr,
          {csv2_half_trace, csv2_condition, csv2_h4, "F(3.20), F(3.22)"}},
@@ -115,6 +122,114 @@ const std::vector<MethodInfo>& method_catalog() {
         {"heun", "explicit-rk", 2, false, "plain", claim_none, "B(3.8)", &heun_tableau, {}},
         {"rk3", "explicit-rk", 3, false, "plain", claim_none, "Kutta, F ch.4", &rk3_tableau, {}},
         {"rk4", "explicit-rk", 4, false, "plain", claim_none, "classical RK4", &rk4_tableau, {}},
+        // ---- implicit RK on the full vector field (kernel implicit-rk,
+        // src/methods/implicit_rk.hpp); Gauss coefficients generated from the Legendre roots
+        // (src/methods/tableaux.cpp) ----
+        {"implicit-euler",
+         "implicit-rk",
+         1,
+         true,
+         "plain",
+         claim_none,
+         "HLW(1.5)",
+         &implicit_euler_tableau(),
+         {}},
+        {"implicit-midpoint",
+         "implicit-rk",
+         2,
+         true,
+         "plain",
+         claim_symplectic_if_undamped,
+         "HLW(1.6) (= gauss1)",
+         &gauss_tableau(1),
+         {}},
+        {"gauss1",
+         "implicit-rk",
+         2,
+         true,
+         "plain",
+         claim_symplectic_if_undamped,
+         "1-stage Gauss-Legendre, HLW II.1, BS",
+         &gauss_tableau(1),
+         {}},
+        {"gauss2",
+         "implicit-rk",
+         4,
+         true,
+         "plain",
+         claim_symplectic_if_undamped,
+         "2-stage Gauss-Legendre, B Fig. 3.3, BS",
+         &gauss_tableau(2),
+         {}},
+        {"gauss3",
+         "implicit-rk",
+         6,
+         true,
+         "plain",
+         claim_symplectic_if_undamped,
+         "3-stage Gauss-Legendre, B Fig. 3.3",
+         &gauss_tableau(3),
+         {}},
+        // ---- partitioned RK on the full vector field (kernel partitioned-rk): tableau = q part,
+        // tableau_p = p part ----
+        {"symplectic-euler",
+         "partitioned-rk",
+         1,
+         false,
+         "separable",
+         claim_symplectic_if_undamped,
+         "HLW(1.8)",
+         &explicit_euler_tableau(),
+         {},
+         &implicit_euler_tableau()},
+        {"symplectic-euler-adjoint",
+         "partitioned-rk",
+         1,
+         false,
+         "separable",
+         claim_symplectic_if_undamped,
+         "HLW(1.9)",
+         &implicit_euler_tableau(),
+         {},
+         &explicit_euler_tableau()},
+        {"stormer-verlet",
+         "partitioned-rk",
+         2,
+         false,
+         "separable",
+         claim_symplectic_if_undamped,
+         "HLW(3.6), Lobatto IIIA-IIIB",
+         &lobatto_iiia2_tableau(),
+         {},
+         &lobatto_iiib2_tableau()},
+        // ---- Gauss-Legendre under the integrating factor, B(2.5) (kernel ifrk) ----
+        {"glifrk1",
+         "ifrk",
+         2,
+         true,
+         "conformal",
+         glifrk_claims,
+         "B(2.5), B(2.11)",
+         &gauss_tableau(1),
+         {}},
+        {"glifrk2",
+         "ifrk",
+         4,
+         true,
+         "conformal",
+         glifrk_claims,
+         "B(2.5), B(2.12)",
+         &gauss_tableau(2),
+         {}},
+        {"glifrk3",
+         "ifrk",
+         6,
+         true,
+         "conformal",
+         glifrk_claims,
+         "B(2.5), 3-stage Gauss",
+         &gauss_tableau(3),
+         {}},
     };
     return catalog;
 }

@@ -5,6 +5,12 @@
 // and with time-dependent γ the two factors become e^{−(Γ(t+h/2)−Γ(t))}, e^{−(Γ(t+h)−Γ(t+h/2))}.
 // The midpoint equation is solved by Newton's method with the problem's analytic Jacobian of N
 // until the update reaches round-off; one N and one Jacobian evaluation per iteration.
+//
+// step_jacobian() also returns Ψ = ∂z₁/∂z₀ of this discrete map, by the implicit-function theorem
+// at the converged midpoint (never by differentiating the Newton iterations): with a = e^{−ΔΓ₁},
+// b = e^{−ΔΓ₂} the two half-step factors, dy₀ = a dz₀, (I − (h/2)N'(m)) dm = dy₀, so
+//   Ψ = b (2 ∂m/∂z₀ − a I) = ab [2 (I − (h/2)N'(m))⁻¹ − I]   (the Cayley transform of (h/2)N').
+// One extra Jacobian evaluation and LU factorisation per step (counted in jac_evals).
 #pragma once
 
 #include "core/method.hpp"
@@ -24,13 +30,26 @@ public:
     static constexpr bool applies = Q::has_conformal; // needs the conformal form N and its Jacobian
     static constexpr int max_iterations = 50;
 
+    static constexpr bool has_step_jacobian = true;
+
     Cimp(const P& problem, const MethodInfo&, double h, Counters& counters)
         : prob_(problem), h_(h), c_(counters), d_(problem.dim()), y0_(d_), m_(d_), r_(d_), dm_(d_),
           J_(d_, d_), lu_(d_) {}
 
-    StepStatus step(double t, Vec& z) {
+    StepStatus step(double t, Vec& z) { return advance<false>(t, z, nullptr); }
+
+    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
+    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
+        if (Psi.rows() != d_ || Psi.cols() != d_) Psi.resize(d_, d_);
+        return advance<true>(t, z, &Psi);
+    }
+
+private:
+    template <bool WithJacobian>
+    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         const double tm = t + 0.5 * h_;
-        y0_ = std::exp(-prob_.dGamma(t, 0.5 * h_)) * z;
+        const double a = std::exp(-prob_.dGamma(t, 0.5 * h_));
+        y0_ = a * z;
         m_ = y0_;
         double previous = std::numeric_limits<double>::infinity();
         for (int it = 1; it <= max_iterations; ++it) {
@@ -52,7 +71,9 @@ public:
             if (step_norm <= 4.0 * eps * scale ||
                 (step_norm <= 1e-10 * scale && step_norm >= 0.5 * previous)) {
                 c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, it);
-                z = std::exp(-prob_.dGamma(tm, 0.5 * h_)) * (2.0 * m_ - y0_);
+                const double b = std::exp(-prob_.dGamma(tm, 0.5 * h_));
+                z = b * (2.0 * m_ - y0_);
+                if constexpr (WithJacobian) jacobian_at_solution(tm, a * b, *Psi);
                 return StepStatus::ok;
             }
             previous = step_norm;
@@ -60,7 +81,17 @@ public:
         return StepStatus::solve_failed;
     }
 
-private:
+    // Ψ = ab [2 (I − (h/2)N'(m))⁻¹ − I] at the converged midpoint m_ (implicit-function theorem).
+    void jacobian_at_solution(double tm, double ab, Mat& Psi) {
+        prob_.N_jacobian(tm, m_, J_);
+        c_.jac_evals += 1;
+        J_ = Mat::Identity(d_, d_) - (0.5 * h_) * J_;
+        lu_.compute(J_);
+        Psi = lu_.solve(Mat::Identity(d_, d_));
+        Psi *= 2.0 * ab;
+        Psi.diagonal().array() -= ab;
+    }
+
     static constexpr double eps = std::numeric_limits<double>::epsilon();
     const P& prob_;
     double h_;

@@ -5,6 +5,12 @@
 // i.e. damping, kick, drift, kick, damping (Strang splitting of F §2.2.1). With time-dependent γ
 // the half-step factors are e^{−2(Γ(t+h/2)−Γ(t))} and e^{−2(Γ(t+h)−Γ(t+h/2))}; the kicks use the
 // force at t and t+h. Two force evaluations per step (as counted in F Table 4.1).
+//
+// step_jacobian() also returns Ψ = ∂z₁/∂z₀ by the chain rule through the three stages, with
+// F' = ∂F/∂q (force_jacobian) and T'' = ∇²T (hess_T), each a row block over the columns (q₀, p₀):
+//   ∂p½ = [ (h/2)F'(q₀, t),  d₁ I ]
+//   ∂q₁ = [ I, 0 ] + h T''(p½) ∂p½
+//   ∂p₁ = d₂ (∂p½ + (h/2) F'(q₁, t+h) ∂q₁)
 #pragma once
 
 #include "core/method.hpp"
@@ -21,30 +27,66 @@ public:
     template <class Q>
     static constexpr bool applies = Q::has_separable;
 
-    Csv1(const P& problem, const MethodInfo&, double h, Counters& counters)
-        : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_) {}
+    static constexpr bool has_step_jacobian = true;
 
-    StepStatus step(double t, Vec& z) {
+    Csv1(const P& problem, const MethodInfo&, double h, Counters& counters)
+        : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_), Fq_(n_, n_),
+          Tpp_(n_, n_), dp_(n_, 2 * n_), dq_(n_, 2 * n_) {}
+
+    StepStatus step(double t, Vec& z) { return advance<false>(t, z, nullptr); }
+
+    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
+    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
+        if (Psi.rows() != 2 * n_ || Psi.cols() != 2 * n_) Psi.resize(2 * n_, 2 * n_);
+        return advance<true>(t, z, &Psi);
+    }
+
+private:
+    template <bool WithJacobian>
+    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         auto q = z.head(n_);
         auto p = z.tail(n_);
         const double d1 = std::exp(-2.0 * prob_.dGamma(t, 0.5 * h_));
         const double d2 = std::exp(-2.0 * prob_.dGamma(t + 0.5 * h_, 0.5 * h_));
         prob_.force(t, q, f_);
+        if constexpr (WithJacobian) {
+            Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
+            prob_.force_jacobian(t, q, Fq_); // at q₀
+            dp_.leftCols(n_) = (0.5 * h_) * Fq_;
+            dp_.rightCols(n_).setZero();
+            dp_.rightCols(n_).diagonal().setConstant(d1);
+        }
         p = d1 * p + (0.5 * h_) * f_;
         prob_.grad_T(p, a_);
+        if constexpr (WithJacobian) {
+            Tpp_.setZero();        // as SeparableProblem::N_jacobian: problems may fill a part
+            prob_.hess_T(p, Tpp_); // at p½
+            dq_.noalias() = h_ * Tpp_ * dp_;
+            dq_.leftCols(n_).diagonal().array() += 1.0;
+        }
         q += h_ * a_;
         prob_.force(t + h_, q, f_);
         p = d2 * (p + (0.5 * h_) * f_);
         c_.rhs_evals += 2;
+        if constexpr (WithJacobian) {
+            Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
+            prob_.force_jacobian(t + h_, q, Fq_); // at q₁
+            c_.jac_evals += 2;
+            Psi->topRows(n_) = dq_;
+            Psi->bottomRows(n_) = dp_;
+            Psi->bottomRows(n_).noalias() += (0.5 * h_) * Fq_ * dq_;
+            Psi->bottomRows(n_) *= d2;
+        }
         return StepStatus::ok;
     }
 
-private:
     const P& prob_;
     double h_;
     Counters& c_;
     int n_;
     Vec a_, f_;
+    Mat Fq_, Tpp_; // ∂F/∂q and ∇²T at the current stage
+    Mat dp_, dq_;  // ∂p½/∂z₀ and ∂q₁/∂z₀, n × 2n
 };
 
 } // namespace dampsym

@@ -5,6 +5,12 @@
 // Defined for constant γ only, and for γh ≠ 2 (the q-update divides by 1 − γh/2: at γh = 2 the
 // step produces inf and the run is reported as diverged, not crashed). Two force evaluations per
 // step.
+//
+// step_jacobian() also returns Ψ = ∂z₁/∂z₀ by the chain rule through the three stages, with
+// e = e^{−γh/2}, F' = ∂F/∂q (force_jacobian), T'' = ∇²T (hess_T), row blocks over (q₀, p₀):
+//   ∂p½ = [ (h/2)F'(q₀, t),  e I ] / (1 + γh/2)
+//   ∂q₁ = e ([ (1 + γh/2) e I, 0 ] + h T''(p½) ∂p½) / (1 − γh/2)
+//   ∂p₁ = e ((1 − γh/2) ∂p½ + (h/2) F'(q₁, t+h) ∂q₁)
 #pragma once
 
 #include "core/method.hpp"
@@ -21,33 +27,70 @@ public:
     template <class Q>
     static constexpr bool applies = Q::has_separable&& Q::constant_gamma;
 
+    static constexpr bool has_step_jacobian = true;
+
     Csv2(const P& problem, const MethodInfo&, double h, Counters& counters)
-        : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_) {
+        : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_), Fq_(n_, n_),
+          Tpp_(n_, n_), dp_(n_, 2 * n_), dq_(n_, 2 * n_) {
         const double gh2 = 0.5 * problem.gamma_at(0.0) * h;
         e_ = std::exp(-gh2);
         plus_ = 1.0 + gh2;
         minus_ = 1.0 - gh2;
     }
 
-    StepStatus step(double t, Vec& z) {
+    StepStatus step(double t, Vec& z) { return advance<false>(t, z, nullptr); }
+
+    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
+    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
+        if (Psi.rows() != 2 * n_ || Psi.cols() != 2 * n_) Psi.resize(2 * n_, 2 * n_);
+        return advance<true>(t, z, &Psi);
+    }
+
+private:
+    template <bool WithJacobian>
+    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         auto q = z.head(n_);
         auto p = z.tail(n_);
         prob_.force(t, q, f_);
+        if constexpr (WithJacobian) {
+            Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
+            prob_.force_jacobian(t, q, Fq_); // at q₀
+            dp_.leftCols(n_) = ((0.5 * h_) / plus_) * Fq_;
+            dp_.rightCols(n_).setZero();
+            dp_.rightCols(n_).diagonal().setConstant(e_ / plus_);
+        }
         p = (e_ * p + (0.5 * h_) * f_) / plus_;
         prob_.grad_T(p, a_);
+        if constexpr (WithJacobian) {
+            Tpp_.setZero();        // as SeparableProblem::N_jacobian: problems may fill a part
+            prob_.hess_T(p, Tpp_); // at p½
+            dq_.noalias() = h_ * Tpp_ * dp_;
+            dq_.leftCols(n_).diagonal().array() += plus_ * e_;
+            dq_ *= e_ / minus_;
+        }
         q = (e_ * (plus_ * e_ * q + h_ * a_)) / minus_;
         prob_.force(t + h_, q, f_);
         p = e_ * (minus_ * p + (0.5 * h_) * f_);
         c_.rhs_evals += 2;
+        if constexpr (WithJacobian) {
+            Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
+            prob_.force_jacobian(t + h_, q, Fq_); // at q₁
+            c_.jac_evals += 2;
+            Psi->topRows(n_) = dq_;
+            Psi->bottomRows(n_) = minus_ * dp_;
+            Psi->bottomRows(n_).noalias() += (0.5 * h_) * Fq_ * dq_;
+            Psi->bottomRows(n_) *= e_;
+        }
         return StepStatus::ok;
     }
 
-private:
     const P& prob_;
     double h_;
     Counters& c_;
     int n_;
     Vec a_, f_;
+    Mat Fq_, Tpp_; // ∂F/∂q and ∇²T at the current stage
+    Mat dp_, dq_;  // ∂p½/∂z₀ and ∂q₁/∂z₀, n × 2n
     double e_ = 1.0, plus_ = 1.0, minus_ = 1.0;
 };
 

@@ -1,6 +1,9 @@
 // Generic explicit Runge–Kutta kernel on the plain form z' = f(t, z) (the full damped vector
 // field). The tableau is data (src/methods/catalog.cpp); this loop is the only code.
 //   k_i = f(t + c_i h, z + h Σ_{j<i} a_ij k_j),   z₁ = z + h Σ b_i k_i
+// step_jacobian() also returns Ψ = ∂z₁/∂z₀ by the scheme's variational equations (the same RK
+// applied to the linearisation along the stages), f' = rhs_jacobian:
+//   ∂y_i = I + h Σ_{j<i} a_ij ∂k_j,   ∂k_i = f'(t + c_i h, y_i) ∂y_i,   Ψ = I + h Σ b_i ∂k_i
 #pragma once
 
 #include "core/method.hpp"
@@ -16,31 +19,61 @@ public:
     template <class Q>
     static constexpr bool applies = true; // every problem offers the plain form
 
+    static constexpr bool has_step_jacobian = true;
+
     ExplicitRK(const P& problem, const MethodInfo& info, double h, Counters& counters)
         : prob_(problem), t_(*info.tableau), h_(h), c_(counters), K_(problem.dim(), t_.stages),
-          y_(problem.dim()), k_(problem.dim()) {}
+          y_(problem.dim()), k_(problem.dim()), dK_(problem.dim(), problem.dim() * t_.stages),
+          dY_(problem.dim(), problem.dim()), Jf_(problem.dim(), problem.dim()) {}
 
-    StepStatus step(double t, Vec& z) {
+    StepStatus step(double t, Vec& z) { return advance<false>(t, z, nullptr); }
+
+    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
+    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
+        const Eigen::Index d = z.size();
+        if (Psi.rows() != d || Psi.cols() != d) Psi.resize(d, d);
+        return advance<true>(t, z, &Psi);
+    }
+
+private:
+    template <bool WithJacobian>
+    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         const int s = t_.stages;
         for (int i = 0; i < s; ++i) {
             y_ = z;
             for (int j = 0; j < i; ++j)
                 if (t_.A(i, j) != 0.0) y_ += (h_ * t_.A(i, j)) * K_.col(j);
-            prob_.rhs(t + t_.c[static_cast<std::size_t>(i)] * h_, y_, k_);
+            const double ti = t + t_.c[static_cast<std::size_t>(i)] * h_;
+            prob_.rhs(ti, y_, k_);
             K_.col(i) = k_;
+            if constexpr (WithJacobian) {
+                dY_.setIdentity();
+                for (int j = 0; j < i; ++j)
+                    if (t_.A(i, j) != 0.0) dY_ += (h_ * t_.A(i, j)) * dK(j);
+                prob_.rhs_jacobian(ti, y_, Jf_);
+                dK(i).noalias() = Jf_ * dY_;
+            }
         }
         for (int i = 0; i < s; ++i) z += (h_ * t_.b[static_cast<std::size_t>(i)]) * K_.col(i);
         c_.rhs_evals += s;
+        if constexpr (WithJacobian) {
+            c_.jac_evals += s;
+            Psi->setIdentity();
+            for (int i = 0; i < s; ++i) *Psi += (h_ * t_.b[static_cast<std::size_t>(i)]) * dK(i);
+        }
         return StepStatus::ok;
     }
 
-private:
+    auto dK(int i) { return dK_.middleCols(static_cast<Eigen::Index>(i) * dY_.cols(), dY_.cols()); }
+
     const P& prob_;
     const ButcherTableau& t_;
     double h_;
     Counters& c_;
     Mat K_;
     Vec y_, k_;
+    Mat dK_;      // [∂k_1/∂z₀ … ∂k_s/∂z₀], d × (s·d)
+    Mat dY_, Jf_; // ∂y_i/∂z₀ and f'(t_i, y_i)
 };
 
 } // namespace dampsym

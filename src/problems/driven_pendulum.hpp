@@ -50,6 +50,8 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamm
     }
 
     void invariants(double, const Vec&, double*) const {}
+    // Period of the forcing f sin t: Poincaré sections at t = 2πk (B Fig 3.5).
+    double forcing_period() const { return 2.0 * M_PI; }
 };
 
 } // namespace dampsym

@@ -17,6 +17,7 @@ struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscill
     static constexpr bool is_linear = true;
     static constexpr bool has_exact = true;
     static constexpr bool has_energy = true;
+    static constexpr bool autonomous_potential = true; // V = ω²q²/2: Ḣ = −2γp²
     static constexpr std::array<std::string_view, 1> invariant_names{"H_gamma"};
 
     double omega = 1.0, gamma = 0.0, q0 = 1.0, p0 = 0.0;

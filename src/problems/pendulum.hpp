@@ -17,6 +17,7 @@ struct Pendulum : SeparableProblem<Pendulum>, UnitMass, ConstantGamma<Pendulum> 
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = true;
+    static constexpr bool autonomous_potential = true; // V = −cos q: energy balance B(3.4)
     static constexpr std::array<std::string_view, 0> invariant_names{};
 
     double gamma = 0.0, q0 = 1.0, p0 = 0.0;

@@ -1,0 +1,147 @@
+// Conformal symplecticness of the discrete step map (SPEC §5 "conformal-symplectic", B(2.42),
+// B(3.2)). For every step n → n+1 the kernel returns Ψ = ∂z_{n+1}/∂z_n, the exact derivative of
+// the scheme itself (step_jacobian(): chain rule through explicit stages, implicit-function
+// theorem at converged implicit solves; never finite differences), and the diagnostic measures
+//   E_n = ‖Ψᵀ J⁻¹ Ψ − e^{−2ΔΓ_n} J⁻¹‖_F,   ΔΓ_n = Γ(t_{n+1}) − Γ(t_n) = problem.dGamma(t_n, h),
+// in the Frobenius norm, and the relative defect E_n / (e^{−2ΔΓ_n} ‖J⁻¹‖_F), ‖J⁻¹‖_F = √d.
+// J⁻¹ is the canonical structure for z = [q; p] with z' = J⁻¹∇H: J⁻¹ = [0 I; −I 0] (the defect is
+// the same for the opposite sign convention). Each step's defect is that of one step: Ψ is not
+// accumulated over steps.
+//
+// Applicability: only problems in canonical coordinates z = [q; p] have a J. A problem is
+// canonical if it declares `static constexpr bool is_canonical` (true), or else if it offers the
+// separable Rayleigh form (has_separable). Poisson problems such as the rigid body (odd
+// dimension, no q/p split) are reported as not applicable; so is a kernel without step_jacobian.
+// In both cases nothing is integrated (z is left unchanged, steps_done = 0).
+#pragma once
+
+#include "core/integrate.hpp"
+#include "core/types.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+namespace dampsym {
+
+enum class ConformalSymplecticApplicability {
+    applicable,
+    not_canonical,   // no q/p split, no canonical J (e.g. the rigid body, a Poisson system)
+    no_step_jacobian // the kernel does not provide step_jacobian()
+};
+
+inline const char* to_string(ConformalSymplecticApplicability a) {
+    switch (a) {
+    case ConformalSymplecticApplicability::applicable:
+        return "applicable";
+    case ConformalSymplecticApplicability::not_canonical:
+        return "not-applicable: no canonical symplectic structure (Poisson problem)";
+    case ConformalSymplecticApplicability::no_step_jacobian:
+        return "not-applicable: method has no exact step Jacobian";
+    }
+    return "?";
+}
+
+struct ConformalSymplecticStats {
+    ConformalSymplecticApplicability applicability = ConformalSymplecticApplicability::applicable;
+    bool applicable() const {
+        return applicability == ConformalSymplecticApplicability::applicable;
+    }
+    // Same meaning as in IntegrateOutcome: a diverged step counts in steps_done (z holds the
+    // diverged state), a failed nonlinear solve does not (z is the last good state). A step whose
+    // state or defect is not finite is "diverged". Defects are recorded only for good steps.
+    RunStatus status = RunStatus::ok;
+    std::int64_t steps_done = 0;
+    std::int64_t failed_step = 0;    // 1-based index of the step that diverged or failed; 0 if ok
+    std::int64_t steps_measured = 0; // steps whose defect is in the statistics
+    // Absolute defect E_n (Frobenius norm).
+    double max_abs = 0.0, last_abs = 0.0;
+    std::int64_t max_abs_step = 0; // 1-based index n+1 of the step n → n+1 with the largest E_n
+    // Relative defect E_n / (e^{−2ΔΓ_n} √d).
+    double max_rel = 0.0, last_rel = 0.0;
+    std::int64_t max_rel_step = 0;
+    static constexpr const char* norm = "frobenius";
+};
+
+// Whether the problem is in canonical coordinates z = [q; p] (see the header comment).
+template <class P>
+constexpr bool is_canonical_problem() {
+    if constexpr (requires { P::is_canonical; })
+        return P::is_canonical;
+    else if constexpr (requires { P::has_separable; })
+        return P::has_separable;
+    else
+        return false;
+}
+
+template <class K>
+constexpr bool kernel_has_step_jacobian() {
+    if constexpr (requires { K::has_step_jacobian; })
+        return K::has_step_jacobian;
+    else
+        return false;
+}
+
+// J⁻¹ = [0 I; −I 0] for z = [q; p] of dimension d = 2n.
+inline Mat canonical_J_inverse(int d) {
+    const int n = d / 2;
+    Mat Jinv = Mat::Zero(d, d);
+    Jinv.block(0, n, n, n).setIdentity();
+    Jinv.block(n, 0, n, n).diagonal().setConstant(-1.0);
+    return Jinv;
+}
+
+// Integrates n steps of size h from t0 (t_k = t0 + k h, never accumulated) with
+// stepper.step_jacobian and measures E_k at every step. z is advanced in place (the final state);
+// the z arithmetic is the same as integrate()'s with step(). Never throws on a failed solve or a
+// divergence: they are reported in status.
+template <class K, class P>
+ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& problem, Vec& z,
+                                                     double t0, double h, std::int64_t n) {
+    ConformalSymplecticStats st;
+    if constexpr (!is_canonical_problem<P>()) {
+        st.applicability = ConformalSymplecticApplicability::not_canonical;
+        return st;
+    } else if constexpr (!kernel_has_step_jacobian<K>()) {
+        st.applicability = ConformalSymplecticApplicability::no_step_jacobian;
+        return st;
+    } else {
+        const int d = problem.dim();
+        const Mat Jinv = canonical_J_inverse(d);
+        const double jinv_norm = std::sqrt(static_cast<double>(d)); // ‖J⁻¹‖_F
+        Mat Psi(d, d), JPsi(d, d), W(d, d);
+        for (std::int64_t k = 0; k < n; ++k) {
+            const double tk = time_at(t0, h, k);
+            if (stepper.step_jacobian(tk, z, Psi) != StepStatus::ok) {
+                st.status = RunStatus::solve_failed;
+                st.failed_step = k + 1;
+                return st;
+            }
+            st.steps_done = k + 1;
+            const double c = std::exp(-2.0 * problem.dGamma(tk, h));
+            JPsi.noalias() = Jinv * Psi;
+            W.noalias() = Psi.transpose() * JPsi;
+            W -= c * Jinv;
+            const double e_abs = W.norm();
+            const double e_rel = e_abs / (c * jinv_norm);
+            if (state_diverged(z) || !std::isfinite(e_rel)) {
+                st.status = RunStatus::diverged;
+                st.failed_step = k + 1;
+                return st;
+            }
+            st.steps_measured = k + 1;
+            st.last_abs = e_abs;
+            st.last_rel = e_rel;
+            if (e_abs > st.max_abs || st.max_abs_step == 0) {
+                st.max_abs = e_abs;
+                st.max_abs_step = k + 1;
+            }
+            if (e_rel > st.max_rel || st.max_rel_step == 0) {
+                st.max_rel = e_rel;
+                st.max_rel_step = k + 1;
+            }
+        }
+        return st;
+    }
+}
+
+} // namespace dampsym

@@ -1,0 +1,65 @@
+// Lotka–Volterra (Volterra–Lotka) predator–prey model, HLW(1.1):
+//   u' = u(v − 2),   v' = v(1 − u),
+// with the first integral I(u, v) = ln u − u + 2 ln v − v (HLW(1.2)). Not a damped Hamiltonian
+// system in q/p form: only the plain form f(z) is offered (no separable or conformal form, so
+// cimp, csv1 and csv2 do not apply), no damping (Γ ≡ 0, so the "conformal law" of I is plain
+// conservation). HLW Fig 1.1: h = 0.12, (u0, v0) = (2, 2) for explicit Euler, (4, 8) for
+// implicit Euler, (4, 2) and (6, 2) for symplectic Euler. Numerical (certified GSL) reference.
+#pragma once
+
+#include "core/problem.hpp"
+
+#include <array>
+#include <cmath>
+#include <string_view>
+
+namespace dampsym {
+
+struct LotkaVolterra {
+    static constexpr std::string_view id = "lotka-volterra";
+    static constexpr std::string_view title = "Lotka–Volterra u'=u(v−2), v'=v(1−u) (HLW(1.1))";
+    static constexpr bool has_separable = false;
+    static constexpr bool has_conformal = false;
+    static constexpr bool constant_gamma = true;
+    static constexpr bool is_linear = false;
+    static constexpr bool has_exact = false;
+    static constexpr bool has_energy = false;
+    static constexpr std::array<std::string_view, 1> invariant_names{"I"};
+
+    double u0 = 2.0, v0 = 2.0;
+
+    static std::vector<ParamSpec> param_specs() {
+        return {{"u0", 2.0, Range::positive, "initial predator population u(0) (HLW: 2, 4 or 6)"},
+                {"v0", 2.0, Range::positive, "initial prey population v(0) (HLW: 2 or 8)"}};
+    }
+    static LotkaVolterra from_params(const ParamMap& m) {
+        LotkaVolterra o;
+        o.u0 = m.at("u0");
+        o.v0 = m.at("v0");
+        return o;
+    }
+
+    int dim() const { return 2; }
+    Vec initial_state() const { return Vec{{u0, v0}}; }
+    double gamma_at(double) const { return 0.0; }
+    double Gamma(double) const { return 0.0; }
+    double dGamma(double, double) const { return 0.0; }
+
+    void rhs(double, const Vec& z, Vec& out) const {
+        out[0] = z[0] * (z[1] - 2.0);
+        out[1] = z[1] * (1.0 - z[0]);
+    }
+    void rhs_jacobian(double, const Vec& z, Mat& J) const {
+        J(0, 0) = z[1] - 2.0;
+        J(0, 1) = z[0];
+        J(1, 0) = -z[1];
+        J(1, 1) = 1.0 - z[0];
+    }
+
+    // HLW(1.2); NaN once a population leaves (0, ∞), which the check then reports.
+    void invariants(double, const Vec& z, double* out) const {
+        out[0] = std::log(z[0]) - z[0] + 2.0 * std::log(z[1]) - z[1];
+    }
+};
+
+} // namespace dampsym

@@ -1,0 +1,356 @@
+// Damped N-body problem with pair potentials (B Ex. 1.3, B(1.5)–(1.6), B(3.9); HLW(2.10), HLW(3.1);
+// F §2.1.2), in SPEC §1's convention:
+//   q_i' = ∇_{p_i} T = p_i / m_i,   p_i' = −∇_{q_i} V(q) − 2γ p_i,   i = 1..N,
+//   H = T + V,  T(p) = Σ_i |p_i|²/(2 m_i),  V(q) = Σ_{i<j} φ_ij(|q_i − q_j|)   (B(3.9), HLW(3.1)),
+// with q_i, p_i ∈ R^d, d = 2 or 3. Pair potentials:
+//   gravity        φ_ij(r) = −G m_i m_j / r                          (HLW(2.10), B §3.3)
+//   Lennard-Jones  φ_ij(r) = 4ε[(σ/r)^12 − (σ/r)^6]                 (HLW(3.2); minimum at 2^{1/6}σ)
+// Writing τ_ij = φ'_ij(r)/r (B Ex. 1.3), the force on body i is F_i = −Σ_{j≠i} τ_ij (q_i − q_j), so
+// Σ_i F_i = 0 (Newton's third law) and Σ_i q_i × F_i = 0. Hence B Ex. 1.3: the total linear
+// momentum Σ p_i and the total angular momentum Σ q_i × p_i are conformal invariants,
+//   Σ p_i(t) = e^{−2γt} Σ p_i(0),   Σ q_i × p_i (t) = e^{−2γt} Σ q_i × p_i (0).
+// (B writes Σ p_i × q_i, the negative; we use q × p.) They are exposed through the momentum hooks
+// (has_momentum, space_dim, linear_momentum, angular_momentum), not as invariant_names.
+// Force Jacobian, per pair with u = q_i − q_j, r = |u|:
+//   K_ij = a(r) I + b(r) u uᵀ,  a = φ'(r)/r,  b = (φ''(r) − φ'(r)/r)/r²,
+//   ∂F_i/∂q_i −= K_ij, ∂F_i/∂q_j += K_ij (and symmetrically for j); dense dN × dN.
+//   gravity: a = G m_i m_j / r³, b = −3 G m_i m_j / r⁵;
+//   LJ (s = σ/r): a = 24ε(s⁶ − 2s¹²)/r², b = ε(672 s¹² − 192 s⁶)/r⁴.
+// State layout z = [q; p], q = (q_1, ..., q_N) body-major (q_1x, q_1y[, q_1z], q_2x, ...), the
+// same for p; n() = dN. Constant damping γ (ConstantGamma): Γ(t) = γt.
+//
+// This header holds the reusable core (NBodySystem: masses, d, pair potential and all the sums) and
+// the CRTP base NBodyProblem<Derived> that turns it into a SeparableProblem with the momentum and
+// energy hooks; kepler.hpp, outer_solar_system.hpp and argon.hpp use it. The problem `nbody` below
+// exposes every parameter; from_params throws std::invalid_argument (message starting "nbody: ")
+// when the parameters are inconsistent (array lengths, dim, potential, coincident bodies).
+#pragma once
+
+#include "core/problem.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dampsym {
+
+enum class PairPotential { gravity = 0, lennard_jones = 1 };
+
+struct NBodySystem {
+    int d = 3;             // space dimension, 2 or 3
+    std::vector<double> m; // masses m_i
+    PairPotential kind = PairPotential::gravity;
+    double G = 1.0;                // gravity: φ = −G m_i m_j / r
+    double eps = 1.0, sigma = 1.0; // Lennard-Jones HLW(3.2)
+
+    int bodies() const { return static_cast<int>(m.size()); }
+    int n() const { return d * bodies(); }
+
+    // φ_ij(r).
+    double phi(int i, int j, double r) const {
+        if (kind == PairPotential::gravity) return -G * m[idx(i)] * m[idx(j)] / r;
+        const double s6 = sixth(sigma / r);
+        return 4.0 * eps * (s6 * s6 - s6);
+    }
+    // a = φ'(r)/r (B's τ_ij) and b = (φ''(r) − φ'(r)/r)/r², from r² (see the header comment).
+    void pair_terms(int i, int j, double r2, double& a, double& b) const {
+        if (kind == PairPotential::gravity) {
+            const double r = std::sqrt(r2);
+            const double gm = G * m[idx(i)] * m[idx(j)];
+            a = gm / (r2 * r);
+            b = -3.0 * a / r2;
+        } else {
+            const double s6 = sigma * sigma * sigma * sigma * sigma * sigma / (r2 * r2 * r2);
+            const double s12 = s6 * s6;
+            a = 24.0 * eps * (s6 - 2.0 * s12) / r2;
+            b = eps * (672.0 * s12 - 192.0 * s6) / (r2 * r2);
+        }
+    }
+
+    // ∇T(p) = M⁻¹p.
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const {
+        for (int i = 0; i < bodies(); ++i)
+            for (int k = 0; k < d; ++k) out[i * d + k] = p[i * d + k] / m[idx(i)];
+    }
+    // ∇²T = M⁻¹ = diag(1/m_i I_d).
+    template <class In, class Out>
+    void hess_T(const In&, Out& out) const {
+        out.setZero();
+        for (int i = 0; i < bodies(); ++i)
+            for (int k = 0; k < d; ++k) out(i * d + k, i * d + k) = 1.0 / m[idx(i)];
+    }
+    // F = −∇V: F_i = −Σ_{j≠i} τ_ij (q_i − q_j), each pair once (F_j gets the opposite).
+    template <class In, class Out>
+    void force(const In& q, Out& out) const {
+        for (int k = 0; k < n(); ++k) out[k] = 0.0;
+        std::array<double, 3> u{};
+        for (int i = 0; i < bodies(); ++i) {
+            for (int j = i + 1; j < bodies(); ++j) {
+                const double r2 = diff(q, i, j, u);
+                double a = 0.0, b = 0.0;
+                pair_terms(i, j, r2, a, b);
+                for (int k = 0; k < d; ++k) {
+                    out[i * d + k] -= a * u[idx(k)];
+                    out[j * d + k] += a * u[idx(k)];
+                }
+            }
+        }
+    }
+    // ∂F/∂q (dense, symmetric): blocks −K_ij on the diagonal, +K_ij off it.
+    template <class In, class Out>
+    void force_jacobian(const In& q, Out& out) const {
+        out.setZero();
+        std::array<double, 3> u{};
+        for (int i = 0; i < bodies(); ++i) {
+            for (int j = i + 1; j < bodies(); ++j) {
+                const double r2 = diff(q, i, j, u);
+                double a = 0.0, b = 0.0;
+                pair_terms(i, j, r2, a, b);
+                for (int k = 0; k < d; ++k) {
+                    for (int l = 0; l < d; ++l) {
+                        const double K = (k == l ? a : 0.0) + b * u[idx(k)] * u[idx(l)];
+                        out(i * d + k, i * d + l) -= K;
+                        out(j * d + k, j * d + l) -= K;
+                        out(i * d + k, j * d + l) += K;
+                        out(j * d + k, i * d + l) += K;
+                    }
+                }
+            }
+        }
+    }
+    // V(q) = Σ_{i<j} φ_ij(|q_i − q_j|).
+    template <class In>
+    double potential(const In& q) const {
+        double v = 0.0;
+        std::array<double, 3> u{};
+        for (int i = 0; i < bodies(); ++i)
+            for (int j = i + 1; j < bodies(); ++j) v += phi(i, j, std::sqrt(diff(q, i, j, u)));
+        return v;
+    }
+    // T(p) = Σ |p_i|²/(2 m_i).
+    template <class In>
+    double kinetic(const In& p) const {
+        double t = 0.0;
+        for (int i = 0; i < bodies(); ++i) {
+            double s = 0.0;
+            for (int k = 0; k < d; ++k) s += p[i * d + k] * p[i * d + k];
+            t += 0.5 * s / m[idx(i)];
+        }
+        return t;
+    }
+    // Σ p_i, length d.
+    template <class In>
+    void linear_momentum(const In& p, Vec& out) const {
+        out.setZero(d);
+        for (int i = 0; i < bodies(); ++i)
+            for (int k = 0; k < d; ++k) out[k] += p[i * d + k];
+    }
+    // Σ q_i × p_i: length 3 in 3-D, length 1 (the scalar q_x p_y − q_y p_x) in 2-D.
+    template <class InQ, class InP>
+    void angular_momentum(const InQ& q, const InP& p, Vec& out) const {
+        if (d == 2) {
+            out.setZero(1);
+            for (int i = 0; i < bodies(); ++i)
+                out[0] += q[2 * i] * p[2 * i + 1] - q[2 * i + 1] * p[2 * i];
+            return;
+        }
+        out.setZero(3);
+        for (int i = 0; i < bodies(); ++i) {
+            const int o = 3 * i;
+            out[0] += q[o + 1] * p[o + 2] - q[o + 2] * p[o + 1];
+            out[1] += q[o + 2] * p[o] - q[o] * p[o + 2];
+            out[2] += q[o] * p[o + 1] - q[o + 1] * p[o];
+        }
+    }
+
+    // Throws std::invalid_argument (prefixed with `who`) unless d ∈ {2,3}, N ≥ 2, every mass > 0,
+    // q and p have dN entries and no two initial positions coincide.
+    void validate(const std::string& who, const std::vector<double>& q0,
+                  const std::vector<double>& p0) const {
+        if (d != 2 && d != 3) throw std::invalid_argument(who + ": dim must be 2 or 3");
+        if (bodies() < 2)
+            throw std::invalid_argument(who + ": masses must list at least 2 bodies, got " +
+                                        std::to_string(bodies()));
+        for (double mi : m)
+            if (!(mi > 0.0) || !std::isfinite(mi))
+                throw std::invalid_argument(who + ": every mass must be finite and > 0");
+        const auto need = static_cast<std::size_t>(n());
+        const std::string shape =
+            " (dim = " + std::to_string(d) + ", N = " + std::to_string(bodies()) + " masses)";
+        if (q0.size() != need)
+            throw std::invalid_argument(who + ": q has " + std::to_string(q0.size()) +
+                                        " entries, expected dim*N = " + std::to_string(need) +
+                                        shape);
+        if (p0.size() != need)
+            throw std::invalid_argument(who + ": p has " + std::to_string(p0.size()) +
+                                        " entries, expected dim*N = " + std::to_string(need) +
+                                        shape);
+        std::array<double, 3> u{};
+        for (int i = 0; i < bodies(); ++i)
+            for (int j = i + 1; j < bodies(); ++j)
+                if (!(diff(q0, i, j, u) > 0.0))
+                    throw std::invalid_argument(who + ": bodies " + std::to_string(i + 1) +
+                                                " and " + std::to_string(j + 1) +
+                                                " start at the same position");
+    }
+
+private:
+    static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+    static double sixth(double x) {
+        const double x2 = x * x;
+        return x2 * x2 * x2;
+    }
+    // u = q_i − q_j (first d entries); returns |u|².
+    template <class In>
+    double diff(const In& q, int i, int j, std::array<double, 3>& u) const {
+        double r2 = 0.0;
+        for (int k = 0; k < d; ++k) {
+            u[idx(k)] = q[idx(i * d + k)] - q[idx(j * d + k)];
+            r2 += u[idx(k)] * u[idx(k)];
+        }
+        return r2;
+    }
+};
+
+// CRTP base for problems built on NBodySystem: Derived inherits `sys`, `gamma`, the initial state
+// `q0`, `p0` and every form and hook; it provides id, title, param_specs, from_params and the
+// has_exact / exact members if any.
+template <class Derived>
+struct NBodyProblem : SeparableProblem<Derived>, ConstantGamma<Derived> {
+    static constexpr bool is_linear = false;
+    static constexpr bool has_energy = true;
+    static constexpr bool has_momentum = true;
+    // V does not depend on t: energy balance dH/dt = −2γ p·∇T(p) = −2γ Σ|p_i|²/m_i.
+    static constexpr bool autonomous_potential = true;
+    // Σ p_i obeys e^{−2γt} (B Ex. 1.3): true for a closed N-body system.
+    static constexpr bool linear_momentum_law = true;
+    static constexpr std::array<std::string_view, 0> invariant_names{};
+
+    NBodySystem sys;
+    double gamma = 0.0;
+    std::vector<double> q0, p0;
+
+    int n() const { return sys.n(); }
+    Vec initial_state() const {
+        const int k = n();
+        Vec z(2 * k);
+        for (int i = 0; i < k; ++i) {
+            z[i] = q0[static_cast<std::size_t>(i)];
+            z[k + i] = p0[static_cast<std::size_t>(i)];
+        }
+        return z;
+    }
+
+    template <class In, class Out>
+    void grad_T(const In& p, Out& out) const {
+        sys.grad_T(p, out);
+    }
+    template <class In, class Out>
+    void hess_T(const In& p, Out& out) const {
+        sys.hess_T(p, out);
+    }
+    template <class In, class Out>
+    void force(double, const In& q, Out& out) const {
+        sys.force(q, out);
+    }
+    template <class In, class Out>
+    void force_jacobian(double, const In& q, Out& out) const {
+        sys.force_jacobian(q, out);
+    }
+
+    void invariants(double, const Vec&, double*) const {}
+    // H = T + V (B(3.9), HLW(2.10), HLW(3.1)).
+    double energy(const Vec& z) const {
+        const int k = n();
+        return sys.kinetic(z.tail(k)) + sys.potential(z.head(k));
+    }
+    double potential_energy(const Vec& z) const { return sys.potential(z.head(n())); }
+    double kinetic_energy(const Vec& z) const { return sys.kinetic(z.tail(n())); }
+
+    int space_dim() const { return sys.d; }
+    void linear_momentum(const Vec& z, Vec& out) const { sys.linear_momentum(z.tail(n()), out); }
+    void angular_momentum(const Vec& z, Vec& out) const {
+        sys.angular_momentum(z.head(n()), z.tail(n()), out);
+    }
+};
+
+// The general problem `nbody`. Defaults (G = 1, gravity, d = 3, γ = 0.01): a hierarchical bound
+// 3-body system: a central body of mass 1 at the origin, light bodies of mass 0.002 at distance 1
+// (orbit inclined 0.4 rad about the x axis, 0.97 × circular speed) and 0.001 at distance ≈ 2.07
+// (near-circular, orbit normal ∝ (0.3, −0.2, 1)), all drifting with velocity (0.03, −0.02, 0.01),
+// so Σ p_i = (0.029435, −0.018442, 0.010948) and Σ q_i × p_i ≈ (4.0e−4, −8.9e−4, 3.1e−3) are
+// nonzero in every component. Periods (≈ 6 and ≈ 19) are shorter than the damping time 1/(4γ) = 25,
+// so under damping the orbits contract adiabatically like e^{−4γt} (L ∝ e^{−2γt}, r ∝ L²) keeping
+// their ratio, without close encounters. Minimum pair distances over the certified solution with
+// γ = 0.01: 0.12 for t ≤ 50, 0.016 for t ≤ 100 (body 1 from the centre; 0.017 between the light
+// bodies, both near t = 100). No collision, but the inner period drops from ≈ 5.8 to ≈ 0.014 at
+// t = 100, so a fixed step must resolve the final period. With γ = 0 the minimum is 0.89 (t ≤ 100).
+struct NBody : NBodyProblem<NBody> {
+    static constexpr std::string_view id = "nbody";
+    static constexpr std::string_view title =
+        "damped N-body, pair potential: gravity or Lennard-Jones (B Ex. 1.3, HLW(3.1))";
+    static constexpr bool has_exact = false;
+
+    static std::vector<double> default_masses() { return {1.0, 0.002, 0.001}; }
+    static std::vector<double> default_q() {
+        return {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -0.45, 2.0, 0.3};
+    }
+    static std::vector<double> default_p() {
+        return {0.03, -0.02, 0.01, 6e-5, 0.00175, 0.000776, -0.000625, -0.000192, 0.000172};
+    }
+
+    static std::vector<ParamSpec> param_specs() {
+        return {
+            {"gamma", 0.01, Range::nonnegative, "damping γ (SPEC §1 convention)"},
+            {"G", 1.0, Range::nonnegative, "gravitational constant (potential 0)"},
+            {"potential", 0.0, Range::nonnegative, "pair potential: 0 gravity, 1 Lennard-Jones"},
+            {"lj_epsilon", 1.0, Range::nonnegative, "Lennard-Jones ε, HLW(3.2) (potential 1)"},
+            {"lj_sigma", 1.0, Range::positive, "Lennard-Jones σ, HLW(3.2) (potential 1)"},
+            {"dim", 3.0, Range::positive, "space dimension d: 2 or 3"},
+            array_param("masses", default_masses(), Range::positive, "masses m_i (N of them)"),
+            array_param(
+                "q", default_q(), Range::any,
+                "initial positions, d*N numbers, body-major (q_1x, q_1y[, q_1z], q_2x, ...)"),
+            array_param("p", default_p(), Range::any,
+                        "initial momenta p_i = m_i q_i', d*N numbers, body-major"),
+        };
+    }
+
+    // The defaults above (the same as from_params with every parameter at its default).
+    NBody() {
+        gamma = 0.01;
+        sys.m = default_masses();
+        q0 = default_q();
+        p0 = default_p();
+    }
+
+    // Throws std::invalid_argument ("nbody: ...") on inconsistent parameters.
+    static NBody from_params(const ParamMap& m) {
+        NBody o;
+        o.gamma = m.at("gamma");
+        const double dim = m.at("dim"), pot = m.at("potential");
+        if (dim != 2.0 && dim != 3.0)
+            throw std::invalid_argument("nbody: dim must be 2 or 3, got " + std::to_string(dim));
+        if (pot != 0.0 && pot != 1.0)
+            throw std::invalid_argument(
+                "nbody: potential must be 0 (gravity) or 1 (Lennard-Jones), got " +
+                std::to_string(pot));
+        o.sys.d = static_cast<int>(dim);
+        o.sys.kind = pot == 0.0 ? PairPotential::gravity : PairPotential::lennard_jones;
+        o.sys.G = m.at("G");
+        o.sys.eps = m.at("lj_epsilon");
+        o.sys.sigma = m.at("lj_sigma");
+        o.sys.m = m.array("masses");
+        o.q0 = m.array("q");
+        o.p0 = m.array("p");
+        o.sys.validate("nbody", o.q0, o.p0);
+        return o;
+    }
+};
+
+} // namespace dampsym

@@ -1,0 +1,270 @@
+// Exact step Jacobians (step_jacobian of cimp, csv1, csv2 and the explicit RK kernel) and the
+// conformal-symplecticness defect E_n = ‖ΨᵀJ⁻¹Ψ − e^{−2ΔΓ}J⁻¹‖_F (SPEC §5, B(2.42), B(3.2)).
+//  - step_jacobian advances z bitwise like step();
+//  - Ψ agrees with central differences of the step map (the differences live only here: the
+//    diagnostic never uses them);
+//  - E_n/(e^{−2ΔΓ}‖J⁻¹‖) ≤ 1e−13 at every one of 1000 steps for the conformal methods and ≥ 1e−8
+//    for the explicit RK negative controls, on the damped oscillator, pendulum, driven pendulum
+//    and Hill's equation (time-dependent γ);
+//  - det Ψ = e^{−2γh} on the oscillator for the conformal methods;
+//  - not applicable (rigid body), diverged and failed-solve outcomes are reported, not thrown.
+// Kernels are built through the registry as the runner builds them.
+// Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
+#include "diagnostics/conformal_symplectic.hpp"
+#include "harness/registry.hpp"
+#include "methods/cimp.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+using dampsym::ConformalSymplecticApplicability;
+using dampsym::Counters;
+using dampsym::KernelMatch;
+using dampsym::Mat;
+using dampsym::MethodInfo;
+using dampsym::RunStatus;
+using dampsym::StepStatus;
+using dampsym::Vec;
+
+namespace {
+
+constexpr double h = 0.1;
+constexpr std::int64_t n_steps = 1000;
+const std::vector<std::string> method_ids{"cimp", "csv1", "csv2", "rk3", "heun", "rk4"};
+
+bool verbose() {
+    const char* v = std::getenv("DAMPSYM_TEST_VERBOSE");
+    return v != nullptr && v[0] != '\0' && v[0] != '0';
+}
+
+const MethodInfo& method(const std::string& id) {
+    const MethodInfo* m = dampsym::find_method(id);
+    REQUIRE(m != nullptr);
+    return *m;
+}
+
+bool conformal_method(const std::string& id) {
+    return id == "cimp" || id == "csv1" || id == "csv2";
+}
+
+// Central differences of one step of `stepper` at (t, z), column by column; the step in z_j is
+// rel_delta·max(1, |z_j|) and the quotient uses the difference actually represented.
+template <class K>
+Mat central_difference_jacobian(K& stepper, double t, const Vec& z, double rel_delta = 1e-5) {
+    const Eigen::Index d = z.size();
+    Mat D(d, d);
+    for (Eigen::Index j = 0; j < d; ++j) {
+        const double delta = rel_delta * std::max(1.0, std::abs(z[j]));
+        Vec zp = z, zm = z;
+        zp[j] += delta;
+        zm[j] -= delta;
+        const double width = zp[j] - zm[j];
+        if (stepper.step(t, zp) != StepStatus::ok || stepper.step(t, zm) != StepStatus::ok)
+            D.col(j).setConstant(std::numeric_limits<double>::quiet_NaN());
+        else
+            D.col(j) = (zp - zm) / width;
+    }
+    return D;
+}
+
+// Measured numbers over all the cases, printed at the end when verbose.
+double worst_fd_difference = 0.0;
+std::string worst_fd_case;
+
+template <class P>
+void check_problem(const P& prob, const char* label, bool oscillator_gamma_known = false,
+                   double oscillator_gamma = 0.0) {
+    for (const std::string& id : method_ids) {
+        const MethodInfo& info = method(id);
+        const KernelMatch match = dampsym::with_kernel<P>(info, [&]<class K>() {
+            STATIC_REQUIRE(K::has_step_jacobian);
+            const bool conformal = conformal_method(id);
+            const int d = prob.dim();
+
+            // 1. step_jacobian moves z exactly like step(), and Ψ matches central differences
+            //    (every 50 steps) and, on the oscillator, has det Ψ = e^{−2γh} (every step).
+            Counters c1, c2, c3;
+            K plain(prob, info, h, c1), with_jac(prob, info, h, c2), fd(prob, info, h, c3);
+            Vec z1 = prob.initial_state(), z2 = prob.initial_state();
+            Mat Psi(d, d);
+            std::int64_t mismatches = 0, failures = 0;
+            double fd_diff = 0.0, det_diff = 0.0;
+            for (std::int64_t k = 0; k < n_steps; ++k) {
+                const double t = dampsym::time_at(0.0, h, k);
+                Mat D;
+                if (k % 50 == 0) D = central_difference_jacobian(fd, t, z2);
+                if (plain.step(t, z1) != StepStatus::ok) ++failures;
+                if (with_jac.step_jacobian(t, z2, Psi) != StepStatus::ok) ++failures;
+                if (!(z1.array() == z2.array()).all()) ++mismatches;
+                if (k % 50 == 0) fd_diff = std::max(fd_diff, (Psi - D).cwiseAbs().maxCoeff());
+                if (oscillator_gamma_known && conformal)
+                    det_diff = std::max(det_diff, std::abs(Psi.determinant() -
+                                                           std::exp(-2.0 * oscillator_gamma * h)));
+            }
+            INFO(label << " / " << id);
+            REQUIRE(failures == 0);
+            CHECK(mismatches == 0);
+            CHECK(fd_diff <= 1e-7);
+            if (fd_diff > worst_fd_difference) {
+                worst_fd_difference = fd_diff;
+                worst_fd_case = std::string(label) + "/" + id;
+            }
+            if (oscillator_gamma_known && conformal) CHECK(det_diff <= 1e-13);
+
+            // 2. The diagnostic: conformal methods at round-off, RK negative controls clearly not.
+            Counters c4;
+            K stepper(prob, info, h, c4);
+            Vec z = prob.initial_state();
+            const auto st = dampsym::conformal_symplectic_defect(stepper, prob, z, 0.0, h, n_steps);
+            CHECK(st.applicable());
+            CHECK(st.status == RunStatus::ok);
+            CHECK(st.steps_done == n_steps);
+            CHECK(st.steps_measured == n_steps);
+            CHECK(st.failed_step == 0);
+            CHECK((z.array() == z1.array()).all()); // same final state as step()
+            if (conformal)
+                CHECK(st.max_rel <= 1e-13);
+            else
+                CHECK(st.max_rel >= 1e-8);
+            if (verbose()) {
+                std::printf("[jacobian] %-16s %-5s max E_rel %.3e (step %lld)  max E_abs %.3e  "
+                            "|Psi-FD| %.3e",
+                            label, id.c_str(), st.max_rel, static_cast<long long>(st.max_rel_step),
+                            st.max_abs, fd_diff);
+                if (oscillator_gamma_known && conformal)
+                    std::printf("  |det Psi - e^-2gh| %.3e", det_diff);
+                std::printf("\n");
+            }
+        });
+        // csv2 needs constant γ; everything else applies to these separable problems.
+        if (id == "csv2" && !P::constant_gamma)
+            CHECK(match == KernelMatch::not_applicable);
+        else
+            CHECK(match == KernelMatch::applied);
+    }
+}
+
+// A problem whose N is NaN everywhere: cimp's Newton solve fails at the first step.
+struct NanProblem {
+    static constexpr bool has_conformal = true;
+    static constexpr bool is_canonical = true;
+    int dim() const { return 2; }
+    double dGamma(double, double step) const { return 0.1 * step; }
+    void N(double, const Vec&, Vec& out) const {
+        out.setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+    void N_jacobian(double, const Vec&, Mat& J) const { J.setZero(); }
+};
+
+} // namespace
+
+TEST_CASE("step Jacobians and conformal-symplectic defect: damped oscillator", "[jacobian]") {
+    dampsym::Oscillator p;
+    p.omega = 1.0;
+    p.gamma = 0.1;
+    p.q0 = 1.0;
+    p.p0 = 0.0;
+    check_problem(p, "oscillator", true, p.gamma);
+}
+
+TEST_CASE("step Jacobians and conformal-symplectic defect: damped pendulum", "[jacobian]") {
+    dampsym::Pendulum p;
+    p.gamma = 0.1;
+    p.q0 = 2.0;
+    p.p0 = 0.5;
+    check_problem(p, "pendulum");
+}
+
+TEST_CASE("step Jacobians and conformal-symplectic defect: driven pendulum", "[jacobian]") {
+    dampsym::DrivenPendulum p; // γ = 0.1, λ = 1, f = 1
+    p.q0 = 0.5;
+    p.p0 = 0.0;
+    check_problem(p, "driven-pendulum");
+}
+
+TEST_CASE("step Jacobians and conformal-symplectic defect: Hill, time-dependent damping",
+          "[jacobian]") {
+    dampsym::Hill p;
+    p.epsilon = 0.4; // γ(t) = 0.2 cos 2t
+    p.kappa = 1.0;
+    p.q0 = 1.0;
+    p.p0 = 0.0;
+    check_problem(p, "hill");
+    if (verbose())
+        std::printf("[jacobian] worst |Psi - central differences| = %.3e (%s)\n",
+                    worst_fd_difference, worst_fd_case.c_str());
+}
+
+TEST_CASE("conformal-symplectic defect: rigid body is not applicable", "[jacobian]") {
+    const dampsym::RigidBody body;
+    const MethodInfo& info = method("cimp");
+    const KernelMatch match = dampsym::with_kernel<dampsym::RigidBody>(info, [&]<class K>() {
+        Counters c;
+        K stepper(body, info, h, c);
+        Vec z = body.initial_state();
+        const Vec z0 = z;
+        const auto st = dampsym::conformal_symplectic_defect(stepper, body, z, 0.0, h, 10);
+        CHECK_FALSE(st.applicable());
+        CHECK(st.applicability == ConformalSymplecticApplicability::not_canonical);
+        CHECK(st.steps_done == 0);
+        CHECK((z.array() == z0.array()).all());
+    });
+    CHECK(match == KernelMatch::applied);
+}
+
+TEST_CASE("conformal-symplectic defect: divergence and failed solves are reported", "[jacobian]") {
+    SECTION("csv2 at γh = 2 divides by 1 − γh/2 = 0: diverged at step 1") {
+        dampsym::Oscillator p;
+        p.gamma = 1.0;
+        const MethodInfo& info = method("csv2");
+        const KernelMatch match = dampsym::with_kernel<dampsym::Oscillator>(info, [&]<class K>() {
+            Counters c;
+            K stepper(p, info, 2.0, c);
+            Vec z = p.initial_state();
+            const auto st = dampsym::conformal_symplectic_defect(stepper, p, z, 0.0, 2.0, 5);
+            CHECK(st.applicable());
+            CHECK(st.status == RunStatus::diverged);
+            CHECK(st.failed_step == 1);
+            CHECK(st.steps_done == 1);
+            CHECK(st.steps_measured == 0);
+        });
+        CHECK(match == KernelMatch::applied);
+    }
+    SECTION("cimp whose Newton solve fails: solve_failed, z is the last good state") {
+        const NanProblem p;
+        Counters c;
+        dampsym::Cimp<NanProblem> stepper(p, method("cimp"), h, c);
+        Vec z{{1.0, 0.0}};
+        const auto st = dampsym::conformal_symplectic_defect(stepper, p, z, 0.0, h, 5);
+        CHECK(st.applicable());
+        CHECK(st.status == RunStatus::solve_failed);
+        CHECK(st.failed_step == 1);
+        CHECK(st.steps_done == 0);
+        CHECK(z[0] == 1.0);
+        CHECK(z[1] == 0.0);
+    }
+}
+
+TEST_CASE("canonical J⁻¹ and the defect of an exactly conformal map", "[jacobian]") {
+    // Ψ = e^{−γh} R(θ) for the flow of a damped rotation: ΨᵀJ⁻¹Ψ = e^{−2γh}J⁻¹ exactly in exact
+    // arithmetic, and a matrix with det ≠ e^{−2γh} has defect |det Ψ − e^{−2γh}|·‖J⁻¹‖_F.
+    const Mat Jinv = dampsym::canonical_J_inverse(4);
+    CHECK(Jinv(0, 2) == 1.0);
+    CHECK(Jinv(2, 0) == -1.0);
+    CHECK((Jinv * Jinv + Mat::Identity(4, 4)).cwiseAbs().maxCoeff() == 0.0);
+    const Mat J2 = dampsym::canonical_J_inverse(2);
+    Mat Psi(2, 2);
+    Psi << 2.0, 0.0, 0.0, 1.0; // det 2
+    const Mat W = Psi.transpose() * J2 * Psi - 0.5 * J2;
+    CHECK_THAT(W.norm(), WithinRel(1.5 * std::sqrt(2.0), 1e-15));
+    CHECK_THAT(W(0, 0), WithinAbs(0.0, 0.0));
+}

@@ -1,0 +1,613 @@
+// The generic method-family kernels whose methods are coefficient data: implicit RK on the plain
+// form (implicit_rk.hpp), integrating-factor RK B(2.5) (ifrk.hpp), partitioned RK (partitioned_rk
+// .hpp), and the generated Gauss–Legendre coefficients (tableaux.hpp).
+//  - Gauss coefficients: B(s), C(s) and symplecticity b_i a_ij + b_j a_ji − b_i b_j = 0;
+//  - glifrk1 == cimp per step (pendulum; rigid body with time-dependent γ, ε = 0.5);
+//  - observed orders on the damped pendulum against the certified GSL reference;
+//  - step_jacobian: same z as step(), and Ψ against central differences;
+//  - conformal symplecticity of glifrk1..3 on Hill's equation, gauss1..3 as negative controls;
+//  - solve failure returns StepStatus::solve_failed with z unchanged;
+//  - evaluation counts, the Newton path of the partitioned kernel, explicit tableaux.
+// Kernels are dispatched by kernel id like the registry's with_kernel, but only among the three
+// family kernels (with_family_kernel).
+// Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
+#include "core/integrate.hpp"
+#include "harness/registry.hpp"
+#include "methods/tableaux.hpp"
+#include "reference/gsl_reference.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+using dampsym::ButcherTableau;
+using dampsym::Counters;
+using dampsym::Mat;
+using dampsym::MethodInfo;
+using dampsym::StepStatus;
+using dampsym::Vec;
+
+namespace {
+
+bool verbose() {
+    static const bool v = std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
+    return v;
+}
+
+const MethodInfo& method(std::string_view id) {
+    const MethodInfo* m = dampsym::find_method(id);
+    if (m == nullptr) FAIL("method not in the catalog: " << std::string(id));
+    return *m;
+}
+
+dampsym::Pendulum pendulum() {
+    dampsym::Pendulum p;
+    p.gamma = 0.1;
+    p.q0 = 1.0;
+    p.p0 = 0.0;
+    return p;
+}
+dampsym::Hill hill(double epsilon) {
+    dampsym::Hill p;
+    p.epsilon = epsilon;
+    p.kappa = 1.0;
+    p.q0 = 1.0;
+    p.p0 = 0.5;
+    return p;
+}
+dampsym::RigidBody rigid_body(double epsilon) {
+    dampsym::RigidBody p;
+    p.epsilon = epsilon;
+    return p;
+}
+dampsym::DrivenPendulum driven_pendulum() {
+    dampsym::DrivenPendulum p;
+    p.q0 = 0.3;
+    p.p0 = -0.2;
+    return p;
+}
+
+// Calls f.template operator()<K>() for the family kernel (implicit-rk, ifrk, partitioned-rk)
+// that steps `info` on P, when it applies; instantiates only these kernels (they all provide
+// step_jacobian). Returns whether f was called.
+template <class P, class F>
+bool with_family_kernel(const MethodInfo& info, F&& f) {
+    bool called = false;
+    const auto try_kernel = [&]<class K>() {
+        if constexpr (K::template applies<P>) {
+            if (!called && K::kernel_id == info.kernel) {
+                f.template operator()<K>();
+                called = true;
+            }
+        }
+    };
+    try_kernel.template operator()<dampsym::ImplicitRK<P>>();
+    try_kernel.template operator()<dampsym::IFRK<P>>();
+    try_kernel.template operator()<dampsym::PartitionedRK<P>>();
+    return called;
+}
+
+// n steps of size h from t = 0 with kernel K; false on a failed step. Not inlined: GCC 12 reports
+// a false -Wuse-after-free inside Eigen when the kernel's constructor is inlined into the lambda.
+template <class K, class P>
+[[gnu::noinline]] bool run_steps(const P& prob, const MethodInfo& info, double h, int n, Vec& z,
+                                 Counters& c) {
+    K k(prob, info, h, c);
+    for (int i = 0; i < n; ++i)
+        if (k.step(dampsym::time_at(0.0, h, i), z) != StepStatus::ok) return false;
+    return true;
+}
+
+// The same for the family kernel of `info` (only the three family kernels are instantiated here;
+// the registry's dispatch is exercised by the catalog test through method_applies).
+template <class P>
+bool run(const P& prob, const MethodInfo& info, double h, int n, Vec& z, Counters& c) {
+    bool ok = false;
+    const bool applied =
+        with_family_kernel<P>(info, [&]<class K>() { ok = run_steps<K>(prob, info, h, n, z, c); });
+    return ok && applied;
+}
+
+double max_rel_diff(const Vec& a, const Vec& b) {
+    return (a - b).cwiseAbs().maxCoeff() / std::max(a.cwiseAbs().maxCoeff(), 1e-300);
+}
+
+// Least-squares slope of log e against log h.
+double ls_slope(const std::vector<double>& h, const std::vector<double>& e) {
+    double mx = 0, my = 0;
+    const double n = static_cast<double>(h.size());
+    for (std::size_t i = 0; i < h.size(); ++i) {
+        mx += std::log(h[i]) / n;
+        my += std::log(e[i]) / n;
+    }
+    double sxy = 0, sxx = 0;
+    for (std::size_t i = 0; i < h.size(); ++i) {
+        sxy += (std::log(h[i]) - mx) * (std::log(e[i]) - my);
+        sxx += (std::log(h[i]) - mx) * (std::log(h[i]) - mx);
+    }
+    return sxy / sxx;
+}
+
+// ‖Ψᵀ J⁻¹ Ψ − e^{−2ΔΓ} J⁻¹‖_max for z = [q; p] with one degree of freedom, J⁻¹ = [0 1; −1 0].
+double conformal_defect(const Mat& Psi, double dGamma) {
+    Mat Jinv(2, 2);
+    Jinv << 0.0, 1.0, -1.0, 0.0;
+    return (Psi.transpose() * Jinv * Psi - std::exp(-2.0 * dGamma) * Jinv).cwiseAbs().maxCoeff();
+}
+
+// A scalar test problem whose implicit stage equations have no real solution for large h:
+// z' = z² + 1 (plain and conformal form with γ = 0). Implicit Euler: h Z² − Z + z + h = 0 has
+// discriminant 1 − 4h(z + h) < 0 for h > ½ at z = 1.
+struct Riccati {
+    static constexpr bool has_separable = false;
+    static constexpr bool has_conformal = true;
+    int dim() const { return 1; }
+    double dGamma(double, double) const { return 0.0; }
+    void rhs(double, const Vec& z, Vec& out) const { out[0] = z[0] * z[0] + 1.0; }
+    void rhs_jacobian(double, const Vec& z, Mat& J) const { J(0, 0) = 2.0 * z[0]; }
+    void N(double t, const Vec& z, Vec& out) const { rhs(t, z, out); }
+    void N_jacobian(double t, const Vec& z, Mat& J) const { rhs_jacobian(t, z, J); }
+};
+
+// Separable q' = p, p' = q² + 1 − 2γp: for the fully implicit partitioned pairs (Newton path).
+struct RiccatiSeparable : dampsym::SeparableProblem<RiccatiSeparable>, dampsym::UnitMass {
+    static constexpr bool constant_gamma = true;
+    double gamma = 0.0;
+    int n() const { return 1; }
+    double gamma_at(double) const { return gamma; }
+    double dGamma(double, double h) const { return gamma * h; }
+    template <class In, class Out>
+    void force(double, const In& q, Out& out) const {
+        out[0] = q[0] * q[0] + 1.0;
+    }
+    template <class In, class Out>
+    void force_jacobian(double, const In& q, Out& out) const {
+        out(0, 0) = 2.0 * q[0];
+    }
+};
+
+} // namespace
+
+TEST_CASE("generated Gauss-Legendre tableaux satisfy B(s), C(s) and symplecticity", "[families]") {
+    for (int s = 1; s <= dampsym::max_gauss_stages; ++s) {
+        const ButcherTableau& t = dampsym::gauss_tableau(s);
+        REQUIRE(t.stages == s);
+        double worst_b = 0, worst_c = 0, worst_symp = 0;
+        for (int k = 1; k <= s; ++k) {
+            double sb = 0;
+            for (int j = 0; j < s; ++j) sb += t.b[j] * std::pow(t.c[j], k - 1);
+            worst_b = std::max(worst_b, std::abs(sb - 1.0 / k));
+            for (int i = 0; i < s; ++i) {
+                double sa = 0;
+                for (int j = 0; j < s; ++j) sa += t.A(i, j) * std::pow(t.c[j], k - 1);
+                worst_c = std::max(worst_c, std::abs(sa - std::pow(t.c[i], k) / k));
+            }
+        }
+        for (int i = 0; i < s; ++i)
+            for (int j = 0; j < s; ++j)
+                worst_symp = std::max(worst_symp, std::abs(t.b[i] * t.A(i, j) + t.b[j] * t.A(j, i) -
+                                                           t.b[i] * t.b[j]));
+        if (verbose())
+            std::printf("gauss%d: B(s) %.1e  C(s) %.1e  symplecticity %.1e\n", s, worst_b, worst_c,
+                        worst_symp);
+        if (s <= 3) { // the catalog's methods: the bound of the brief
+            CHECK(worst_b <= 1e-15);
+            CHECK(worst_c <= 1e-15);
+            CHECK(worst_symp <= 1e-16);
+        } else { // round-off of the checks themselves grows with s
+            CHECK(worst_b <= 1e-14);
+            CHECK(worst_c <= 1e-14);
+            CHECK(worst_symp <= 1e-15);
+        }
+    }
+    // Closed forms: gauss1 is the midpoint rule, exactly; gauss2 nodes ½ ∓ √3/6, a12 = ¼ − √3/6.
+    const ButcherTableau& g1 = dampsym::gauss_tableau(1);
+    CHECK(g1.a[0] == 0.5);
+    CHECK(g1.b[0] == 1.0);
+    CHECK(g1.c[0] == 0.5);
+    const ButcherTableau& g2 = dampsym::gauss_tableau(2);
+    const double r3 = std::sqrt(3.0);
+    CHECK_THAT(g2.c[0], WithinRel(0.5 - r3 / 6.0, 1e-15));
+    CHECK_THAT(g2.c[1], WithinRel(0.5 + r3 / 6.0, 1e-15));
+    CHECK_THAT(g2.A(0, 0), WithinAbs(0.25, 1e-16));
+    CHECK_THAT(g2.A(0, 1), WithinAbs(0.25 - r3 / 6.0, 1e-16));
+    CHECK_THAT(g2.b[1], WithinAbs(0.5, 1e-16));
+    const ButcherTableau& g3 = dampsym::gauss_tableau(3);
+    CHECK_THAT(g3.c[1], WithinAbs(0.5, 1e-16));
+    CHECK_THAT(g3.b[0], WithinRel(5.0 / 18.0, 1e-15));
+    CHECK_THAT(g3.b[1], WithinRel(8.0 / 18.0, 1e-15));
+}
+
+TEST_CASE("catalog rows of the family kernels", "[families]") {
+    struct Row {
+        const char* id;
+        const char* kernel;
+        const char* form;
+        int order;
+    };
+    const Row rows[] = {
+        {"implicit-euler", "implicit-rk", "plain", 1},
+        {"implicit-midpoint", "implicit-rk", "plain", 2},
+        {"gauss1", "implicit-rk", "plain", 2},
+        {"gauss2", "implicit-rk", "plain", 4},
+        {"gauss3", "implicit-rk", "plain", 6},
+        {"symplectic-euler", "partitioned-rk", "separable", 1},
+        {"symplectic-euler-adjoint", "partitioned-rk", "separable", 1},
+        {"stormer-verlet", "partitioned-rk", "separable", 2},
+        {"glifrk1", "ifrk", "conformal", 2},
+        {"glifrk2", "ifrk", "conformal", 4},
+        {"glifrk3", "ifrk", "conformal", 6},
+    };
+    for (const Row& r : rows) {
+        const MethodInfo& m = method(r.id);
+        CHECK(m.kernel == r.kernel);
+        CHECK(m.form == r.form);
+        CHECK(m.order == r.order);
+        CHECK(m.tableau != nullptr);
+        CHECK((m.tableau_p != nullptr) == (m.kernel == "partitioned-rk"));
+        const bool structure = (m.claims & dampsym::claim_conformal_symplectic) != 0;
+        CHECK(structure == (m.kernel == "ifrk"));
+    }
+    CHECK(method("glifrk2").tableau == &dampsym::gauss_tableau(2));
+    CHECK(dampsym::method_applies("stormer-verlet", "pendulum"));
+    CHECK_FALSE(dampsym::method_applies("stormer-verlet", "rigid-body"));
+    CHECK(dampsym::method_applies("glifrk3", "rigid-body"));
+    CHECK(dampsym::method_applies("gauss2", "rigid-body"));
+}
+
+TEST_CASE("glifrk1 equals the hand-written cimp step for step", "[families]") {
+    const auto compare = [](const auto& prob, double h, int n, const char* what) {
+        Vec za = prob.initial_state(), zb = za;
+        Counters ca, cb;
+        double worst = 0;
+        int bitwise = 0;
+        using P = std::decay_t<decltype(prob)>;
+        dampsym::Cimp<P> cimp(prob, method("cimp"), h, ca);
+        dampsym::IFRK<P> ifrk(prob, method("glifrk1"), h, cb);
+        for (int i = 0; i < n; ++i) {
+            const double t = dampsym::time_at(0.0, h, i);
+            REQUIRE(cimp.step(t, za) == StepStatus::ok);
+            REQUIRE(ifrk.step(t, zb) == StepStatus::ok);
+            worst = std::max(worst, max_rel_diff(za, zb));
+            bitwise += (za.array() == zb.array()).all() ? 1 : 0;
+        }
+        if (verbose())
+            std::printf("glifrk1 vs cimp, %s: max rel diff %.1e, bitwise equal steps %d/%d, "
+                        "N evals %lld/%lld\n",
+                        what, worst, bitwise, n, static_cast<long long>(cb.rhs_evals),
+                        static_cast<long long>(ca.rhs_evals));
+        CHECK(worst <= 1e-15);
+        CHECK(bitwise == n); // same arithmetic (implicit_rk.hpp: update F (2Z − Y0), d = 2)
+        CHECK(cb.rhs_evals == ca.rhs_evals);
+        CHECK(cb.newton_iters == ca.newton_iters);
+    };
+    compare(pendulum(), 0.1, 300, "pendulum gamma 0.1");
+    compare(rigid_body(0.5), 0.05, 400, "rigid body eps 0.5");
+    compare(hill(1.0), 0.2, 200, "hill eps 1");
+}
+
+TEST_CASE("observed orders on the damped pendulum against the certified GSL reference",
+          "[families]") {
+    const dampsym::Pendulum prob = pendulum(); // q'' + 2γq' + sin q = 0, γ = 0.1, q0 = 1
+    const double t_end = 10.0;
+    dampsym::ReferenceRequest req;
+    req.dim = 2;
+    req.y0 = prob.initial_state();
+    req.times = {t_end};
+    req.stepper = "rk8pd";
+    req.epsabs = 1e-15;
+    req.epsrel = 1e-14;
+    req.rhs = [prob](double t, const double* y, double* f) {
+        const Vec z = Eigen::Map<const Vec>(y, 2);
+        Vec out(2);
+        prob.rhs(t, z, out);
+        f[0] = out[0];
+        f[1] = out[1];
+    };
+    const dampsym::ReferenceSolution ref = dampsym::certified_reference(req);
+    REQUIRE(ref.ok);
+    const Vec zref = ref.states.col(0);
+    const double floor = std::max(100.0 * ref.error_estimate, 1e-13);
+    if (verbose()) std::printf("GSL reference error estimate %.1e\n", ref.error_estimate);
+
+    struct Case {
+        const char* id;
+        double expected;
+        std::vector<int> steps; // step counts n, h = t_end / n
+    };
+    const std::vector<Case> cases{
+        {"implicit-euler", 1, {800, 1600, 3200, 6400}},
+        {"symplectic-euler", 1, {400, 800, 1600, 3200}},
+        {"symplectic-euler-adjoint", 1, {400, 800, 1600, 3200}},
+        {"implicit-midpoint", 2, {100, 200, 400, 800}},
+        {"gauss1", 2, {100, 200, 400, 800}},
+        {"stormer-verlet", 2, {100, 200, 400, 800}},
+        {"glifrk1", 2, {100, 200, 400, 800}},
+        {"gauss2", 4, {20, 40, 80, 160}},
+        {"glifrk2", 4, {20, 40, 80, 160}},
+        {"gauss3", 6, {10, 16, 20, 32}},
+        {"glifrk3", 6, {10, 16, 20, 32}},
+    };
+    for (const Case& c : cases) {
+        std::vector<double> hs, errs;
+        Counters counters;
+        for (const int n : c.steps) {
+            const double h = t_end / n;
+            Vec z = prob.initial_state();
+            REQUIRE(run(prob, method(c.id), h, n, z, counters));
+            hs.push_back(h);
+            errs.push_back((z - zref).cwiseAbs().maxCoeff());
+        }
+        const double order = ls_slope(hs, errs);
+        if (verbose()) {
+            std::printf("%-26s order %.3f  errors", c.id, order);
+            for (const double e : errs) std::printf(" %.2e", e);
+            std::printf("\n");
+        }
+        INFO(c.id);
+        for (const double e : errs) CHECK(e >= floor); // above the reference and round-off floor
+        CHECK_THAT(order, WithinAbs(c.expected, 0.1));
+    }
+}
+
+TEST_CASE("step_jacobian advances z like step() and matches central differences", "[families]") {
+    const std::vector<const char*> ids{
+        "implicit-euler",   "implicit-midpoint",        "gauss1",         "gauss2",  "gauss3",
+        "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet", "glifrk1", "glifrk2",
+        "glifrk3"};
+    double worst_all = 0;
+    int checked = 0;
+    const auto check_problem = [&](const auto& prob, const char* what, const Vec& z0) {
+        using P = std::decay_t<decltype(prob)>;
+        for (const char* id : ids) {
+            const MethodInfo& info = method(id);
+            const double h = 0.1, t = 0.7;
+            with_family_kernel<P>(info, [&]<class K>() {
+                static_assert(K::has_step_jacobian);
+                Counters c;
+                K k(prob, info, h, c);
+                Vec za = z0, zb = z0;
+                Mat Psi;
+                REQUIRE(k.step(t, za) == StepStatus::ok);
+                REQUIRE(k.step_jacobian(t, zb, Psi) == StepStatus::ok);
+                INFO(id << " on " << what);
+                CHECK((za.array() == zb.array()).all());
+                const int d = static_cast<int>(z0.size());
+                REQUIRE(Psi.rows() == d);
+                REQUIRE(Psi.cols() == d);
+                const double delta = 1e-5;
+                double worst = 0;
+                for (int j = 0; j < d; ++j) {
+                    Vec zp = z0, zm = z0;
+                    zp[j] += delta;
+                    zm[j] -= delta;
+                    REQUIRE(k.step(t, zp) == StepStatus::ok);
+                    REQUIRE(k.step(t, zm) == StepStatus::ok);
+                    const Vec col = (zp - zm) / (2.0 * delta);
+                    worst = std::max(worst, (col - Psi.col(j)).cwiseAbs().maxCoeff());
+                }
+                CHECK(worst <= 1e-7);
+                worst_all = std::max(worst_all, worst);
+                ++checked;
+            });
+        }
+    };
+    check_problem(pendulum(), "pendulum", Vec{{1.1, -0.4}});
+    check_problem(driven_pendulum(), "driven-pendulum", Vec{{0.3, -0.2}});
+    check_problem(hill(1.0), "hill eps 1", Vec{{1.0, 0.5}});
+    check_problem(rigid_body(0.5), "rigid-body eps 0.5", Vec{{4.0, 3.0, 0.5}});
+    if (verbose())
+        std::printf("step_jacobian vs central differences: %d (method, problem) pairs, worst "
+                    "%.1e\n",
+                    checked, worst_all);
+    CHECK(checked == 3 * 11 + 8); // the partitioned methods do not apply to the rigid body
+}
+
+TEST_CASE("conformal symplecticity on Hill's equation: glifrk1..3 exact, gauss1..3 not",
+          "[families]") {
+    const dampsym::Hill prob = hill(1.0); // γ(t) = ½ cos 2t
+    const double h = 0.5;
+    const int n = 60;
+    for (const char* id : {"glifrk1", "glifrk2", "glifrk3", "gauss1", "gauss2", "gauss3"}) {
+        const MethodInfo& info = method(id);
+        double worst = 0, least = std::numeric_limits<double>::infinity();
+        with_family_kernel<dampsym::Hill>(info, [&]<class K>() {
+            Counters c;
+            K k(prob, info, h, c);
+            Vec z = prob.initial_state();
+            Mat Psi;
+            for (int i = 0; i < n; ++i) {
+                const double t = dampsym::time_at(0.0, h, i);
+                REQUIRE(k.step_jacobian(t, z, Psi) == StepStatus::ok);
+                const double e = conformal_defect(Psi, prob.dGamma(t, h));
+                worst = std::max(worst, e);
+                least = std::min(least, e);
+            }
+        });
+        if (verbose())
+            std::printf("%-8s conformal defect on hill (eps 1, h 0.5): max %.1e, min %.1e\n", id,
+                        worst, least);
+        INFO(id);
+        if (info.kernel == "ifrk")
+            CHECK(worst <= 1e-13);
+        else
+            CHECK(least >= 1e-8); // negative control, at every step: Gauss on the full field
+    }
+}
+
+TEST_CASE("a stage solve that cannot converge returns solve_failed and leaves z unchanged",
+          "[families]") {
+    // z' = z² + 1 at z = 1 with h = 2: the stage equations have no real solution.
+    const Riccati prob;
+    for (const char* id : {"implicit-euler", "gauss2", "glifrk1", "glifrk3"}) {
+        const MethodInfo& info = method(id);
+        with_family_kernel<Riccati>(info, [&]<class K>() {
+            Counters c;
+            K k(prob, info, 2.0, c);
+            Vec z{{1.0}};
+            Mat Psi;
+            INFO(id);
+            CHECK(k.step(0.0, z) == StepStatus::solve_failed);
+            CHECK(z[0] == 1.0);
+            CHECK(k.step_jacobian(0.0, z, Psi) == StepStatus::solve_failed);
+            CHECK(z[0] == 1.0);
+            CHECK(c.newton_iters > 0);
+            // Through the integration loop: reported as a failed solve at step 1.
+            const dampsym::IntegrateOutcome out = dampsym::integrate(k, z, 0.0, 2.0, 5);
+            CHECK(out.status == dampsym::RunStatus::solve_failed);
+            CHECK(out.failed_step == 1);
+            // A small step on the same problem converges.
+            K small(prob, info, 0.01, c);
+            CHECK(small.step(0.0, z) == StepStatus::ok);
+        });
+    }
+    // Partitioned kernel, Newton path (Gauss pair): q'' = q² + 1 with a huge step.
+    static const MethodInfo gauss_pair{"gauss2-pair",
+                                       "partitioned-rk",
+                                       4,
+                                       true,
+                                       "separable",
+                                       0u,
+                                       "test",
+                                       &dampsym::gauss_tableau(2),
+                                       {},
+                                       &dampsym::gauss_tableau(2)};
+    const RiccatiSeparable sep;
+    Counters c;
+    dampsym::PartitionedRK<RiccatiSeparable> k(sep, gauss_pair, 5.0, c);
+    REQUIRE_FALSE(k.scheduled());
+    Vec z{{1.0, 1.0}};
+    CHECK(k.step(0.0, z) == StepStatus::solve_failed);
+    CHECK(z[0] == 1.0);
+    CHECK(z[1] == 1.0);
+}
+
+TEST_CASE("evaluation counts per step", "[families]") {
+    const dampsym::Pendulum prob = pendulum();
+    const int n = 100;
+    const auto per_step = [&](const char* id) {
+        Counters c;
+        Vec z = prob.initial_state();
+        REQUIRE(run(prob, method(id), 0.1, n, z, c));
+        return c;
+    };
+    // Partitioned: one force evaluation per used force stage, no Newton.
+    CHECK(per_step("symplectic-euler").rhs_evals == 1 * n);
+    CHECK(per_step("symplectic-euler-adjoint").rhs_evals == 1 * n);
+    CHECK(per_step("stormer-verlet").rhs_evals == 2 * n);
+    CHECK(per_step("stormer-verlet").newton_iters == 0);
+    // Implicit: s evaluations and s Jacobians per Newton iteration, nothing else (A invertible).
+    for (const char* id :
+         {"implicit-euler", "gauss1", "gauss2", "gauss3", "glifrk1", "glifrk2", "glifrk3"}) {
+        const Counters c = per_step(id);
+        const int s = method(id).tableau->stages;
+        INFO(id);
+        CHECK(c.rhs_evals == s * c.newton_iters);
+        CHECK(c.jac_evals == s * c.newton_iters);
+        CHECK(c.max_newton_iters_per_step >= 2);
+        CHECK(c.max_newton_iters_per_step <= 10);
+        if (verbose())
+            std::printf(
+                "%-16s per step: %.2f Newton iterations (max %d), %.2f evaluations of f/N\n", id,
+                static_cast<double>(c.newton_iters) / n, c.max_newton_iters_per_step,
+                static_cast<double>(c.rhs_evals) / n);
+    }
+}
+
+TEST_CASE("partitioned and Runge-Kutta kernels agree where the methods coincide", "[families]") {
+    const dampsym::Pendulum prob = pendulum();
+    const double h = 0.1;
+    const int n = 100;
+    // Gauss for both q and p (Newton path of the partitioned kernel) is gauss2 on the full field.
+    static const MethodInfo gauss_pair{"gauss2-pair",
+                                       "partitioned-rk",
+                                       4,
+                                       true,
+                                       "separable",
+                                       0u,
+                                       "test",
+                                       &dampsym::gauss_tableau(2),
+                                       {},
+                                       &dampsym::gauss_tableau(2)};
+    Counters c1, c2;
+    Vec za = prob.initial_state(), zb = za;
+    REQUIRE(run(prob, gauss_pair, h, n, za, c1));
+    REQUIRE(run(prob, method("gauss2"), h, n, zb, c2));
+    // Same method, different stage unknowns and update formula: round-off differences only
+    // (measured 2.4e-14 relative after 100 steps).
+    INFO("gauss pair vs gauss2: " << max_rel_diff(za, zb));
+    CHECK(max_rel_diff(za, zb) <= 1e-13);
+
+    // Störmer–Verlet by hand (HLW(3.6), γ = 0): the Lobatto IIIA–IIIB pair is the same map.
+    dampsym::Pendulum undamped = prob;
+    undamped.gamma = 0.0;
+    Vec zs = undamped.initial_state();
+    Counters c3;
+    REQUIRE(run(undamped, method("stormer-verlet"), h, n, zs, c3));
+    double q = undamped.q0, p = undamped.p0;
+    for (int i = 0; i < n; ++i) {
+        const double ph = p - 0.5 * h * std::sin(q);
+        q += h * ph;
+        p = ph - 0.5 * h * std::sin(q);
+    }
+    CHECK_THAT(zs[0], WithinRel(q, 1e-14));
+    CHECK_THAT(zs[1], WithinRel(p, 1e-14));
+
+    // Symplectic Euler HLW(1.8) with damping treated by the implicit p stage.
+    Vec ze = prob.initial_state();
+    Counters c4;
+    REQUIRE(run(prob, method("symplectic-euler"), h, 1, ze, c4));
+    const double p1 = (prob.p0 - h * std::sin(prob.q0)) / (1.0 + 2.0 * h * prob.gamma);
+    CHECK_THAT(ze[1], WithinRel(p1, 1e-15));
+    CHECK_THAT(ze[0], WithinRel(prob.q0 + h * p1, 1e-15));
+
+    // An explicit tableau through the implicit-rk engine is the classical RK4 loop.
+    static const MethodInfo rk4_engine{"rk4-engine", "implicit-rk",         4, false, "plain", 0u,
+                                       "test",       method("rk4").tableau, {}};
+    Vec zr = prob.initial_state();
+    Counters c5;
+    REQUIRE(run(prob, rk4_engine, h, n, zr, c5));
+    CHECK(c5.rhs_evals == 4 * n);
+    CHECK(c5.newton_iters == 0);
+    Vec y = prob.initial_state(), k1(2), k2(2), k3(2), k4(2);
+    for (int i = 0; i < n; ++i) {
+        const double t = dampsym::time_at(0.0, h, i);
+        prob.rhs(t, y, k1);
+        prob.rhs(t + 0.5 * h, Vec(y + 0.5 * h * k1), k2);
+        prob.rhs(t + 0.5 * h, Vec(y + 0.5 * h * k2), k3);
+        prob.rhs(t + h, Vec(y + h * k3), k4);
+        y += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+    }
+    INFO("rk4 engine vs loop: " << max_rel_diff(zr, y)); // measured 1.2e-15 after 100 steps
+    CHECK(max_rel_diff(zr, y) <= 1e-14);
+}
+
+TEST_CASE("IFRK from an explicit tableau (rk4 under the integrating factor) has order 4",
+          "[families]") {
+    // Hill's equation, time-dependent γ, reference from glifrk3 at a small step.
+    const dampsym::Hill prob = hill(1.0);
+    static const MethodInfo if_rk4{
+        "if-rk4", "ifrk", 4, false, "conformal", 0u, "test", method("rk4").tableau, {}};
+    const double t_end = 5.0;
+    Vec zref = prob.initial_state();
+    Counters c;
+    REQUIRE(run(prob, method("glifrk3"), t_end / 400, 400, zref, c));
+    std::vector<double> hs, errs;
+    for (const int n : {40, 80, 160}) {
+        Vec z = prob.initial_state();
+        REQUIRE(run(prob, if_rk4, t_end / n, n, z, c));
+        hs.push_back(t_end / n);
+        errs.push_back((z - zref).cwiseAbs().maxCoeff());
+    }
+    const double order = ls_slope(hs, errs);
+    if (verbose()) std::printf("IF-rk4 on hill: order %.3f\n", order);
+    CHECK_THAT(order, WithinAbs(4.0, 0.1));
+}
