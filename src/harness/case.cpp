@@ -73,8 +73,9 @@ std::vector<std::string> metric_names(const std::string& diagnostic, const Probl
         return out;
     }
     if (diagnostic == "energy")
-        return {"max_abs_error",  "final_abs_error", "drift_slope",    "rel_drift_slope",
-                "max_abs_change", "change_slope",    "max_rel_change", "rel_change_slope"};
+        return {"max_abs_error",   "final_abs_error",  "drift_slope",
+                "rel_drift_slope", "max_abs_change",   "change_slope",
+                "max_rel_change",  "rel_change_slope", "growth_ratio"};
     if (diagnostic == "dissipation-drift")
         return {"slope",
                 "range",
@@ -91,6 +92,8 @@ std::vector<std::string> metric_names(const std::string& diagnostic, const Probl
                 out.push_back(std::string(part) + "." + stat);
         return out;
     }
+    if (diagnostic == "conformal-symplectic")
+        return {"max_rel", "last_rel", "max_abs", "last_abs", "steps_measured"};
     if (diagnostic == "energy-balance") return {"max", "last", "mean", "max_rel", "points"};
     if (diagnostic == "poincare")
         return {"sections", "pointwise_max", "pointwise_final", "set_mean", "set_hausdorff"};
@@ -159,10 +162,20 @@ bool CaseSpec::wants(const std::string& d) const {
 }
 
 const std::vector<std::string>& known_diagnostics() {
-    static const std::vector<std::string> names{
-        "error",          "order",           "invariants",   "energy", "dissipation-drift",
-        "stability",      "stability-sweep", "trace-taylor", "cost",   "momentum",
-        "energy-balance", "poincare",        "temperature"};
+    static const std::vector<std::string> names{"error",
+                                                "order",
+                                                "invariants",
+                                                "energy",
+                                                "dissipation-drift",
+                                                "stability",
+                                                "stability-sweep",
+                                                "trace-taylor",
+                                                "cost",
+                                                "momentum",
+                                                "energy-balance",
+                                                "poincare",
+                                                "temperature",
+                                                "conformal-symplectic"};
     return names;
 }
 

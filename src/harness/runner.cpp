@@ -2,6 +2,7 @@
 
 #include "core/integrate.hpp"
 #include "diagnostics/capabilities.hpp"
+#include "diagnostics/conformal_symplectic.hpp"
 #include "diagnostics/maxima.hpp"
 #include "diagnostics/order_fit.hpp"
 #include "diagnostics/recorder.hpp"
@@ -322,6 +323,8 @@ private:
                 {"max_rel", e.max_rate > 0.0 ? e.max / e.max_rate : 0.0},
                 {"points", e.count}};
         }
+        if (c_.wants("conformal-symplectic"))
+            metrics["conformal-symplectic"] = conformal_symplectic_metrics<K>(info, h, n);
         if (ok && c_.wants("poincare")) metrics["poincare"] = poincare_metrics(rec);
         if (ok && c_.wants("temperature")) metrics["temperature"] = temperature_metrics(rec);
         if (c_.wants("stability")) {
@@ -374,7 +377,16 @@ private:
                 max_change = std::max(max_change, std::abs(change.back()));
                 max_rel_change = std::max(max_rel_change, std::abs(rel_change.back()));
             }
+            // Growth of |H_n − H_0| between the two halves of the run: ≈ 1 when the error is
+            // bounded, ≈ 2 when it grows linearly (HLW Table 2.1).
+            double first_half = 0.0, second_half = 0.0;
+            const Eigen::Index mid = g.cols() / 2;
+            for (Eigen::Index i = 0; i < g.cols(); ++i)
+                (i <= mid ? first_half : second_half) =
+                    std::max(i <= mid ? first_half : second_half,
+                             std::abs(change[static_cast<std::size_t>(i)]));
             json out = {{"max_abs_change", max_change},
+                        {"growth_ratio", first_half > 0.0 ? second_half / first_half : 0.0},
                         {"change_slope", least_squares(t, change).slope},
                         {"max_rel_change", max_rel_change},
                         {"rel_change_slope", least_squares(t, rel_change).slope}};
@@ -411,6 +423,28 @@ private:
 
     // d(t) of the method; with a reference on the output grid also d(t) of the reference (same
     // maxima locator on the reference samples) and the differences, maximum by maximum.
+    // E_n of SPEC §5 from the exact step Jacobian, in a separate pass with its own stepper and
+    // counters (the main run's cost and timing stay those of the bare step).
+    template <class K>
+    json conformal_symplectic_metrics(const MethodInfo& info, double h, std::int64_t n) const {
+        Counters counters;
+        K stepper(problem_, info, h, counters);
+        Vec z = problem_.initial_state();
+        const ConformalSymplecticStats st =
+            conformal_symplectic_defect(stepper, problem_, z, c_.t0, h, n);
+        if (!st.applicable()) return {{"reason", to_string(st.applicability)}};
+        json out = {{"max_rel", st.max_rel},
+                    {"last_rel", st.last_rel},
+                    {"max_abs", st.max_abs},
+                    {"last_abs", st.last_abs},
+                    {"max_rel_step", st.max_rel_step},
+                    {"steps_measured", st.steps_measured},
+                    {"norm", ConformalSymplecticStats::norm},
+                    {"status", to_string(st.status)}};
+        if (st.status != RunStatus::ok) out["failed_at_step"] = st.failed_step;
+        return out;
+    }
+
     json drift_metrics(const Recorder<P>& rec) const {
         const std::vector<Maximum> mx = rec.maxima();
         json out = drift_of(mx);
