@@ -4,9 +4,12 @@
 #include "harness/registry.hpp"
 #include "harness/report.hpp"
 #include "harness/runner.hpp"
+#include "methods/coefficient_checks.hpp"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -111,6 +114,89 @@ int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
     return 0;
 }
 
+// `dampsym methods [--check] [--json]`: every registered method with its declaration and, with
+// --check, the coefficient-level checks of its family (src/methods/coefficient_checks.hpp). A check
+// passes when the coefficients agree with the declaration (order, claims), including the expected
+// failures (order conditions beyond the declared order, symplecticity of a non-symplectic method).
+// Exit status 1 if any check disagrees.
+int cmd_methods(bool check, bool as_json, std::ostream& out) {
+    auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    json methods = json::array();
+    int agree = 0, disagree = 0, unchecked = 0;
+    for (const auto& m : method_catalog()) {
+        json row = {{"id", m.id},
+                    {"kernel", m.kernel},
+                    {"order", m.order},
+                    {"implicit", m.implicit},
+                    {"form", m.form},
+                    {"claims", claim_words(m.claims)},
+                    {"citation", m.citation}};
+        if (check) {
+            const auto checks = method_checks(m);
+            json arr = json::array();
+            for (const auto& c : checks) {
+                (c.agrees() ? agree : disagree) += 1;
+                arr.push_back({{"name", c.name},
+                               {"what", c.what},
+                               {"expected", c.expected},
+                               {"holds", c.holds},
+                               {"passed", c.agrees()},
+                               {"value", number(c.value)},
+                               {"tolerance", c.tolerance}});
+            }
+            if (checks.empty()) {
+                ++unchecked;
+                row["checks"] = nullptr;
+                row["note"] = "no coefficient-level check";
+            } else {
+                row["checks"] = arr;
+            }
+        }
+        methods.push_back(row);
+    }
+    if (as_json) {
+        json doc = {{"methods", methods}};
+        if (check)
+            doc["summary"] = {{"checks_passed", agree},
+                              {"checks_failed", disagree},
+                              {"methods_without_check", unchecked}};
+        out << doc.dump(2) << "\n";
+        return disagree == 0 ? 0 : 1;
+    }
+    for (const auto& m : methods) {
+        std::string claims;
+        for (const auto& c : m["claims"])
+            claims += (claims.empty() ? "" : ",") + c.get<std::string>();
+        out << m["id"].get<std::string>() << "  [" << m["kernel"].get<std::string>() << "] order "
+            << m["order"].get<int>() << (m["implicit"].get<bool>() ? ", implicit" : ", explicit")
+            << ", " << m["form"].get<std::string>()
+            << " form, claims: " << (claims.empty() ? "none" : claims) << "; "
+            << m["citation"].get<std::string>() << "\n";
+        if (!check) continue;
+        if (m["checks"].is_null()) {
+            out << "    no coefficient-level check\n";
+            continue;
+        }
+        for (const auto& c : m["checks"]) {
+            char value[64];
+            if (c["value"].is_null())
+                std::snprintf(value, sizeof value, "n/a");
+            else
+                std::snprintf(value, sizeof value, "%.2e", c["value"].get<double>());
+            out << "    " << (c["passed"].get<bool>() ? "pass" : "FAIL") << "  "
+                << c["name"].get<std::string>() << ": "
+                << (c["holds"].get<bool>() ? "holds" : "fails") << " ("
+                << (c["expected"].get<bool>() ? "expected to hold" : "expected to fail")
+                << "), value " << value << ", tol " << c["tolerance"].get<double>() << "; "
+                << c["what"].get<std::string>() << "\n";
+        }
+    }
+    if (check)
+        out << "Coefficient checks: " << agree << " agree with the declarations, " << disagree
+            << " disagree; " << unchecked << " methods without a coefficient-level check\n";
+    return disagree == 0 ? 0 : 1;
+}
+
 int cmd_run(const std::vector<std::string>& targets, const std::string& suite,
             const std::string& out_dir, int jobs, const std::vector<std::string>& sets,
             const std::string& cases_dir, std::ostream& out) {
@@ -176,6 +262,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")
         ->take_all();
 
+    auto* methods_cmd =
+        app.add_subcommand("methods", "list every registered method; --check verifies its "
+                                      "coefficients (order conditions, symplecticity, GLM)");
+    bool methods_check = false, methods_json = false;
+    methods_cmd->add_flag("--check", methods_check,
+                          "run the coefficient-level checks; exit 1 if one disagrees");
+    methods_cmd->add_flag("--json", methods_json, "machine-readable output");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -191,6 +285,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     try {
         if (*list) return cmd_list(list_json, cases_dir, out);
         if (*run) return cmd_run(targets, suite, out_dir, jobs, sets, cases_dir, out);
+        if (*methods_cmd) return cmd_methods(methods_check, methods_json, out);
     } catch (const InputError& e) {
         err << "dampsym: " << e.what() << "\n";
         return 2;

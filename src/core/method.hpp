@@ -18,6 +18,8 @@
 
 namespace dampsym {
 
+struct GlmCoefficients;
+
 // Structure a method claims (SPEC §3); the harness uses it to label checks and negative controls.
 enum Claim : unsigned {
     claim_none = 0,
@@ -29,6 +31,9 @@ enum Claim : unsigned {
     // Total linear momentum of a pair-potential system decays per step by the factor
     // e^{−γh}(2−γh)/(2+γh) instead of the exact e^{−2γh} (B Table 3.1: CSV2, CIMP).
     claim_linear_momentum_cayley = 1u << 5,
+    // G-symplectic general linear method (BS, BD §3): for γ = 0 and every quadratic invariant
+    // yᵀMy, Σ g_ij y_iᵀ M y_j of the r values is conserved.
+    claim_g_symplectic = 1u << 6,
 };
 
 // Butcher tableau of an explicit or implicit RK method, row-major A (s×s).
@@ -64,6 +69,12 @@ struct MethodInfo {
     OscillatorFormulas oscillator{};
     // Partitioned RK (kernel "partitioned-rk"): the p tableau; `tableau` is then the q tableau.
     const ButcherTableau* tableau_p = nullptr;
+    // General linear method (kernel "general-linear", src/methods/glm_coefficients.hpp).
+    const GlmCoefficients* glm = nullptr;
+    // Coefficient data of the exponential RK kernels (src/methods/exponential_tableaux.hpp):
+    // const ExponentialRKData* for "exponential-rk", const PartitionedExponentialRKData* for
+    // "partitioned-exponential-rk"; the kernel named by `kernel` casts it back.
+    const void* family_data = nullptr;
 };
 
 const std::vector<MethodInfo>& method_catalog();

@@ -11,8 +11,11 @@
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
 #include "methods/explicit_rk.hpp"
+#include "methods/exponential_rk.hpp"
+#include "methods/general_linear.hpp"
 #include "methods/ifrk.hpp"
 #include "methods/implicit_rk.hpp"
+#include "methods/partitioned_exponential_rk.hpp"
 #include "methods/partitioned_rk.hpp"
 #include "problems/argon.hpp"
 #include "problems/driven_pendulum.hpp"
@@ -36,7 +39,8 @@ using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBo
 
 template <template <class> class... Ks>
 struct KernelList {};
-using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK>;
+using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
+                           GeneralLinear, ExponentialRK, PartitionedExponentialRK>;
 
 // Runtime facts about a problem type, for validation, `dampsym list` and reports.
 struct ProblemInfo {

@@ -1,30 +1,18 @@
 #include "harness/runner.hpp"
 
-#include "core/integrate.hpp"
-#include "diagnostics/capabilities.hpp"
-#include "diagnostics/conformal_symplectic.hpp"
-#include "diagnostics/maxima.hpp"
-#include "diagnostics/order_fit.hpp"
-#include "diagnostics/recorder.hpp"
-#include "diagnostics/stability.hpp"
-#include "harness/registry.hpp"
-#include "reference/gsl_reference.hpp"
+#include "harness/case_job.hpp"
 
 #include <atomic>
-#include <chrono>
-#include <cmath>
 #include <exception>
-#include <functional>
-#include <map>
-#include <memory>
-#include <mutex>
 #include <thread>
+#include <utility>
+
+#ifndef DAMPSYM_CASE_SHARDS
+#error "DAMPSYM_CASE_SHARDS must be defined by the build (number of generated case shards)"
+#endif
 
 namespace dampsym {
-namespace {
-
-using json = nlohmann::json;
-using Clock = std::chrono::steady_clock;
+namespace detail {
 
 double seconds_since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
@@ -35,56 +23,6 @@ json state_json(const Vec& z) {
     for (Eigen::Index i = 0; i < z.size(); ++i) a.push_back(z[i]); // NaN/inf are written as null
     return a;
 }
-
-// Runs tasks on `jobs` threads; rethrows the first exception after all threads stop.
-void run_parallel(std::vector<std::function<void()>>& tasks, int jobs) {
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    auto worker = [&] {
-        for (std::size_t i; (i = next.fetch_add(1)) < tasks.size();) {
-            try {
-                tasks[i]();
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(error_mutex);
-                if (!error) error = std::current_exception();
-            }
-        }
-    };
-    const int n = std::max(1, std::min<int>(jobs, static_cast<int>(tasks.size())));
-    std::vector<std::thread> threads;
-    for (int i = 1; i < n; ++i) threads.emplace_back(worker);
-    worker();
-    for (auto& t : threads) t.join();
-    if (error) std::rethrow_exception(error);
-}
-
-// Numerical references are computed once per problem instance (problem, parameters, initial state,
-// output times, tolerances) and shared by every method, step size and case that needs them.
-class ReferenceCache {
-public:
-    template <class Compute>
-    std::shared_ptr<const ReferenceSolution> get(const std::string& key, Compute&& compute) {
-        std::shared_ptr<Entry> e;
-        {
-            std::lock_guard<std::mutex> lock(m_);
-            auto& slot = map_[key];
-            if (!slot) slot = std::make_shared<Entry>();
-            e = slot;
-        }
-        std::call_once(e->once,
-                       [&] { e->solution = std::make_shared<const ReferenceSolution>(compute()); });
-        return e->solution;
-    }
-
-private:
-    struct Entry {
-        std::once_flag once;
-        std::shared_ptr<const ReferenceSolution> solution;
-    };
-    std::mutex m_;
-    std::map<std::string, std::shared_ptr<Entry>> map_;
-};
 
 ReferenceCache& reference_cache() {
     static ReferenceCache cache;
@@ -116,15 +54,6 @@ std::string reference_key(const CaseSpec& c, const std::vector<double>& times) {
     return key;
 }
 
-// A case in progress, type-erased at case level only (the step loops inside are not).
-class CaseJob {
-public:
-    virtual ~CaseJob() = default;
-    virtual void prepare() = 0;
-    virtual void add_tasks(std::vector<std::function<void()>>& tasks) = 0;
-    virtual json finish() = 0;
-};
-
 // Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000
 // points; the last point is t_end.
 std::int64_t output_points(const CaseSpec& c) {
@@ -142,589 +71,6 @@ std::int64_t output_points(const CaseSpec& c) {
         if (n % k == 0 && n / k <= 20000) return n / k;
     return 1;
 }
-
-template <class P>
-class TypedCase final : public CaseJob {
-public:
-    explicit TypedCase(const CaseSpec& spec) : c_(spec), problem_(P::from_params(spec.params)) {}
-
-    void prepare() override {
-        runs_.assign(c_.methods.size() * c_.dts.size(), json());
-        method_metrics_.assign(c_.methods.size(), json::object());
-        points_ = output_points(c_);
-        // A trajectory grid only for diagnostics that read it; a reference only for those that
-        // compare with it (the energy diagnostic without "error" reports changes only).
-        needs_grid_ = c_.wants("energy") || c_.wants("poincare") || c_.wants("temperature") ||
-                      (c_.wants("error") && points_ > 1);
-        if (c_.wants("error") || c_.wants("poincare")) {
-            const std::int64_t np = needs_grid_ ? points_ + 1 : 1;
-            ref_times_.resize(static_cast<std::size_t>(np));
-            for (std::int64_t i = 0; i < np; ++i)
-                ref_times_[static_cast<std::size_t>(i)] =
-                    needs_grid_ ? c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) /
-                                              static_cast<double>(points_)
-                                : c_.t_end;
-            if (needs_grid_) ref_times_.back() = c_.t_end;
-            if constexpr (P::has_exact) {
-                ref_.resize(problem_.dim(), np);
-                Vec tmp(problem_.dim());
-                for (std::int64_t i = 0; i < np; ++i) {
-                    problem_.exact(ref_times_[static_cast<std::size_t>(i)], tmp);
-                    ref_.col(i) = tmp;
-                }
-                reference_ = {{"kind", "exact"}, {"error_estimate", 0.0}, {"points", np}};
-            } else {
-                numerical_reference();
-            }
-        } else {
-            reference_ = {{"kind", "none"}};
-        }
-    }
-
-    // Certified GSL reference (SPEC §4) on the output grid, shared through the cache.
-    void numerical_reference() {
-        auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
-            ReferenceRequest req;
-            req.dim = problem_.dim();
-            req.t0 = c_.t0;
-            req.y0 = problem_.initial_state();
-            req.times = ref_times_;
-            req.stepper = c_.reference.stepper;
-            req.epsrel = c_.reference.epsrel;
-            req.epsabs = c_.reference.epsabs;
-            const P problem = problem_;
-            req.rhs = [problem](double t, const double* y, double* dydt) {
-                const int d = problem.dim();
-                Vec z = Eigen::Map<const Vec>(y, d);
-                Vec f(d);
-                problem.rhs(t, z, f);
-                Eigen::Map<Vec>(dydt, d) = f;
-            };
-            return certified_reference(req);
-        });
-        reference_ = {{"kind", "gsl-certified"},
-                      {"ok", sol->ok},
-                      {"stepper", sol->stepper},
-                      {"epsrel", sol->epsrel},
-                      {"epsabs", sol->epsabs},
-                      {"certifier", sol->certifier},
-                      {"certifier_epsrel", sol->cert_epsrel},
-                      {"certifier_epsabs", sol->cert_epsabs},
-                      {"error_estimate", sol->ok ? json(sol->error_estimate) : json(nullptr)},
-                      {"rhs_evals", sol->rhs_evals},
-                      {"points", ref_times_.size()}};
-        if (!sol->ok) {
-            reference_["error"] = sol->error;
-            reference_ok_ = false;
-            return;
-        }
-        ref_ = sol->states;
-        ref_error_ = sol->error_estimate;
-        reference_["final_time"] = ref_times_.back();
-        reference_["final_state"] = state_json(ref_.col(ref_.cols() - 1));
-    }
-
-    void add_tasks(std::vector<std::function<void()>>& tasks) override {
-        for (std::size_t m = 0; m < c_.methods.size(); ++m) {
-            for (std::size_t d = 0; d < c_.dts.size(); ++d)
-                tasks.emplace_back([this, m, d] { run_one(m, d); });
-            if (c_.wants("stability-sweep")) tasks.emplace_back([this, m] { sweep(m); });
-            if (c_.wants("trace-taylor")) tasks.emplace_back([this, m] { trace_taylor(m); });
-        }
-    }
-
-    json finish() override;
-
-private:
-    const MethodInfo& method(std::size_t m) const { return *find_method(c_.methods[m]); }
-    json& run_slot(std::size_t m, std::size_t d) { return runs_[m * c_.dts.size() + d]; }
-
-    void run_one(std::size_t m, std::size_t d) {
-        const MethodInfo& info = method(m);
-        json& out = run_slot(m, d);
-        const double h = c_.dts[d];
-        const std::int64_t n = c_.steps[d];
-        out = {{"method", info.id}, {"dt", h}, {"steps_planned", n}};
-        const KernelMatch match =
-            with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
-        if (match != KernelMatch::applied) {
-            out["status"] = "not-applicable";
-            out["steps"] = 0;
-            out["metrics"] = json::object();
-        }
-    }
-
-    template <class K>
-    void integrate_with(const MethodInfo& info, double h, std::int64_t n, json& out) {
-        Counters counters;
-        K stepper(problem_, info, h, counters);
-        Vec z = problem_.initial_state();
-        const bool observe = needs_grid_ || c_.wants("invariants") ||
-                             c_.wants("dissipation-drift") || c_.wants("momentum") ||
-                             c_.wants("energy-balance");
-        Recorder<P> rec(problem_, c_.t0, h);
-        IntegrateOutcome res;
-        const auto start = Clock::now();
-        if (observe) {
-            if (needs_grid_) rec.record_grid(n / points_, points_ + 1);
-            if (c_.wants("invariants")) rec.track_invariants();
-            if (c_.wants("dissipation-drift")) rec.track_maxima();
-            if (c_.wants("momentum")) rec.track_momentum(table_momentum_factor(info, h));
-            if (c_.wants("energy-balance")) rec.track_energy_balance();
-            rec.start(z);
-            res = integrate(stepper, z, c_.t0, h, n, &rec);
-        } else {
-            res = integrate(stepper, z, c_.t0, h, n);
-        }
-        const double wall = seconds_since(start);
-
-        out["status"] = to_string(res.status);
-        out["steps"] = res.steps_done;
-        out["final_time"] = time_at(c_.t0, h, res.steps_done);
-        out["final_state"] = state_json(z);
-        if (res.status != RunStatus::ok) out["failed_at_step"] = res.failed_step;
-        out["rhs_evals"] = counters.rhs_evals;
-        out["jac_evals"] = counters.jac_evals;
-        out["newton_iters"] = counters.newton_iters;
-        out["max_newton_iters_per_step"] = counters.max_newton_iters_per_step;
-        out["wall_seconds"] = wall;
-        json metrics = json::object();
-        const bool ok = res.status == RunStatus::ok;
-        const double steps = static_cast<double>(std::max<std::int64_t>(res.steps_done, 1));
-        if (c_.wants("cost")) {
-            metrics["cost"] = {
-                {"rhs_evals_per_step", static_cast<double>(counters.rhs_evals) / steps},
-                {"jac_evals_per_step", static_cast<double>(counters.jac_evals) / steps},
-                {"newton_iters_per_step", static_cast<double>(counters.newton_iters) / steps},
-                {"max_newton_iters", counters.max_newton_iters_per_step},
-                {"wall_seconds", wall}};
-        }
-        if (ok && reference_ok_ && c_.wants("error")) metrics["error"] = error_metrics(rec, z);
-        if (ok && reference_ok_ && c_.wants("energy")) metrics["energy"] = energy_metrics(rec);
-        if (ok && c_.wants("invariants")) {
-            json inv = json::object();
-            for (std::size_t k = 0; k < P::invariant_names.size(); ++k) {
-                const InvariantStats& s = rec.invariant_stats()[k];
-                inv[std::string(P::invariant_names[k])] = {{"max_step_rel", s.max_step_rel},
-                                                           {"last_step_rel", s.last_step_rel},
-                                                           {"max_global_rel", s.max_global_rel},
-                                                           {"drift_slope", s.drift_slope()}};
-            }
-            metrics["invariants"] = inv;
-        }
-        if (ok && c_.wants("dissipation-drift")) metrics["dissipation-drift"] = drift_metrics(rec);
-        if (ok && c_.wants("momentum")) metrics["momentum"] = momentum_metrics(rec, info, h);
-        if (ok && c_.wants("energy-balance")) {
-            const EnergyBalanceStats& e = rec.energy_balance_stats();
-            metrics["energy-balance"] = {
-                {"max", e.max},
-                {"last", e.last},
-                {"mean", e.count ? e.sum / static_cast<double>(e.count) : 0.0},
-                {"max_rel", e.max_rate > 0.0 ? e.max / e.max_rate : 0.0},
-                {"points", e.count}};
-        }
-        if (c_.wants("conformal-symplectic"))
-            metrics["conformal-symplectic"] = conformal_symplectic_metrics<K>(info, h, n);
-        if (ok && c_.wants("poincare")) metrics["poincare"] = poincare_metrics(rec);
-        if (ok && c_.wants("temperature")) metrics["temperature"] = temperature_metrics(rec);
-        if (c_.wants("stability")) {
-            if constexpr (P::is_linear) metrics["stability"] = stability_metrics<K>(info, h);
-        }
-        out["metrics"] = metrics;
-    }
-
-    json error_metrics(const Recorder<P>& rec, const Vec& z_final) const {
-        double max_abs = 0.0, max_rel = 0.0;
-        if (needs_grid_) {
-            const Mat& g = rec.grid();
-            for (Eigen::Index i = 0; i < g.cols(); ++i) {
-                const double e = (g.col(i) - ref_.col(i)).norm();
-                max_abs = std::max(max_abs, e);
-                max_rel = std::max(max_rel, e / ref_.col(i).norm());
-            }
-        }
-        const Vec ref_final = ref_.col(ref_.cols() - 1);
-        const double final_abs = (z_final - ref_final).norm();
-        const double final_rel = final_abs / ref_final.norm();
-        max_abs = std::max(max_abs, final_abs);
-        max_rel = std::max(max_rel, final_rel);
-        return {{"final_abs", final_abs},
-                {"final_rel", final_rel},
-                {"max_abs", max_abs},
-                {"max_rel", max_rel},
-                {"reference_error_estimate", ref_error_}};
-    }
-
-    json energy_metrics(const Recorder<P>& rec) const {
-        if constexpr (P::has_energy) {
-            const Mat& g = rec.grid();
-            std::vector<double> t, err, rel, change;
-            const double e0 = problem_.energy(g.col(0));
-            const bool with_ref = reference_ok_ && ref_.cols() == g.cols();
-            std::vector<double> rel_change;
-            double max_err = 0.0, max_change = 0.0, max_rel_change = 0.0;
-            for (Eigen::Index i = 0; i < g.cols(); ++i) {
-                const double en = problem_.energy(g.col(i));
-                t.push_back(grid_time(i));
-                if (with_ref) {
-                    const double exact = problem_.energy(ref_.col(i));
-                    err.push_back(exact - en); // H_exact − H_approx (F Fig 4.3)
-                    rel.push_back(err.back() / exact);
-                    max_err = std::max(max_err, std::abs(err.back()));
-                }
-                change.push_back(en - e0);
-                rel_change.push_back((en - e0) / std::abs(e0));
-                max_change = std::max(max_change, std::abs(change.back()));
-                max_rel_change = std::max(max_rel_change, std::abs(rel_change.back()));
-            }
-            // Growth of |H_n − H_0| between the two halves of the run: ≈ 1 when the error is
-            // bounded, ≈ 2 when it grows linearly (HLW Table 2.1).
-            double first_half = 0.0, second_half = 0.0;
-            const Eigen::Index mid = g.cols() / 2;
-            for (Eigen::Index i = 0; i < g.cols(); ++i)
-                (i <= mid ? first_half : second_half) =
-                    std::max(i <= mid ? first_half : second_half,
-                             std::abs(change[static_cast<std::size_t>(i)]));
-            json out = {{"max_abs_change", max_change},
-                        {"growth_ratio", first_half > 0.0 ? second_half / first_half : 0.0},
-                        {"change_slope", least_squares(t, change).slope},
-                        {"max_rel_change", max_rel_change},
-                        {"rel_change_slope", least_squares(t, rel_change).slope}};
-            if (with_ref) {
-                out["max_abs_error"] = max_err;
-                out["final_abs_error"] = std::abs(err.back());
-                out["drift_slope"] = least_squares(t, err).slope;
-                out["rel_drift_slope"] = least_squares(t, rel).slope;
-            }
-            return out;
-        } else {
-            (void)rec;
-            return json::object();
-        }
-    }
-
-    static json drift_of(const std::vector<Maximum>& mx) {
-        json out = {{"maxima", mx.size()}};
-        if (mx.size() < 3) return out; // slope missing: a check on it fails with that reason
-        std::vector<double> t, d;
-        double lo = mx[0].d, hi = mx[0].d;
-        for (const auto& m : mx) {
-            t.push_back(m.t);
-            d.push_back(m.d);
-            lo = std::min(lo, m.d);
-            hi = std::max(hi, m.d);
-        }
-        out["slope"] = least_squares(t, d).slope;
-        out["range"] = hi - lo;
-        out["first"] = {mx.front().t, mx.front().d};
-        out["last"] = {mx.back().t, mx.back().d};
-        return out;
-    }
-
-    // d(t) of the method; with a reference on the output grid also d(t) of the reference (same
-    // maxima locator on the reference samples) and the differences, maximum by maximum.
-    // E_n of SPEC §5 from the exact step Jacobian, in a separate pass with its own stepper and
-    // counters (the main run's cost and timing stay those of the bare step).
-    template <class K>
-    json conformal_symplectic_metrics(const MethodInfo& info, double h, std::int64_t n) const {
-        Counters counters;
-        K stepper(problem_, info, h, counters);
-        Vec z = problem_.initial_state();
-        const ConformalSymplecticStats st =
-            conformal_symplectic_defect(stepper, problem_, z, c_.t0, h, n);
-        if (!st.applicable()) return {{"reason", to_string(st.applicability)}};
-        json out = {{"max_rel", st.max_rel},
-                    {"last_rel", st.last_rel},
-                    {"max_abs", st.max_abs},
-                    {"last_abs", st.last_abs},
-                    {"max_rel_step", st.max_rel_step},
-                    {"steps_measured", st.steps_measured},
-                    {"norm", ConformalSymplecticStats::norm},
-                    {"status", to_string(st.status)}};
-        if (st.status != RunStatus::ok) out["failed_at_step"] = st.failed_step;
-        return out;
-    }
-
-    json drift_metrics(const Recorder<P>& rec) const {
-        const std::vector<Maximum> mx = rec.maxima();
-        json out = drift_of(mx);
-        if constexpr (HasOneDofMaxima<P>) {
-            if (reference_ok_ && ref_.cols() > 2 && ref_.cols() == points_ + 1) {
-                MaximaFinder<P> finder(problem_);
-                for (Eigen::Index i = 0; i < ref_.cols(); ++i)
-                    finder.feed(grid_time(i), ref_.col(i));
-                const auto& rm = finder.maxima();
-                const json ref = drift_of(rm);
-                out["reference"] = ref;
-                if (ref.contains("slope") && out.contains("slope"))
-                    out["slope_minus_reference"] =
-                        out["slope"].get<double>() - ref["slope"].get<double>();
-                double max_diff = 0.0;
-                const std::size_t k = std::min(mx.size(), rm.size());
-                for (std::size_t i = 0; i < k; ++i)
-                    max_diff = std::max(max_diff, std::abs(mx[i].d - rm[i].d));
-                out["max_abs_diff_reference"] = max_diff;
-                out["maxima_count_diff"] =
-                    static_cast<std::int64_t>(mx.size()) - static_cast<std::int64_t>(rm.size());
-            }
-        }
-        return out;
-    }
-
-    double grid_time(Eigen::Index i) const {
-        if (i == points_) return c_.t_end;
-        return c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) / static_cast<double>(points_);
-    }
-
-    // B Table 3.1 factor of Σp per step the method declares (constant γ only), NaN if none.
-    double table_momentum_factor(const MethodInfo& info, double h) const {
-        if (!P::constant_gamma) return std::numeric_limits<double>::quiet_NaN();
-        const double gh = problem_.dGamma(c_.t0, h);
-        if (info.claims & claim_linear_momentum_cayley)
-            return std::exp(-gh) * (2.0 - gh) / (2.0 + gh);
-        if (info.claims & claim_linear_momentum) return std::exp(-2.0 * gh);
-        return std::numeric_limits<double>::quiet_NaN();
-    }
-
-    json momentum_metrics(const Recorder<P>& rec, const MethodInfo& info, double h) const {
-        auto one = [](const VectorLawStats& s, bool with_table) {
-            json o = {{"max_law_rel", s.max_law_rel},
-                      {"last_law_rel", s.last_law_rel},
-                      {"first_factor", s.first_factor},
-                      {"max_factor_dev", s.max_factor_dev},
-                      {"initial_norm", s.initial_norm}};
-            if (with_table) o["max_table_rel"] = s.max_table_rel;
-            return o;
-        };
-        json ang = one(rec.angular_momentum_stats(), false);
-        if constexpr (requires { P::linear_momentum_law; }) {
-            // e.g. Kepler's fixed centre: Σp has no law, only the angular momentum is reported.
-            if (!P::linear_momentum_law)
-                return {{"angular", ang}, {"linear", {{"reason", "no linear momentum law"}}}};
-        }
-        const double table = table_momentum_factor(info, h);
-        json lin = one(rec.linear_momentum_stats(), !std::isnan(table));
-        lin["law_factor"] = std::exp(-2.0 * problem_.dGamma(c_.t0, h));
-        if (!std::isnan(table)) {
-            lin["table_factor"] = table;
-            lin["table_source"] = "B Table 3.1";
-        }
-        return {{"linear", lin}, {"angular", ang}};
-    }
-
-    // Poincaré section at t = t0 + kT, T the forcing period (B §3.2.2): the output grid must be
-    // exactly the section times. The angle is compared on the circle. Pointwise distances to the
-    // reference's section, and set distances (nearest reference point, symmetric Hausdorff) after
-    // the first 10% of sections (transient), which stay meaningful where a chaotic orbit has
-    // separated from the reference pointwise.
-    json poincare_metrics(const Recorder<P>& rec) const {
-        if constexpr (HasForcingPeriod<P>) {
-            const double T = problem_.forcing_period();
-            const double spacing = (c_.t_end - c_.t0) / static_cast<double>(points_);
-            if (std::abs(spacing - T) > 1e-9 * T)
-                return {{"reason", "output_dt must equal the forcing period " + std::to_string(T)}};
-            if (!reference_ok_) return {{"reason", "reference failed"}};
-            const Mat& g = rec.grid();
-            auto dist = [](const Vec& a, const Vec& b) {
-                double s = std::remainder(a[0] - b[0], 2.0 * M_PI);
-                s *= s;
-                for (Eigen::Index i = 1; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
-                return std::sqrt(s);
-            };
-            double pmax = 0.0;
-            for (Eigen::Index k = 0; k < g.cols(); ++k)
-                pmax = std::max(pmax, dist(g.col(k), ref_.col(k)));
-            const Eigen::Index skip = g.cols() / 10;
-            auto nearest = [&](const Mat& from, const Mat& to, double& mean) {
-                double worst = 0.0, sum = 0.0;
-                for (Eigen::Index i = skip; i < from.cols(); ++i) {
-                    double best = std::numeric_limits<double>::infinity();
-                    for (Eigen::Index j = skip; j < to.cols(); ++j)
-                        best = std::min(best, dist(from.col(i), to.col(j)));
-                    worst = std::max(worst, best);
-                    sum += best;
-                }
-                mean = sum / static_cast<double>(std::max<Eigen::Index>(1, from.cols() - skip));
-                return worst;
-            };
-            double mean_mr = 0.0, mean_rm = 0.0;
-            const double h1 = nearest(g, ref_, mean_mr), h2 = nearest(ref_, g, mean_rm);
-            return {{"sections", g.cols()},
-                    {"transient_skipped", skip},
-                    {"pointwise_max", pmax},
-                    {"pointwise_final", dist(g.col(g.cols() - 1), ref_.col(ref_.cols() - 1))},
-                    {"set_mean", 0.5 * (mean_mr + mean_rm)},
-                    {"set_hausdorff", std::max(h1, h2)}};
-        } else {
-            (void)rec;
-            return {{"reason", "problem has no periodic forcing"}};
-        }
-    }
-
-    // HLW(3.8) temperature on the output grid: its fluctuation and, with a reference, its error.
-    json temperature_metrics(const Recorder<P>& rec) const {
-        if constexpr (HasTemperature<P>) {
-            const Mat& g = rec.grid();
-            const double T0 = problem_.temperature(g.col(0));
-            double lo = T0, hi = T0, sum = 0.0, max_err = 0.0;
-            const bool with_ref = reference_ok_ && ref_.cols() == g.cols();
-            for (Eigen::Index i = 0; i < g.cols(); ++i) {
-                const double T = problem_.temperature(g.col(i));
-                lo = std::min(lo, T);
-                hi = std::max(hi, T);
-                sum += T;
-                if (with_ref)
-                    max_err = std::max(max_err, std::abs(T - problem_.temperature(ref_.col(i))));
-            }
-            json out = {{"initial", T0},
-                        {"mean", sum / static_cast<double>(g.cols())},
-                        {"min", lo},
-                        {"max", hi},
-                        {"max_abs_dev_initial", std::max(hi - T0, T0 - lo)}};
-            if (with_ref) out["max_abs_error"] = max_err;
-            return out;
-        } else {
-            (void)rec;
-            return {{"reason", "problem declares no temperature"}};
-        }
-    }
-
-    template <class K>
-    json stability_metrics(const MethodInfo& info, double h) const {
-        const Mat M = one_step_matrix<K>(problem_, info, h);
-        const double g = problem_.gamma_at(0.0);
-        const OneStepAnalysis a = analyse_one_step(M, g, h);
-        const double det_expected = std::exp(-2.0 * g * h);
-        const double exact_half_trace = oscillator_damped_cs(problem_.omega, g, h).c;
-        json out = {{"det", a.det},
-                    {"det_expected", det_expected},
-                    {"det_rel_err", std::abs(a.det - det_expected) / det_expected},
-                    {"half_trace", a.half_trace},
-                    {"half_trace_exact", exact_half_trace},
-                    {"half_trace_exact_err", std::abs(a.half_trace - exact_half_trace)},
-                    {"eigenvalues",
-                     {{a.eig[0].real(), a.eig[0].imag()}, {a.eig[1].real(), a.eig[1].imag()}}},
-                    {"spectral_radius", a.spectral_radius},
-                    {"F_condition", a.F_condition ? 1 : 0},
-                    {"power_bounded", a.power_bounded ? 1 : 0},
-                    {"matrix", {{M(0, 0), M(0, 1)}, {M(1, 0), M(1, 1)}}}};
-        if (info.oscillator.half_trace) {
-            const double f = info.oscillator.half_trace(problem_.omega, g, h);
-            out["half_trace_formula"] = f;
-            out["half_trace_formula_rel_err"] = std::abs(a.half_trace - f) / std::abs(f);
-            out["formula_source"] = info.oscillator.source;
-        }
-        return out;
-    }
-
-    // (γ, h) sweep of F's condition and power-boundedness (SPEC §5, F Figs 3.1–3.3).
-    void sweep(std::size_t m) {
-        const MethodInfo& info = method(m);
-        json& out = method_metrics_[m]["stability-sweep"];
-        if constexpr (P::is_linear) {
-            const SweepSpec& s = *c_.sweep;
-            const auto gammas = s.gamma.values();
-            const auto hs = s.h.values();
-            json rows = json::array();
-            std::int64_t mismatch_points = 0, violations_inside = 0, f_viol = 0, pb_viol = 0;
-            std::int64_t max_cells = 0;
-            bool has_formula = info.oscillator.F_condition != nullptr;
-            const auto nh = static_cast<std::int64_t>(hs.size());
-            for (double g : gammas) {
-                std::int64_t first_emp = nh, first_formula = nh, first_pb = nh;
-                double max_trace_err = 0.0; // |½trM − e^{−γh}cos(βh)| over the row (F Fig 3.4)
-                for (std::int64_t i = 0; i < nh; ++i) {
-                    const double h = hs[static_cast<std::size_t>(i)];
-                    Oscillator osc;
-                    osc.omega = s.omega;
-                    osc.gamma = g;
-                    OneStepAnalysis a;
-                    with_kernel<Oscillator>(info, [&]<class K>() {
-                        a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
-                    });
-                    max_trace_err =
-                        std::max(max_trace_err,
-                                 std::abs(a.half_trace - oscillator_damped_cs(s.omega, g, h).c));
-                    if (!a.F_condition) {
-                        first_emp = std::min(first_emp, i);
-                        ++f_viol;
-                        if (s.omega > g) ++violations_inside;
-                    }
-                    if (!a.power_bounded) {
-                        first_pb = std::min(first_pb, i);
-                        ++pb_viol;
-                    }
-                    if (has_formula) {
-                        const bool fc = info.oscillator.F_condition(s.omega, g, h);
-                        if (!fc) first_formula = std::min(first_formula, i);
-                        if (fc != a.F_condition) ++mismatch_points;
-                    }
-                }
-                auto h_at = [&](std::int64_t i) {
-                    return i < nh ? json(hs[static_cast<std::size_t>(i)]) : json(nullptr);
-                };
-                json row = {{"gamma", g},
-                            {"h_F_empirical", h_at(first_emp)},
-                            {"h_power_unbounded", h_at(first_pb)},
-                            {"max_half_trace_err", max_trace_err}};
-                if (has_formula) {
-                    row["h_F_formula"] = h_at(first_formula);
-                    max_cells = std::max(max_cells, std::abs(first_emp - first_formula));
-                }
-                rows.push_back(row);
-            }
-            out = {{"omega", s.omega},
-                   {"rows", rows},
-                   {"F_violations", f_viol},
-                   {"power_bounded_violations", pb_viol},
-                   {"violations_omega_gt_gamma", violations_inside},
-                   {"grid", {{"gamma", gammas.size()}, {"h", hs.size()}}}};
-            if (has_formula) {
-                out["max_boundary_mismatch_cells"] = max_cells;
-                out["mismatch_points"] = mismatch_points;
-                out["formula_source"] = info.oscillator.source;
-            }
-        }
-    }
-
-    // Leading coefficient of ½trM − e^{−γh}cos(βh) = c h⁴ + O(h⁵), by Richardson extrapolation of
-    // the measured (½trM − exact)/h⁴ at h = 0.02 and 0.01 (SPEC §5).
-    void trace_taylor(std::size_t m) {
-        const MethodInfo& info = method(m);
-        json& out = method_metrics_[m]["trace-taylor"];
-        if constexpr (P::is_linear) {
-            const double w = problem_.omega, g = problem_.gamma;
-            auto coeff = [&](double h) {
-                double c = std::numeric_limits<double>::quiet_NaN();
-                with_kernel<P>(info, [&]<class K>() {
-                    const OneStepAnalysis a =
-                        analyse_one_step(one_step_matrix<K>(problem_, info, h), g, h);
-                    c = (a.half_trace - oscillator_damped_cs(w, g, h).c) / (h * h * h * h);
-                });
-                return c;
-            };
-            const double c = std::abs(2.0 * coeff(0.01) - coeff(0.02));
-            out = {{"h4_coeff", c}};
-            if (info.oscillator.h4_coefficient) {
-                const double e = std::abs(info.oscillator.h4_coefficient(w, g));
-                out["h4_coeff_expected"] = e;
-                out["h4_coeff_rel_err"] = std::abs(c - e) / e;
-            }
-        }
-    }
-
-    const CaseSpec& c_;
-    P problem_;
-    bool needs_grid_ = false;
-    std::int64_t points_ = 1;
-    std::vector<double> ref_times_;
-    Mat ref_;
-    json reference_;
-    bool reference_ok_ = true;
-    double ref_error_ = 0.0; // the reference's certified error estimate (0 for exact references)
-    std::vector<json> runs_;
-    std::vector<json> method_metrics_;
-};
 
 const json* lookup(const json& root, const std::string& dotted) {
     const json* node = &root;
@@ -756,127 +102,45 @@ const char* op_name(CheckOp op) {
     return "?";
 }
 
-template <class P>
-json TypedCase<P>::finish() {
-    // Order fits (method level) from the error of each run of the ladder.
-    if (c_.wants("order")) {
-        // Round-off floor, and SPEC §4: no fit uses an error within 100× the reference's estimate.
-        const double roundoff =
-            1000.0 * std::numeric_limits<double>::epsilon() *
-            (reference_ok_ ? std::max(1.0, ref_.col(ref_.cols() - 1).norm()) : 1.0);
-        const double floor = std::max(roundoff, 100.0 * ref_error_);
-        for (std::size_t m = 0; m < c_.methods.size(); ++m) {
-            std::vector<OrderPoint> pts;
-            for (std::size_t d = 0; d < c_.dts.size(); ++d) {
-                const json& r = run_slot(m, d);
-                const json* e = lookup(r["metrics"], "error.final_abs");
-                pts.push_back(
-                    {c_.dts[d], e ? e->get<double>() : std::numeric_limits<double>::quiet_NaN()});
-            }
-            const OrderFit fit = fit_order(pts, floor);
-            json o = {{"ok", fit.ok},
-                      {"window_dt", fit.window_h},
-                      {"local_orders", fit.local_orders},
-                      {"floor", floor},
-                      {"floor_source", 100.0 * ref_error_ > roundoff
-                                           ? "100x reference error estimate"
-                                           : "round-off"}};
-            if (fit.ok) {
-                o["slope"] = fit.slope;
-                o["r2"] = fit.r2;
-                o["points"] = fit.window_h.size();
-            } else {
-                o["reason"] = fit.reason;
-            }
-            json dropped = json::array();
-            for (const auto& dp : fit.dropped)
-                dropped.push_back({{"dt", dp.h}, {"error", dp.error}, {"reason", dp.reason}});
-            o["dropped"] = dropped;
-            method_metrics_[m]["order"] = o;
-        }
-    }
+} // namespace detail
 
-    json checks = json::array();
-    for (const CheckSpec& cs : c_.checks) {
-        const std::string diag = cs.metric.substr(0, cs.metric.find('.'));
-        const bool method_level = diagnostic_is_method_level(diag);
-        for (const std::string& mid : cs.methods) {
-            const auto mi = static_cast<std::size_t>(
-                std::find(c_.methods.begin(), c_.methods.end(), mid) - c_.methods.begin());
-            auto evaluate = [&](const json& metrics, const json* run) {
-                json ck = {{"name", cs.name},      {"metric", cs.metric},
-                           {"method", mid},        {"op", op_name(cs.op)},
-                           {"expected", cs.value}, {"negative_control", cs.negative_control}};
-                if (cs.op == CheckOp::near) ck["tolerance"] = cs.tol;
-                if (cs.use_abs) ck["abs"] = true;
-                if (!cs.note.empty()) ck["note"] = cs.note;
-                if (run) ck["dt"] = (*run)["dt"];
-                const json* v = lookup(metrics, cs.metric);
-                if (run && (*run)["status"] != "ok") {
-                    ck["passed"] = false;
-                    ck["value"] = nullptr;
-                    ck["message"] =
-                        "run " + (*run)["status"].get<std::string>() +
-                        ((*run).contains("failed_at_step")
-                             ? " at step " +
-                                   std::to_string((*run)["failed_at_step"].get<std::int64_t>())
-                             : std::string());
-                } else if ((!v || !v->is_number()) && !reference_ok_ &&
-                           (diag == "error" || diag == "energy" || diag == "order")) {
-                    ck["passed"] = false;
-                    ck["value"] = nullptr;
-                    ck["message"] = "reference failed: " + reference_.value("error", std::string());
-                } else if (!v || !v->is_number()) {
-                    ck["passed"] = false;
-                    ck["value"] = nullptr;
-                    ck["message"] =
-                        "metric not produced" +
-                        (method_level && metrics.contains(diag) && metrics[diag].contains("reason")
-                             ? ": " + metrics[diag]["reason"].get<std::string>()
-                             : std::string());
-                } else {
-                    const double x = v->get<double>();
-                    ck["value"] = x;
-                    ck["passed"] = check_passes(cs, x);
-                }
-                checks.push_back(ck);
-            };
-            if (method_level) {
-                evaluate(method_metrics_[mi], nullptr);
-            } else {
-                for (std::size_t d = 0; d < c_.dts.size(); ++d) {
-                    if (cs.dt && *cs.dt != c_.dts[d]) continue;
-                    const json& r = run_slot(mi, d);
-                    evaluate(r["metrics"], &r);
-                }
+namespace {
+
+using detail::Clock;
+using detail::json;
+using detail::seconds_since;
+
+// Runs tasks on `jobs` threads; rethrows the first exception after all threads stop.
+void run_parallel(std::vector<std::function<void()>>& tasks, int jobs) {
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto worker = [&] {
+        for (std::size_t i; (i = next.fetch_add(1)) < tasks.size();) {
+            try {
+                tasks[i]();
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(error_mutex);
+                if (!error) error = std::current_exception();
             }
         }
-    }
+    };
+    const int n = std::max(1, std::min<int>(jobs, static_cast<int>(tasks.size())));
+    std::vector<std::thread> threads;
+    for (int i = 1; i < n; ++i) threads.emplace_back(worker);
+    worker();
+    for (auto& t : threads) t.join();
+    if (error) std::rethrow_exception(error);
+}
 
-    json runs = json::array();
-    for (const auto& r : runs_) runs.push_back(r);
-    json mm = json::object();
-    for (std::size_t m = 0; m < c_.methods.size(); ++m)
-        if (!method_metrics_[m].empty()) mm[c_.methods[m]] = method_metrics_[m];
-    json params = json::object();
-    for (const auto& [k, v] : c_.params.scalars) params[k] = v;
-    for (const auto& [k, v] : c_.params.arrays) params[k] = v;
-    json out = {{"id", c_.id},
-                {"title", c_.title},
-                {"source", c_.source},
-                {"file", c_.file},
-                {"problem", {{"id", c_.problem_id}, {"params", params}}},
-                {"methods", c_.methods},
-                {"t0", c_.t0},
-                {"t_end", c_.t_end},
-                {"dt_ladder", c_.dts},
-                {"diagnostics", c_.diagnostics},
-                {"overrides", c_.overrides},
-                {"reference", reference_},
-                {"runs", runs},
-                {"method_metrics", mm},
-                {"checks", checks}};
-    return out;
+constexpr int kShards = DAMPSYM_CASE_SHARDS;
+
+// The shards are compiled elsewhere (case_shard_K.cpp); here they are only called.
+template <int... K>
+std::unique_ptr<detail::CaseJob> make_case(const CaseSpec& c, std::integer_sequence<int, K...>) {
+    std::unique_ptr<detail::CaseJob> job;
+    ((job = job ? std::move(job) : detail::make_case_shard<K, kShards>(c)), ...);
+    return job;
 }
 
 } // namespace
@@ -900,11 +164,10 @@ bool check_passes(const CheckSpec& cs, double value) {
 
 json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
     const auto start = Clock::now();
-    std::vector<std::unique_ptr<CaseJob>> jobs;
+    std::vector<std::unique_ptr<detail::CaseJob>> jobs;
     for (const CaseSpec& c : cases) {
-        std::unique_ptr<CaseJob> job;
-        with_problem_type(c.problem_id,
-                          [&]<class P>() { job = std::make_unique<TypedCase<P>>(c); });
+        std::unique_ptr<detail::CaseJob> job;
+        job = make_case(c, std::make_integer_sequence<int, kShards>{});
         jobs.push_back(std::move(job));
     }
     std::vector<std::function<void()>> tasks;

@@ -2,6 +2,8 @@
 // Adding a method of an existing family = one row here (plus its tableau); the runner, the CLI and
 // the reports pick it up from this list, and tests/test_methods.cpp loops over it.
 #include "core/method.hpp"
+#include "methods/exponential_tableaux.hpp"
+#include "methods/glm_coefficients.hpp"
 #include "methods/tableaux.hpp"
 
 #include <cmath>
@@ -230,6 +232,71 @@ const std::vector<MethodInfo>& method_catalog() {
          "B(2.5), 3-stage Gauss",
          &gauss_tableau(3),
          {}},
+        // ---- general linear methods (kernel general-linear, src/methods/general_linear.hpp) ----
+        {.id = "glm4",
+         .kernel = "general-linear",
+         .order = 4,
+         .implicit = true,
+         .form = "plain",
+         .claims = claim_g_symplectic,
+         .citation = "BS: 2-stage 2-value G-symplectic GLM with starting method",
+         .glm = &butcher_glm4()},
+        // ---- exponential RK, B §2.1 (kernels exponential-rk, src/methods/exponential_rk.hpp, and
+        // partitioned-exponential-rk, src/methods/partitioned_exponential_rk.hpp); coefficient
+        // functions in src/methods/exponential_tableaux.hpp. Constant γ only. ----
+        {.id = "etdrk2",
+         .kernel = "exponential-rk",
+         .order = 2,
+         .implicit = true,
+         .form = "conformal",
+         // B(2.30), B(2.31) hold: B Thm 2.11 and Thm 2.6 (angular momentum is quadratic).
+         .claims = claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum,
+         .citation = "B(2.13)",
+         .family_data = &etdrk2_data()},
+        // B(2.18), B(2.19) are PERK methods (B Example 2.2: symplectic Euler under the integrating
+        // factor / ETD), so they are stepped by the partitioned kernel.
+        {.id = "cse-if",
+         .kernel = "partitioned-exponential-rk",
+         .order = 1,
+         .implicit = false,
+         .form = "separable",
+         .claims = csv_claims | claim_linear_momentum,
+         .citation = "B(2.18)",
+         .family_data = &cse_if_data()},
+        {.id = "cse-etd",
+         .kernel = "partitioned-exponential-rk",
+         .order = 1,
+         .implicit = false,
+         .form = "separable",
+         .claims = csv_claims | claim_linear_momentum,
+         .citation = "B(2.19)",
+         .family_data = &cse_etd_data()},
+        {.id = "csv1-perk",
+         .kernel = "partitioned-exponential-rk",
+         .order = 2,
+         .implicit = false,
+         .form = "separable",
+         .claims = csv_claims | claim_linear_momentum, // = csv1
+         .citation = "B(2.20) (= csv1, F(2.12))",
+         .oscillator = {csv1_half_trace, csv1_condition, csv1_h4, "F(3.15), F(3.17)"},
+         .family_data = &csv1_perk_data()},
+        {.id = "csv2-perk",
+         .kernel = "partitioned-exponential-rk",
+         .order = 2,
+         .implicit = false,
+         .form = "separable",
+         .claims = csv_claims | claim_linear_momentum_cayley, // = csv2
+         .citation = "B(2.21) with F(2.16)'s e^{-gamma_B h/4} in the q tableau (= csv2)",
+         .oscillator = {csv2_half_trace, csv2_condition, csv2_h4, "F(3.20), F(3.22)"},
+         .family_data = &csv2_perk_data()},
+        {.id = "etdprk2",
+         .kernel = "partitioned-exponential-rk",
+         .order = 2,
+         .implicit = false,
+         .form = "separable",
+         .claims = claim_none, // negative control: det Ψ = e^{−2γh}(1 + γω²h³/4 + O(h⁴))
+         .citation = "B(2.22)",
+         .family_data = &etdprk2_data()},
     };
     return catalog;
 }

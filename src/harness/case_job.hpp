@@ -1,0 +1,81 @@
+// What the runner (src/harness/runner.cpp) sees of a case in progress: the type-erased CaseJob,
+// the shared reference cache, small helpers, and the shard factory make_case_shard<K, N>, which
+// is defined in typed_case.hpp and explicitly instantiated in the generated case_shard_K.cpp
+// translation units (so the heavy per-problem template code compiles there, in parallel).
+#pragma once
+
+#include "harness/case.hpp"
+#include "harness/runner.hpp"
+#include "reference/gsl_reference.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace dampsym::detail {
+
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start);
+
+json state_json(const Vec& z);
+
+// Numerical references are computed once per problem instance (problem, parameters, initial state,
+// output times, tolerances) and shared by every method, step size and case that needs them.
+class ReferenceCache {
+public:
+    template <class Compute>
+    std::shared_ptr<const ReferenceSolution> get(const std::string& key, Compute&& compute) {
+        std::shared_ptr<Entry> e;
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            auto& slot = map_[key];
+            if (!slot) slot = std::make_shared<Entry>();
+            e = slot;
+        }
+        std::call_once(e->once,
+                       [&] { e->solution = std::make_shared<const ReferenceSolution>(compute()); });
+        return e->solution;
+    }
+
+private:
+    struct Entry {
+        std::once_flag once;
+        std::shared_ptr<const ReferenceSolution> solution;
+    };
+    std::mutex m_;
+    std::map<std::string, std::shared_ptr<Entry>> map_;
+};
+
+ReferenceCache& reference_cache();
+
+std::string reference_key(const CaseSpec& c, const std::vector<double>& times);
+
+// A case in progress, type-erased at case level only (the step loops inside are not).
+class CaseJob {
+public:
+    virtual ~CaseJob() = default;
+    virtual void prepare() = 0;
+    virtual void add_tasks(std::vector<std::function<void()>>& tasks) = 0;
+    virtual json finish() = 0;
+};
+
+// Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000
+// points; the last point is t_end.
+std::int64_t output_points(const CaseSpec& c);
+
+const json* lookup(const json& root, const std::string& dotted);
+
+const char* op_name(CheckOp op);
+
+template <int K, int N>
+std::unique_ptr<CaseJob> make_case_shard(const CaseSpec& c);
+
+} // namespace dampsym::detail

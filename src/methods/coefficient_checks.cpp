@@ -1,0 +1,351 @@
+// Coefficient-level checks (see coefficient_checks.hpp for the conditions and citations).
+#include "methods/coefficient_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstddef>
+#include <cstdio>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace dampsym {
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+std::size_t ui(int i) {
+    return static_cast<std::size_t>(i);
+}
+
+Mat matrix_of(const ButcherTableau& t) {
+    Mat A(t.stages, t.stages);
+    for (int i = 0; i < t.stages; ++i)
+        for (int j = 0; j < t.stages; ++j) A(i, j) = t.A(i, j);
+    return A;
+}
+
+Vec weights_of(const ButcherTableau& t) {
+    Vec b(t.stages);
+    for (int i = 0; i < t.stages; ++i) b[i] = t.b[ui(i)];
+    return b;
+}
+
+// Appends to `out` every non-increasing list of indices ≤ max_index (into `trees`) whose orders
+// sum to `remaining`, extending `current`.
+void multisets(const std::vector<RootedTree>& trees, int remaining, int max_index,
+               std::vector<int>& current, std::vector<std::vector<int>>& out) {
+    if (remaining == 0) {
+        out.push_back(current);
+        return;
+    }
+    for (int k = max_index; k >= 0; --k) {
+        if (trees[ui(k)].order > remaining) continue;
+        current.push_back(k);
+        multisets(trees, remaining - trees[ui(k)].order, k, current, out);
+        current.pop_back();
+    }
+}
+
+// Elementary weights of the trees with `colours` = A.size() colours: colour k uses (A[k], b[k]).
+OrderConditions order_conditions(const std::vector<Mat>& A, const std::vector<Vec>& b,
+                                 int max_order, double tol) {
+    const int colours = static_cast<int>(A.size());
+    const std::vector<RootedTree> trees = rooted_trees(max_order, colours);
+    const Eigen::Index s = b[0].size();
+    OrderConditions oc;
+    oc.residual.assign(ui(max_order), 0.0);
+    oc.trees.assign(ui(max_order), 0);
+    std::vector<Vec> APsi(trees.size()); // A^{(colour(u))} Ψ(u)
+    for (std::size_t k = 0; k < trees.size(); ++k) {
+        const RootedTree& t = trees[k];
+        Vec psi = Vec::Ones(s);
+        for (const int u : t.children) psi = psi.cwiseProduct(APsi[ui(u)]);
+        APsi[k] = A[ui(t.colour)] * psi;
+        const double phi = b[ui(t.colour)].dot(psi);
+        double& r = oc.residual[ui(t.order - 1)];
+        r = std::max(r, std::abs(phi - 1.0 / t.gamma));
+        oc.trees[ui(t.order - 1)] += 1;
+    }
+    for (int p = 1; p <= max_order && oc.residual[ui(p - 1)] <= tol; ++p) oc.measured_order = p;
+    return oc;
+}
+
+double max_abs(const Mat& m) {
+    return m.size() == 0 ? 0.0 : m.cwiseAbs().maxCoeff();
+}
+
+std::string fmt(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2e", v);
+    return buf;
+}
+
+// Checks of a Runge–Kutta tableau: row sums, order conditions through the declared order and
+// their failure at the next, symplecticity (expected as given).
+void rk_checks(const ButcherTableau& t, int order, bool symplectic_expected,
+               const std::string& symplectic_what, std::vector<CoefficientCheck>& out) {
+    const double tol = coefficient_tolerance;
+    const double rs = row_sum_residual(t);
+    out.push_back({"row-sums", "c = A e (stage times)", true, rs <= tol, rs, tol});
+    const OrderConditions oc = rk_order_conditions(t);
+    const int p = std::min(order, rk_max_tree_order);
+    int count = 0;
+    double worst = 0.0;
+    for (int k = 1; k <= p; ++k) {
+        worst = std::max(worst, oc.residual[ui(k - 1)]);
+        count += oc.trees[ui(k - 1)];
+    }
+    out.push_back({"order-conditions-" + std::to_string(p),
+                   "Φ(t) = 1/γ(t) for the " + std::to_string(count) + " rooted trees of order ≤ " +
+                       std::to_string(p) + " (measured order " + std::to_string(oc.measured_order) +
+                       ")",
+                   true, worst <= tol, worst, tol});
+    if (order < rk_max_tree_order) {
+        const double r = oc.residual[ui(order)];
+        out.push_back({"order-conditions-" + std::to_string(order + 1),
+                       "some order-" + std::to_string(order + 1) +
+                           " condition fails (the declared order is sharp)",
+                       false, r <= tol, r, tol});
+    }
+    const double sr = rk_symplecticity_residual(t);
+    out.push_back({"symplectic", symplectic_what, symplectic_expected, sr <= tol, sr, tol});
+}
+
+void prk_checks(const ButcherTableau& q, const ButcherTableau& p, int order, bool expected,
+                std::vector<CoefficientCheck>& out) {
+    const double tol = coefficient_tolerance;
+    // Time is a position variable integrated with the q tableau (partitioned_rk.hpp), so the stage
+    // times are t + c_i h with c = A e; the p tableau's ĉ is not used (and Lobatto IIIB has
+    // ĉ ≠ Â e: ĉ = (0, 1), Â e = (½, ½)).
+    const double rs = row_sum_residual(q);
+    out.push_back(
+        {"row-sums", "c = A e for the q tableau (stage times)", true, rs <= tol, rs, tol});
+    const OrderConditions oc = prk_order_conditions(q, p);
+    const int pc = std::min(order, prk_max_tree_order);
+    int count = 0;
+    double worst = 0.0;
+    for (int k = 1; k <= pc; ++k) {
+        worst = std::max(worst, oc.residual[ui(k - 1)]);
+        count += oc.trees[ui(k - 1)];
+    }
+    out.push_back({"order-conditions-" + std::to_string(pc),
+                   "Φ(t) = 1/γ(t) for the " + std::to_string(count) +
+                       " bi-coloured trees of order ≤ " + std::to_string(pc) + " (measured order " +
+                       std::to_string(oc.measured_order) + ")",
+                   true, worst <= tol, worst, tol});
+    if (order < prk_max_tree_order) {
+        const double r = oc.residual[ui(order)];
+        out.push_back({"order-conditions-" + std::to_string(order + 1),
+                       "some order-" + std::to_string(order + 1) +
+                           " condition fails (the declared order is sharp)",
+                       false, r <= tol, r, tol});
+    }
+    const PrkSymplecticity ps = prk_symplecticity(q, p);
+    const double v = std::max(ps.condition, ps.weights);
+    out.push_back({"symplectic",
+                   "b_i â_ij + b̂_j a_ji − b_i b̂_j = 0 and b = b̂ (HLW VI.4) [condition " +
+                       fmt(ps.condition) + ", |b − b̂| " + fmt(ps.weights) + "]",
+                   expected, v <= tol, v, tol});
+}
+
+void glm_checks(const GlmCoefficients& m, bool g_expected, std::vector<CoefficientCheck>& out) {
+    const double tol = coefficient_tolerance;
+    const GSymplecticity g = glm_g_symplecticity(m);
+    const double gv = g.max();
+    out.push_back({"g-symplectic",
+                   "DA + AᵀD = BᵀGB, G = VᵀGV, DU = BᵀGV with the data's G, D positive definite "
+                   "(BS) [" +
+                       fmt(g.stages) + ", " + fmt(g.values) + ", " + fmt(g.coupling) + "]",
+                   g_expected, g.certificate_valid && gv <= tol, gv, tol});
+    const GlmStability st = glm_stability(m);
+    out.push_back({"stable",
+                   "V power-bounded (BD Def 2.1) [spectral radius " + fmt(st.spectral_radius) +
+                       ", max_k≤1000 ‖V^k‖∞ " + fmt(st.max_power_norm) + "]",
+                   true, st.power_bounded, st.spectral_radius, 1.0});
+    const GlmVectorCondition pre = glm_preconsistency(m);
+    out.push_back({"pre-consistent", "V u = u, U u = e for some u (BD Def 2.2)", true,
+                   pre.residual <= tol, pre.residual, tol});
+    const GlmVectorCondition con = glm_consistency(m);
+    out.push_back({"consistent", "B e + V v = u + v for some v (BD Def 2.3)", true,
+                   con.residual <= tol, con.residual, tol});
+}
+
+} // namespace
+
+std::vector<RootedTree> rooted_trees(int max_order, int colours) {
+    std::vector<RootedTree> trees;
+    for (int n = 1; n <= max_order; ++n) {
+        const int smaller = static_cast<int>(trees.size()); // every tree of order < n
+        std::vector<std::vector<int>> children;
+        std::vector<int> current;
+        multisets(trees, n - 1, smaller - 1, current, children);
+        for (int colour = 0; colour < colours; ++colour)
+            for (const auto& ch : children) {
+                double gamma = n;
+                for (const int u : ch) gamma *= trees[ui(u)].gamma;
+                trees.push_back({n, colour, ch, gamma});
+            }
+    }
+    return trees;
+}
+
+OrderConditions rk_order_conditions(const ButcherTableau& t, int max_order, double tol) {
+    return order_conditions({matrix_of(t)}, {weights_of(t)}, max_order, tol);
+}
+
+OrderConditions prk_order_conditions(const ButcherTableau& q, const ButcherTableau& p,
+                                     int max_order, double tol) {
+    return order_conditions({matrix_of(q), matrix_of(p)}, {weights_of(q), weights_of(p)}, max_order,
+                            tol);
+}
+
+double rk_symplecticity_residual(const ButcherTableau& t) {
+    double r = 0.0;
+    for (int i = 0; i < t.stages; ++i)
+        for (int j = 0; j < t.stages; ++j) {
+            const double bi = t.b[ui(i)], bj = t.b[ui(j)];
+            r = std::max(r, std::abs(bi * t.A(i, j) + bj * t.A(j, i) - bi * bj));
+        }
+    return r;
+}
+
+double row_sum_residual(const ButcherTableau& t) {
+    double r = 0.0;
+    for (int i = 0; i < t.stages; ++i) {
+        double sum = 0.0;
+        for (int j = 0; j < t.stages; ++j) sum += t.A(i, j);
+        r = std::max(r, std::abs(t.c[ui(i)] - sum));
+    }
+    return r;
+}
+
+PrkSymplecticity prk_symplecticity(const ButcherTableau& q, const ButcherTableau& p) {
+    PrkSymplecticity r{0.0, 0.0};
+    for (int i = 0; i < q.stages; ++i) {
+        r.weights = std::max(r.weights, std::abs(q.b[ui(i)] - p.b[ui(i)]));
+        for (int j = 0; j < q.stages; ++j)
+            r.condition =
+                std::max(r.condition, std::abs(q.b[ui(i)] * p.A(i, j) + p.b[ui(j)] * q.A(j, i) -
+                                               q.b[ui(i)] * p.b[ui(j)]));
+    }
+    return r;
+}
+
+double GSymplecticity::max() const {
+    return std::max({stages, values, coupling});
+}
+
+GSymplecticity glm_g_symplecticity(const GlmCoefficients& m) {
+    if (m.G.rows() != m.r || m.G.cols() != m.r || m.D.rows() != m.s || m.D.cols() != m.s)
+        return {nan, nan, nan, false};
+    GSymplecticity g;
+    g.stages = max_abs(m.D * m.A + m.A.transpose() * m.D - m.B.transpose() * m.G * m.B);
+    g.values = max_abs(m.G - m.V.transpose() * m.G * m.V);
+    g.coupling = max_abs(m.D * m.U - m.B.transpose() * m.G * m.V);
+    const Mat Dd = m.D.diagonal().asDiagonal();
+    const bool G_spd = max_abs(m.G - m.G.transpose()) == 0.0 &&
+                       Eigen::SelfAdjointEigenSolver<Mat>(m.G).eigenvalues().minCoeff() > 0.0;
+    const bool D_pd = max_abs(m.D - Dd) == 0.0 && m.D.diagonal().minCoeff() > 0.0;
+    g.certificate_valid = G_spd && D_pd;
+    return g;
+}
+
+GlmStability glm_stability(const GlmCoefficients& m) {
+    const double tol = 1e-12;
+    GlmStability st{0.0, true, 0.0};
+    const Eigen::EigenSolver<Mat> es(m.V, false);
+    const Eigen::VectorXcd lambda = es.eigenvalues();
+    for (Eigen::Index i = 0; i < lambda.size(); ++i) {
+        const double a = std::abs(lambda[i]);
+        st.spectral_radius = std::max(st.spectral_radius, a);
+        if (a > 1.0 + tol) st.power_bounded = false;
+        if (std::abs(a - 1.0) > tol) continue;
+        // On the unit circle: algebraic multiplicity must equal geometric multiplicity.
+        Eigen::Index mult = 0;
+        for (Eigen::Index j = 0; j < lambda.size(); ++j)
+            if (std::abs(lambda[j] - lambda[i]) <= 1e-8) ++mult;
+        if (mult > 1) {
+            const Eigen::MatrixXcd shifted =
+                m.V.cast<std::complex<double>>() - lambda[i] * Eigen::MatrixXcd::Identity(m.r, m.r);
+            Eigen::FullPivLU<Eigen::MatrixXcd> lu(shifted);
+            lu.setThreshold(1e-10);
+            if (m.r - lu.rank() != mult) st.power_bounded = false;
+        }
+    }
+    Mat P = Mat::Identity(m.r, m.r);
+    for (int k = 1; k <= 1000; ++k) {
+        P = P * m.V;
+        st.max_power_norm = std::max(st.max_power_norm, P.cwiseAbs().rowwise().sum().maxCoeff());
+    }
+    return st;
+}
+
+GlmVectorCondition glm_preconsistency(const GlmCoefficients& m) {
+    Mat M(m.r + m.s, m.r);
+    M.topRows(m.r) = m.V - Mat::Identity(m.r, m.r);
+    M.bottomRows(m.s) = m.U;
+    Vec rhs = Vec::Zero(m.r + m.s);
+    rhs.tail(m.s).setOnes();
+    GlmVectorCondition out;
+    out.vector = M.completeOrthogonalDecomposition().solve(rhs);
+    out.residual = (M * out.vector - rhs).cwiseAbs().maxCoeff();
+    return out;
+}
+
+GlmVectorCondition glm_consistency(const GlmCoefficients& m) {
+    const Vec u = glm_preconsistency(m).vector;
+    const Mat M = m.V - Mat::Identity(m.r, m.r);
+    const Vec rhs = u - m.B * Vec::Ones(m.s);
+    GlmVectorCondition out;
+    out.vector = M.completeOrthogonalDecomposition().solve(rhs);
+    out.residual = (M * out.vector - rhs).cwiseAbs().maxCoeff();
+    return out;
+}
+
+std::vector<CoefficientCheck> method_checks(const MethodInfo& info) {
+    std::vector<CoefficientCheck> out;
+    const std::string_view k = info.kernel;
+    if ((k == "explicit-rk" || k == "implicit-rk") && info.tableau != nullptr) {
+        rk_checks(*info.tableau, info.order, (info.claims & claim_symplectic_if_undamped) != 0,
+                  "b_i a_ij + b_j a_ji − b_i b_j = 0 (B(1.18), BS)", out);
+    } else if (k == "ifrk" && info.tableau != nullptr) {
+        rk_checks(*info.tableau, info.order, (info.claims & claim_conformal_symplectic) != 0,
+                  "underlying RK symplectic, b_i a_ij + b_j a_ji − b_i b_j = 0 (B(1.18)); "
+                  "conformal symplectic by B Thm 2.6",
+                  out);
+    } else if (k == "partitioned-rk" && info.tableau != nullptr && info.tableau_p != nullptr) {
+        prk_checks(*info.tableau, *info.tableau_p, info.order,
+                   (info.claims & claim_symplectic_if_undamped) != 0, out);
+    } else if (k == "general-linear" && info.glm != nullptr) {
+        glm_checks(*info.glm, (info.claims & claim_g_symplectic) != 0, out);
+    }
+    return out;
+}
+
+std::vector<std::string> claim_words(unsigned claims) {
+    static const std::pair<unsigned, const char*> names[] = {
+        {claim_conformal_symplectic, "conformal-symplectic"},
+        {claim_conformal_quadratic, "conformal-quadratic"},
+        {claim_angular_momentum, "angular-momentum"},
+        {claim_linear_momentum, "linear-momentum"},
+        {claim_symplectic_if_undamped, "symplectic-if-undamped"},
+        {claim_linear_momentum_cayley, "linear-momentum-cayley"},
+        {claim_g_symplectic, "g-symplectic"}};
+    std::vector<std::string> out;
+    for (unsigned bit = 0; bit < 32; ++bit) {
+        const unsigned mask = 1u << bit;
+        if ((claims & mask) == 0) continue;
+        const auto* it = std::find_if(std::begin(names), std::end(names),
+                                      [&](const auto& n) { return n.first == mask; });
+        if (it != std::end(names))
+            out.emplace_back(it->second);
+        else
+            out.push_back("claim-bit-" + std::to_string(bit));
+    }
+    return out;
+}
+
+} // namespace dampsym
