@@ -62,7 +62,8 @@ std::int64_t step_count(double span, double dt, const std::string& file, const s
 // Metric names each run-level or method-level diagnostic produces (for validating "expect").
 std::vector<std::string> metric_names(const std::string& diagnostic, const ProblemInfo& problem) {
     if (diagnostic == "error")
-        return {"final_abs", "final_rel", "max_abs", "max_rel", "reference_error_estimate"};
+        return {"final_abs", "final_rel", "max_abs",
+                "max_rel",   "mean_abs",  "reference_error_estimate"};
     if (diagnostic == "order") return {"slope", "r2", "points"};
     if (diagnostic == "invariants") {
         std::vector<std::string> out;
