@@ -14,6 +14,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/newton.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -68,8 +69,7 @@ private:
             if (!(step_norm == step_norm)) break; // NaN: solve failed
             // Converged to round-off: the update is at the level of a few ulps, or it stopped
             // decreasing once it was already tiny (round-off floor of the residual).
-            if (step_norm <= 4.0 * eps * scale ||
-                (step_norm <= 1e-10 * scale && step_norm >= 0.5 * previous)) {
+            if (newton_converged(step_norm, scale, previous)) {
                 c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, it);
                 const double b = std::exp(-prob_.dGamma(tm, 0.5 * h_));
                 z = b * (2.0 * m_ - y0_);
@@ -92,7 +92,6 @@ private:
         Psi.diagonal().array() -= ab;
     }
 
-    static constexpr double eps = std::numeric_limits<double>::epsilon();
     const P& prob_;
     double h_;
     Counters& c_;

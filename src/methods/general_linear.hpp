@@ -36,6 +36,7 @@
 
 #include "core/method.hpp"
 #include "methods/glm_coefficients.hpp"
+#include "methods/newton.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -108,8 +109,6 @@ public:
     const Mat& values() const { return y_; }
 
 private:
-    static constexpr double eps = std::numeric_limits<double>::epsilon();
-
     static const GlmCoefficients& checked(const MethodInfo& info) {
         if (info.glm == nullptr)
             throw std::invalid_argument("general-linear: method has no GLM coefficients");
@@ -142,12 +141,6 @@ private:
             return p;
         }
     };
-
-    // Round-off convergence test of implicit_rk.hpp; false while iterating.
-    static bool converged(double step_norm, double scale, double previous) {
-        return step_norm <= 4.0 * eps * scale ||
-               (step_norm <= 1e-10 * scale && step_norm >= 0.5 * previous);
-    }
 
     // Solves Y = h A F + W (W_ holds U y on entry) for s stages at times t + c_i h; fills Y_, F_.
     bool solve_stages(double t, const Mat& A, const Vec& c, const Plan& plan, int s, int& iters) {
@@ -191,7 +184,7 @@ private:
             const double step_norm = dx_.cwiseAbs().maxCoeff();
             const double scale = std::max(x_.cwiseAbs().maxCoeff(), 1e-300);
             if (!(step_norm == step_norm) || !std::isfinite(scale)) return false; // NaN / inf
-            if (converged(step_norm, scale, previous)) return true;
+            if (newton_converged(step_norm, scale, previous)) return true;
             previous = step_norm;
         }
         return false;
@@ -234,7 +227,7 @@ private:
             const double step_norm = dX.cwiseAbs().maxCoeff();
             const double scale = std::max(X.cwiseAbs().maxCoeff(), 1e-300);
             if (!(step_norm == step_norm) || !std::isfinite(scale)) return false;
-            if (converged(step_norm, scale, previous)) {
+            if (newton_converged(step_norm, scale, previous)) {
                 for (int i = 0; i < s; ++i) Y_.col(i) = X.segment(i * d_, d_);
                 if (plan.invertible) { // h F = (Y − W) A⁻ᵀ column-wise, i.e. hF = A⁻¹(Y − U y)
                     W_.leftCols(s) = Y_.leftCols(s) - W_.leftCols(s);

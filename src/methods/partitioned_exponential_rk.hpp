@@ -38,6 +38,7 @@
 #include "core/method.hpp"
 #include "methods/exponential_rk.hpp" // detail::declares_constant_gamma
 #include "methods/exponential_tableaux.hpp"
+#include "methods/newton.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -138,7 +139,6 @@ public:
     }
 
 private:
-    static constexpr double eps = std::numeric_limits<double>::epsilon();
     static std::size_t ui(int i) { return static_cast<std::size_t>(i); }
 
     static const PartitionedExponentialRKData& checked(const MethodInfo& info) {
@@ -262,8 +262,7 @@ private:
             const double step_norm = dX_.cwiseAbs().maxCoeff();
             const double scale = std::max(X_.cwiseAbs().maxCoeff(), 1e-300);
             if (!(step_norm == step_norm) || !std::isfinite(scale)) return false;
-            if (step_norm <= 4.0 * eps * scale ||
-                (step_norm <= 1e-10 * scale && step_norm >= 0.5 * previous)) {
+            if (newton_converged(step_norm, scale, previous)) {
                 c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, it);
                 return true;
             }
