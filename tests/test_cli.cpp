@@ -47,10 +47,12 @@ const json* find_check(const json& report, const std::string& method, const std:
     return nullptr;
 }
 
-// Removes every "wall_seconds" field, and summary.jobs, which legitimately differ between runs.
+// Removes every "wall_seconds" field and every "timing" object (work-precision timings and their
+// repetition counts), and summary.jobs, which legitimately differ between runs.
 void strip_timing(json& j) {
     if (j.is_object()) {
         j.erase("wall_seconds");
+        j.erase("timing");
         for (auto& [k, v] : j.items()) strip_timing(v);
     } else if (j.is_array()) {
         for (auto& v : j) strip_timing(v);
@@ -312,9 +314,11 @@ TEST_CASE("cli: --jobs 1 and --jobs 2 give identical reports (timings aside)", "
     copy_data("cases/cli-jobs.json", cases.path());
     copy_data("cases/cli-pass.json", cases.path());
     copy_data("cases/cli-diverged.json", cases.path());
+    copy_data("cases/cli-jobs-sweep.json", cases.path()); // a sweep: 5 row tasks per method
     auto args = [&](const std::string& jobs, const TempDir& out) {
-        return std::vector<std::string>{"--cases",      cases.str(), "run", "cli-jobs", "cli-pass",
-                                        "cli-diverged", "--jobs",    jobs,  "--out",    out.str()};
+        return std::vector<std::string>{
+            "--cases",        cases.str(), "run", "cli-jobs", "cli-pass", "cli-diverged",
+            "cli-jobs-sweep", "--jobs",    jobs,  "--out",    out.str()};
     };
     const CliResult r1 = run(args("1", out1));
     const CliResult r2 = run(args("2", out2));
@@ -333,6 +337,11 @@ TEST_CASE("cli: --jobs 1 and --jobs 2 give identical reports (timings aside)", "
     std::size_t runs = 0;
     for (const auto& c : a["cases"]) runs += c["runs"].size();
     CHECK(runs > 20); // the comparison covers many independently scheduled tasks
+    std::size_t sweep_rows = 0;
+    for (const auto& c : a["cases"])
+        for (const auto& mm : c["method_metrics"])
+            if (mm.contains("stability-sweep")) sweep_rows += mm["stability-sweep"]["rows"].size();
+    CHECK(sweep_rows == 4 * 40); // and the sweep's rows, assembled from their tasks
     CHECK(a.dump() == b.dump());
     CHECK(a == b);
 }

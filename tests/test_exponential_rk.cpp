@@ -8,7 +8,8 @@
 //  - csv1-perk == csv1 and csv2-perk == csv2 per step (pendulum, nbody); IF-Gauss ERK == glifrk;
 //  - orders on the damped pendulum against the certified GSL reference;
 //  - E_n (conformal_symplectic_defect) per step: conformal rows at round-off on the oscillator,
-//    pendulum and driven pendulum, etdprk2 not; not applicable with time-dependent γ (Hill);
+//    pendulum, driven pendulum and Hill (time-dependent γ, coefficients at x_n = ΔΓ_n), etdprk2
+//    not;
 //  - step_jacobian: same z as step() bitwise, Ψ against central differences;
 //  - etdprk2 on the oscillator: det Ψ = e^{−2γh}(1 + γω²h³/4 + O(h⁴)), deviation ∝ h³;
 //  - momentum laws on the n-body problem for the claims of the catalog rows;
@@ -367,9 +368,11 @@ TEST_CASE("catalog rows of the exponential families", "[exponential]") {
         CHECK(((m.claims & dampsym::claim_conformal_symplectic) != 0) == r.conformal);
         CHECK(dampsym::method_applies(r.id, "pendulum"));
         CHECK(dampsym::method_applies(r.id, "nbody"));
-        // Constant γ only: Hill (γ(t) = ½ε cos 2t) and the rigid body are not applicable.
-        CHECK_FALSE(dampsym::method_applies(r.id, "hill"));
-        CHECK_FALSE(dampsym::method_applies(r.id, "rigid-body"));
+        // Time-dependent γ (Hill, γ(t) = ½ε cos 2t) through x_n = Γ(t_n + h) − Γ(t_n); the PERK
+        // rows need a separable problem, so the rigid body takes only the ERK rows.
+        CHECK(dampsym::method_applies(r.id, "hill"));
+        CHECK(dampsym::method_applies(r.id, "rigid-body") ==
+              (std::string_view(r.kernel) == "exponential-rk"));
         // The registry dispatches the row to its kernel.
         const KernelMatch km = dampsym::with_kernel<dampsym::Pendulum>(
             m, [&]<class K>() { CHECK(K::kernel_id == m.kernel); });
@@ -531,10 +534,11 @@ TEST_CASE("conformal symplecticity E_n per step: conformal rows at round-off, et
     const auto st = dampsym::conformal_symplectic_defect(pair, prob, z, 0.0, h, 200);
     CHECK(st.max_rel <= 1e-13);
 
-    // Time-dependent γ: the coefficient functions need constant γ, Hill is not applicable.
-    for (const std::string& id : conformal_ids)
-        CHECK(dampsym::with_kernel<dampsym::Hill>(method(id), []<class K>() {}) ==
-              KernelMatch::not_applicable);
+    // Time-dependent γ (Hill, γ(t) = 0.2 cos 2t): coefficients at x_n = Γ(t_n + h) − Γ(t_n) each
+    // step keep E_n at round-off against the factor e^{−2ΔΓ_n}; etdprk2 stays a negative control.
+    dampsym::Hill hill;
+    hill.epsilon = 0.4;
+    check_problem(hill, "hill", true);
 }
 
 TEST_CASE("exponential kernels: step_jacobian advances like step() and matches central "

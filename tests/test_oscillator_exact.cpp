@@ -177,3 +177,67 @@ TEST_CASE("oscillator_exact is continuous through omega = gamma, to O(|omega - g
         }
     }
 }
+
+namespace {
+
+// e^{−γt}C and e^{−γt}S of the exact solution by their power series in x = β²t² (β² = ω² − γ²
+// of either sign), summed in __float128 until the terms vanish: C = Σ (−x)^k/(2k)!,
+// S = t Σ (−x)^k/(2k+1)!. No closed form, no switch between regimes, no 0/0 at β = 0.
+QState series_q(double omega, double gamma, double q0, double p0, double t) {
+    const Q w = omega, g = gamma, T = t, Q0 = q0, P0 = p0;
+    const Q x = (w - g) * (w + g) * T * T;
+    Q c = 0, s = 0, tc = 1, ts = 1;
+    for (int k = 0; k < 200 && (fabsq(tc) > static_cast<Q>(1e-40) * fabsq(c) || k < 2); ++k) {
+        c += tc;
+        s += ts;
+        tc *= -x / ((2 * k + 1) * (2 * k + 2));
+        ts *= -x / ((2 * k + 2) * (2 * k + 3));
+    }
+    s *= T;
+    const Q e = expq(-g * T);
+    const Q a = P0 + g * Q0, b = g * P0 + w * w * Q0;
+    const Q terms = fabsq(e * c) * (fabsq(Q0) + fabsq(P0)) + fabsq(e * s) * (fabsq(a) + fabsq(b));
+    return {e * (Q0 * c + a * s), e * (P0 * c - b * s), terms};
+}
+
+} // namespace
+
+TEST_CASE("oscillator_exact at omega = gamma (1 +- 1e-12) and omega = gamma against a quad series",
+          "[oscillator][reference][stress]") {
+    // The stress suite's near-critical cases (verify/cases/stress-near-critical-*.json) rely on
+    // the reference there. Compared with the __float128 power series (and, where β ≠ 0, with the
+    // quad closed form exact_q): relative error at round-off, 16 eps (1 + (|β| + γ)t) · terms/|z|.
+    // The textbook over-damped form (e^{−(γ−κ)t} − e^{−(γ+κ)t})/(2κ) in double would lose
+    // eps/(κt) ~ 1e-11 here (κ = γ sqrt(2e-12)) and fail.
+    double worst = 0.0;
+    for (double g : {1.0, 0.3, 4.0, 1e3}) {
+        for (double d : {1e-12, -1e-12, 0.0}) {
+            const double w = g * (1.0 + d);
+            for (double t : {1e-3, 0.1, 1.0, 4.0, 20.0, 100.0}) {
+                for (const auto& ic : {std::pair{1.0, 0.0}, {0.0, 1.0}, {1.0, 0.5}, {0.7, -1.3}}) {
+                    const dampsym::OscillatorState z =
+                        dampsym::oscillator_exact(w, g, ic.first, ic.second, t);
+                    const QState r = series_q(w, g, ic.first, ic.second, t);
+                    const Q norm = sqrtq(r.q * r.q + r.p * r.p);
+                    if (!(norm > static_cast<Q>(1e-280))) continue; // underflows a double
+                    const Q dq = static_cast<Q>(z.q) - r.q, dp = static_cast<Q>(z.p) - r.p;
+                    const double rel = static_cast<double>(sqrtq(dq * dq + dp * dp) / norm);
+                    const Errors e{rel, static_cast<double>(norm), static_cast<double>(r.terms)};
+                    INFO("gamma=" << g << " omega=gamma(1" << (d >= 0 ? "+" : "") << d
+                                  << ") t=" << t << " q0=" << ic.first << " p0=" << ic.second
+                                  << " rel err=" << rel);
+                    CHECK(rel <= tolerance(w, g, t, e));
+                    if (g * t <= 10.0) worst = std::max(worst, rel * e.norm / e.terms);
+                    if (w != g) { // the quad closed form agrees with the series (β ≠ 0)
+                        const QState cf = exact_q(w, g, ic.first, ic.second, t);
+                        const Q diff =
+                            sqrtq((cf.q - r.q) * (cf.q - r.q) + (cf.p - r.p) * (cf.p - r.p));
+                        CHECK(static_cast<double>(diff / norm) <= 1e-25);
+                    }
+                }
+            }
+        }
+    }
+    INFO("worst relative error (g t <= 10): " << worst);
+    CHECK(worst <= 1e-15);
+}

@@ -198,9 +198,11 @@ int cmd_methods(bool check, bool as_json, std::ostream& out) {
 }
 
 int cmd_run(const std::vector<std::string>& targets, const std::string& suite,
-            const std::string& out_dir, int jobs, const std::vector<std::string>& sets,
-            const std::string& cases_dir, std::ostream& out) {
+            const std::string& out_dir, int jobs, double time_budget,
+            const std::vector<std::string>& sets, const std::string& cases_dir, std::ostream& out) {
     if (jobs < 1) throw InputError("--jobs: must be >= 1");
+    if (!(time_budget >= 0.0 && time_budget <= 60.0))
+        throw InputError("--time-budget: must be between 0 and 60 seconds");
     for (const auto& s : sets) parse_override(s); // usage errors before any work
     std::vector<std::string> paths;
     std::vector<CaseFile> files;
@@ -230,7 +232,7 @@ int cmd_run(const std::vector<std::string>& targets, const std::string& suite,
     }
     std::vector<CaseSpec> cases;
     for (const auto& p : paths) cases.push_back(load_case(p, sets)); // all validated before running
-    const json report = run_cases(cases, RunOptions{jobs});
+    const json report = run_cases(cases, RunOptions{jobs, time_budget});
     write_reports(report, out_dir);
     out << render_summary(report) << "Reports: " << out_dir << "/report.json, " << out_dir
         << "/report.md\n";
@@ -259,6 +261,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     run->add_option("--suite", suite, "suite to run when no case is named (default: default)");
     run->add_option("--out", out_dir, "directory for report.json and report.md (default: reports)");
     run->add_option("--jobs,-j", jobs, "worker threads (results do not depend on it)");
+    double time_budget = RunOptions{}.time_budget;
+    run->add_option("--time-budget", time_budget,
+                    "seconds of timed repetitions per run of a step ladder (work-precision; "
+                    "0 = off; default 0.02)");
     run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")
         ->take_all();
 
@@ -284,7 +290,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     }
     try {
         if (*list) return cmd_list(list_json, cases_dir, out);
-        if (*run) return cmd_run(targets, suite, out_dir, jobs, sets, cases_dir, out);
+        if (*run) return cmd_run(targets, suite, out_dir, jobs, time_budget, sets, cases_dir, out);
         if (*methods_cmd) return cmd_methods(methods_check, methods_json, out);
     } catch (const InputError& e) {
         err << "dampsym: " << e.what() << "\n";

@@ -37,4 +37,33 @@ OneStepAnalysis analyse_one_step(const Mat& M, double gamma, double h) {
     return a;
 }
 
+std::complex<double> rk_stability_function(const ButcherTableau& t, std::complex<double> z) {
+    using CMat = Eigen::MatrixXcd;
+    using CVec = Eigen::VectorXcd;
+    const int s = t.stages;
+    CMat I_zA = CMat::Identity(s, s);
+    for (int i = 0; i < s; ++i)
+        for (int j = 0; j < s; ++j) I_zA(i, j) -= z * t.A(i, j);
+    const CVec k = I_zA.partialPivLu().solve(CVec::Ones(s)); // (I − zA)⁻¹1
+    std::complex<double> bk = 0.0;
+    for (int i = 0; i < s; ++i) bk += t.b[static_cast<std::size_t>(i)] * k[i];
+    return 1.0 + z * bk;
+}
+
+RKPowerAnalysis rk_power_analysis(const ButcherTableau& t, double omega, double gamma, double h) {
+    // λ± = −γ ± sqrt((γ − ω)(γ + ω)): complex pair (under-damped), double (critical) or real.
+    const std::complex<double> root =
+        std::sqrt(std::complex<double>((gamma - omega) * (gamma + omega), 0.0));
+    const std::complex<double> r1 = rk_stability_function(t, h * (-gamma + root));
+    const std::complex<double> r2 = rk_stability_function(t, h * (-gamma - root));
+    RKPowerAnalysis a;
+    a.spectral_radius = std::max(std::abs(r1), std::abs(r2));
+    constexpr double tol = 1e-12; // as analyse_one_step
+    if (a.spectral_radius < 1.0 - tol)
+        a.power_bounded = true;
+    else if (a.spectral_radius <= 1.0 + tol)
+        a.power_bounded = omega != gamma && std::abs(r1 - r2) > 1e-8; // A diagonalizable
+    return a;
+}
+
 } // namespace dampsym

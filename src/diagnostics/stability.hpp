@@ -24,6 +24,20 @@ struct OneStepAnalysis {
 
 OneStepAnalysis analyse_one_step(const Mat& M, double gamma, double h);
 
+// Stability function of an RK method, R(z) = 1 + z bᵀ(I − zA)⁻¹1 (explicit or implicit tableau).
+std::complex<double> rk_stability_function(const ButcherTableau& t, std::complex<double> z);
+
+// Power-boundedness of an RK method on the oscillator q'' + 2γq' + ω²q = 0 from its stability
+// function alone: on a linear problem M = R(hA), A = [[0, 1], [−ω², −2γ]], so the eigenvalues of M
+// are R(hλ±), λ± = −γ ± sqrt(γ² − ω²). Same rule and tolerance as analyse_one_step (ρ ≤ 1, and a
+// double eigenvalue on |λ| = 1 counts as unbounded). An analytic counterpart of the measured
+// power_bounded, computed without stepping the kernel (the stress suite's absolute-stability maps).
+struct RKPowerAnalysis {
+    double spectral_radius = 0.0;
+    bool power_bounded = false;
+};
+RKPowerAnalysis rk_power_analysis(const ButcherTableau& t, double omega, double gamma, double h);
+
 // Steps each unit vector once from t = 0 with a fresh stepper of kernel K.
 template <class K, class P>
 Mat one_step_matrix(const P& problem, const MethodInfo& info, double h) {

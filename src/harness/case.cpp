@@ -64,7 +64,8 @@ std::vector<std::string> metric_names(const std::string& diagnostic, const Probl
     if (diagnostic == "error")
         return {"final_abs", "final_rel", "max_abs",
                 "max_rel",   "mean_abs",  "reference_error_estimate"};
-    if (diagnostic == "order") return {"slope", "r2", "points"};
+    if (diagnostic == "order" || diagnostic == "local-order") return {"slope", "r2", "points"};
+    if (diagnostic == "local-error") return {"abs", "rel"};
     if (diagnostic == "invariants") {
         std::vector<std::string> out;
         for (const auto& inv : problem.invariants)
@@ -110,8 +111,16 @@ std::vector<std::string> metric_names(const std::string& diagnostic, const Probl
                 "F_condition",
                 "power_bounded"};
     if (diagnostic == "stability-sweep")
-        return {"max_boundary_mismatch_cells", "mismatch_points", "violations_omega_gt_gamma",
-                "F_violations", "power_bounded_violations"};
+        return {"max_boundary_mismatch_cells", "mismatch_points",
+                "violations_omega_gt_gamma",   "F_violations",
+                "power_bounded_violations",    "max_power_boundary_mismatch_cells",
+                "power_mismatch_points",       "first_row.gamma",
+                "first_row.h_F_empirical",     "first_row.h_power_unbounded"};
+    // Not a diagnostic: the run record's own fields, checkable in every case and for any status.
+    if (diagnostic == "run")
+        return {"steps",     "steps_planned", "rhs_evals",
+                "jac_evals", "newton_iters",  "final_time",
+                "ok",        "diverged",      "failed_at_step"};
     if (diagnostic == "trace-taylor") return {"h4_coeff", "h4_coeff_expected", "h4_coeff_rel_err"};
     if (diagnostic == "cost")
         return {"rhs_evals_per_step", "jac_evals_per_step", "newton_iters_per_step",
@@ -176,12 +185,14 @@ const std::vector<std::string>& known_diagnostics() {
                                                 "energy-balance",
                                                 "poincare",
                                                 "temperature",
-                                                "conformal-symplectic"};
+                                                "conformal-symplectic",
+                                                "local-error",
+                                                "local-order"};
     return names;
 }
 
 bool diagnostic_is_method_level(const std::string& d) {
-    return d == "order" || d == "stability-sweep" || d == "trace-taylor";
+    return d == "order" || d == "local-order" || d == "stability-sweep" || d == "trace-taylor";
 }
 
 std::pair<std::string, json> parse_override(const std::string& text) {
@@ -377,6 +388,11 @@ CaseSpec parse_case(const json& input, const std::string& file,
         if (c.dts.size() < 3) fail(file, "dt_ladder", "the order diagnostic needs >= 3 step sizes");
         if (!c.wants("error")) c.diagnostics.push_back("error");
     }
+    if (c.wants("local-order")) {
+        if (c.dts.size() < 3)
+            fail(file, "dt_ladder", "the local-order diagnostic needs >= 3 step sizes");
+        if (!c.wants("local-error")) c.diagnostics.push_back("local-error");
+    }
     if (j.contains("reference")) {
         const json& rj = j["reference"];
         if (!rj.is_object()) fail(file, "reference", "must be an object");
@@ -395,11 +411,10 @@ CaseSpec parse_case(const json& input, const std::string& file,
     }
     if (c.wants("energy") && !prob->has_energy)
         fail(file, "diagnostics", "problem '" + c.problem_id + "' declares no energy");
-    const std::pair<const char*, bool> needs[] = {{"momentum", prob->has_momentum},
-                                                  {"energy-balance", prob->has_energy_balance},
-                                                  {"temperature", prob->has_temperature},
-                                                  {"poincare", prob->has_forcing_period},
-                                                  {"dissipation-drift", prob->has_maxima}};
+    const std::pair<const char*, bool> needs[] = {
+        {"momentum", prob->has_momentum},        {"energy-balance", prob->has_energy_balance},
+        {"temperature", prob->has_temperature},  {"poincare", prob->has_forcing_period},
+        {"dissipation-drift", prob->has_maxima}, {"local-error", prob->has_exact}};
     for (const auto& [d, supported] : needs)
         if (c.wants(d) && !supported)
             fail(file, "diagnostics",
@@ -444,7 +459,7 @@ CaseSpec parse_case(const json& input, const std::string& file,
             cs.metric = string_of(cj["metric"], file, base + ".metric");
             const auto dot = cs.metric.find('.');
             const std::string diag = cs.metric.substr(0, dot);
-            if (dot == std::string::npos || !c.wants(diag))
+            if (dot == std::string::npos || (!c.wants(diag) && diag != "run"))
                 fail(file, base + ".metric",
                      "'" + cs.metric + "' is not a metric of a requested diagnostic");
             const auto names = metric_names(diag, *prob);

@@ -65,6 +65,11 @@ public:
     virtual void prepare() = 0;
     virtual void add_tasks(std::vector<std::function<void()>>& tasks) = 0;
     virtual json finish() = 0;
+    // Work-precision timing of ladder runs (RunOptions::time_budget; 0 = off).
+    void set_time_budget(double seconds) { time_budget_ = seconds; }
+
+protected:
+    double time_budget_ = 0.0;
 };
 
 // Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000

@@ -50,18 +50,22 @@ std::string check_line(const json& ck) {
     return os.str();
 }
 
-void order_table(std::ostringstream& os, const json& c) {
+// diag: "order" (global error at t_end) or "local-order" (one-step error, slope p + 1).
+void order_table(std::ostringstream& os, const json& c, const char* diag) {
     bool any = false;
     for (auto it = c["method_metrics"].begin(); it != c["method_metrics"].end(); ++it)
-        if (it.value().contains("order")) any = true;
+        if (it.value().contains(diag)) any = true;
     if (!any) return;
-    os << "\nConvergence (least-squares slope of log error vs log dt over the asymptotic "
-          "window):\n\n"
-       << "| method | order | R² | window dt | local orders | dropped "
-          "|\n|---|---|---|---|---|---|\n";
+    const bool global = std::string(diag) == "order";
+    os << (global ? "\nConvergence (least-squares slope of log error vs log dt over the "
+                    "asymptotic window):\n\n"
+                  : "\nLocal error (one step from the initial state against the exact solution; "
+                    "slope p + 1 for a method of order p):\n\n")
+       << "| method | " << (global ? "order" : "local slope")
+       << " | R² | window dt | local orders | dropped |\n|---|---|---|---|---|---|\n";
     for (auto it = c["method_metrics"].begin(); it != c["method_metrics"].end(); ++it) {
-        if (!it.value().contains("order")) continue;
-        const json& o = it.value()["order"];
+        if (!it.value().contains(diag)) continue;
+        const json& o = it.value()[diag];
         std::string window, local, dropped;
         for (const auto& h : o["window_dt"]) window += (window.empty() ? "" : ", ") + num(h);
         for (const auto& p : o["local_orders"]) local += (local.empty() ? "" : ", ") + num(p, 3);
@@ -92,6 +96,31 @@ void sweep_table(std::ostringstream& os, const json& c) {
             os << "| " << num(r["gamma"]) << " | " << num(r["h_F_empirical"]) << " | "
                << (r.contains("h_F_formula") ? num(r["h_F_formula"]) : "—") << " | "
                << num(r["h_power_unbounded"]) << " | " << num(r["max_half_trace_err"], 3) << " |\n";
+    }
+}
+
+// Work-precision (ladder cases): error against the minimum wall time of the bare step loop and
+// the rhs evaluations, per method and step size, sorted by method then dt as run.
+void work_precision_table(std::ostringstream& os, const json& c) {
+    bool any = false;
+    for (const auto& r : c["runs"])
+        if (r.contains("timing")) any = true;
+    if (!any) return;
+    os << "\nWork-precision (bare step loop: one warm-up, then the minimum of N repetitions; "
+          "failed runs are not timed):\n\n"
+       << "| method | dt | final error | rhs evals | wall s (min) | ns/step | N |\n"
+       << "|---|---|---|---|---|---|---|\n";
+    for (const auto& r : c["runs"]) {
+        if (r["status"] == "not-applicable") continue;
+        const json& m = r["metrics"];
+        const bool has_err = m.contains("error");
+        const bool timed = r.contains("timing");
+        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " | "
+           << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
+           << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
+           << (timed ? num(r["timing"]["wall_seconds_min"], 3) : r["status"].get<std::string>())
+           << " | " << (timed ? num(r["timing"]["ns_per_step"], 3) : "—") << " | "
+           << (timed ? num(r["timing"]["repetitions"]) : "—") << " |\n";
     }
 }
 
@@ -216,9 +245,11 @@ std::string render_markdown(const json& report) {
             if (!ck["passed"].get<bool>()) os << check_line(ck);
         for (const auto& ck : c["checks"])
             if (ck["passed"].get<bool>()) os << check_line(ck);
-        order_table(os, c);
+        order_table(os, c, "order");
+        order_table(os, c, "local-order");
         metrics_table(os, c);
         sweep_table(os, c);
+        work_precision_table(os, c);
         runs_table(os, c);
     }
     return os.str();

@@ -168,6 +168,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
     for (const CaseSpec& c : cases) {
         std::unique_ptr<detail::CaseJob> job;
         job = make_case(c, std::make_integer_sequence<int, kShards>{});
+        job->set_time_budget(options.time_budget);
         jobs.push_back(std::move(job));
     }
     std::vector<std::function<void()>> tasks;
@@ -204,6 +205,11 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
               {"checks_passed", passed},
               {"checks_failed", failed},
               {"jobs", options.jobs},
+              {"timing",
+               {{"time_budget_seconds", options.time_budget},
+                {"protocol", "one warm-up of the bare step loop, then the minimum of N "
+                             "repetitions, N chosen so they total >= the budget; "
+                             "failed runs are not timed"}}},
               {"wall_seconds", seconds_since(start)}}}};
 }
 

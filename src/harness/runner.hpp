@@ -12,6 +12,10 @@ namespace dampsym {
 
 struct RunOptions {
     int jobs = 1;
+    // Work-precision timing protocol for every case with a step ladder (>= 2 step sizes): after
+    // the measured run, one warm-up of the bare step loop, then the minimum of N repetitions with
+    // N chosen so that the repetitions take >= time_budget seconds in total. 0 switches it off.
+    double time_budget = 0.02;
 };
 
 // Returns the report: {"schema_version", "tool", "cases": [...], "summary": {...}}.

@@ -10,10 +10,16 @@
 // φ_0 = e^{−x}. x = γh is OUR γ: B(1.1), (2.5), (2.13) use the conformal-form γ, which is the
 // γ of SPEC §1 (only B(2.17)–(2.22), (2.34) use twice ours; see partitioned_exponential_rk.hpp).
 //
-// Restriction: constant γ. The coefficients are evaluated once, in the constructor, at
-// x = problem.dGamma(0, h) = γh; `applies` is false for problems with constant_gamma = false
-// (hill, rigid-body: not applicable). Conformal symplectic when B(2.30) holds and φ_0 = e^{−γh}
-// (B(2.31), Thm 2.11); exponential_conditions.hpp evaluates both on the data.
+// Damping argument. With constant γ the coefficients are evaluated once, in the constructor, at
+// x = problem.dGamma(0, h) = γh. With time-dependent γ (hill, rigid-body) they are re-evaluated at
+// the start of every step at the step's own argument x_n = Γ(t_n + h) − Γ(t_n) =
+// problem.dGamma(t_n, h), i.e. γ frozen at its mean over the step (no allocation: the sizes do not
+// change). Then φ_0 = e^{−x_n} and B(2.30) holds at x_n, so the step is conformal symplectic with
+// exactly the physical factor e^{−2(Γ(t_n+h)−Γ(t_n))} (B(2.31), Thm 2.11;
+// exponential_conditions.hpp evaluates both on the data). Freezing γ at its mean changes the exact
+// flow by O(γ'h³) per step (the difference γ(s) − γ̄ has zero mean over the step), so the order is
+// min(p, 2): every ERK/PERK row of the catalog has p ≤ 2. (glifrk1..3 keep their full order with
+// time-dependent γ: they use the ifrk kernel, which evaluates Γ at every stage time, B(2.4)–(2.5).)
 //
 // Stages. An explicit A (strictly lower triangular) is stepped stage by stage (s evaluations of
 // N). Otherwise the stage equations R_i(Z) = Z_i − φ_i z − h Σ_j a_ij N(Z_j, t_j) = 0 are solved by
@@ -65,7 +71,7 @@ public:
     template <class Q>
     static constexpr bool applies = [] {
         if constexpr (requires { Q::has_conformal; })
-            return Q::has_conformal && detail::declares_constant_gamma<Q>();
+            return Q::has_conformal;
         else
             return false;
     }();
@@ -77,9 +83,8 @@ public:
           M_(s_, s_), dw_(Vec::Zero(s_)), Y0_(ui(s_), Vec(d_)), Z_(ui(s_), Vec(d_)),
           G_(ui(s_), Vec(d_)), J_(ui(s_), Mat(d_, d_)), acc_(d_), X_(s_ * d_), R_(s_ * d_),
           dX_(s_ * d_), S_(s_ * d_, s_ * d_), lu_(s_ * d_), B_(Mat::Zero(s_ * d_, d_)),
-          dZ_(s_ * d_, d_) {
-        erk_coefficients(checked(info), problem.dGamma(0.0, h), tab_); // x = γh (constant γ)
-        M_ = h_ * tab_.A;
+          dZ_(s_ * d_, d_), data_(checked(info)) {
+        set_argument(problem.dGamma(0.0, h)); // x = γh for constant γ
         explicit_ = true;
         for (int i = 0; i < s_; ++i)
             for (int j = i; j < s_; ++j)
@@ -87,15 +92,14 @@ public:
         if (!explicit_) {
             Eigen::FullPivLU<Mat> lu(tab_.A.transpose());
             use_d_ = lu.isInvertible();
-            if (use_d_) dw_ = lu.solve(tab_.b);
         }
-        for (int i = 0; i < s_; ++i)
-            B_.middleRows(i * d_, d_) = tab_.phi[i] * Mat::Identity(d_, d_); // ∂(φ_i z)/∂z
+        set_argument(x_, true);
     }
 
     const ExponentialTableau& coefficients() const { return tab_; }
 
     StepStatus step(double t, Vec& z) {
+        if constexpr (!detail::declares_constant_gamma<P>()) set_argument(prob_.dGamma(t, h_));
         for (int i = 0; i < s_; ++i) Y0_[ui(i)] = tab_.phi[i] * z;
         if (explicit_) {
             for (int i = 0; i < s_; ++i) {
@@ -160,6 +164,24 @@ private:
         if (data == nullptr || data->stages < 1 || data->coefficients == nullptr)
             throw std::invalid_argument("exponential-rk: method row has no ERK coefficient data");
         return *data;
+    }
+
+    // Coefficients at the damping argument x (our γh, or ΔΓ_n for time-dependent γ); recomputed
+    // only when x changes. Sizes are fixed, so nothing is allocated.
+    void set_argument(double x, bool force = false) {
+        if (x == x_ && !force) return;
+        x_ = x;
+        erk_coefficients(data_, x, tab_);
+        M_ = h_ * tab_.A;
+        if (use_d_) {
+            lu_d_.compute(tab_.A.transpose());
+            dw_ = lu_d_.solve(tab_.b);
+        }
+        for (int i = 0; i < s_; ++i) {
+            auto blk = B_.middleRows(i * d_, d_); // ∂(φ_i z)/∂z
+            blk.setZero();
+            blk.diagonal().setConstant(tab_.phi[i]);
+        }
     }
 
     double stage_time(double t, int i) const { return t + tab_.c[i] * h_; }
@@ -234,6 +256,9 @@ private:
     Mat S_;
     Eigen::PartialPivLU<Mat> lu_;
     Mat B_, dZ_;
+    const ExponentialRKData& data_;
+    double x_ = std::numeric_limits<double>::quiet_NaN();
+    Eigen::PartialPivLU<Mat> lu_d_{};
 };
 
 } // namespace dampsym

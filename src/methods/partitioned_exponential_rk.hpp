@@ -17,8 +17,11 @@
 // e^{−γ_B h/4} that B's print drops from the q tableau), etdprk2 B(2.22) (negative control: not
 // conformal symplectic, B after Thm 2.11).
 //
-// Restriction: constant γ (coefficients evaluated once at γh = problem.dGamma(0, h)); `applies`
-// is false for problems with constant_gamma = false (hill): not applicable.
+// Damping argument: as exponential_rk.hpp. Constant γ: coefficients evaluated once at
+// γh = problem.dGamma(0, h). Time-dependent γ (hill): re-evaluated at every step at
+// x_n = Γ(t_n + h) − Γ(t_n) (γ frozen at its mean over the step), which keeps φ̂_0 φ̃_0 = e^{−2x_n}
+// and the conformal symplectic structure at exactly the physical factor, with order min(p, 2).
+// The stage schedule depends only on which coefficients are structurally non-zero, found once.
 //
 // Solution of the stages. When the stages can be ordered so that every Q_i needs only P stages
 // already known and every P_i only forces of Q stages already known (all rows of B Example 2.2),
@@ -57,7 +60,7 @@ public:
     template <class Q>
     static constexpr bool applies = [] {
         if constexpr (requires { Q::has_separable; })
-            return Q::has_separable && detail::declares_constant_gamma<Q>();
+            return Q::has_separable;
         else
             return false;
     }();
@@ -69,19 +72,14 @@ public:
           Q_(ui(s_), Vec(n_)), P_(ui(s_), Vec(n_)), F_(ui(s_), Vec(n_)), gP_(ui(s_), Vec(n_)),
           HT_(ui(s_), Mat(n_, n_)), JF_(ui(s_), Mat(n_, n_)), acc_(n_), X_(2 * s_ * n_),
           R_(2 * s_ * n_), dX_(2 * s_ * n_), S_(2 * s_ * n_, 2 * s_ * n_), lu_(2 * s_ * n_),
-          B_(Mat::Zero(2 * s_ * n_, 2 * n_)), dX2_(2 * s_ * n_, 2 * n_) {
-        // γh in our convention; perk_coefficients converts to B's x_B = 2γh (the one place).
-        perk_coefficients(checked(info), problem.dGamma(0.0, h), hat_, tilde_);
+          B_(Mat::Zero(2 * s_ * n_, 2 * n_)), dX2_(2 * s_ * n_, 2 * n_), data_(checked(info)) {
+        set_argument(problem.dGamma(0.0, h));
         for (int j = 0; j < s_; ++j) {
             bool force_used = tilde_.b[j] != 0.0;
             for (int i = 0; i < s_; ++i) force_used = force_used || tilde_.A(i, j) != 0.0;
             need_force_.push_back(force_used);
         }
         build_schedule();
-        for (int i = 0; i < s_; ++i) {
-            B_.block(i * n_, 0, n_, n_).diagonal().setConstant(hat_.phi[i]);
-            B_.block((s_ + i) * n_, n_, n_, n_).diagonal().setConstant(tilde_.phi[i]);
-        }
     }
 
     const ExponentialTableau& hat() const { return hat_; }
@@ -89,6 +87,7 @@ public:
     bool scheduled() const { return !schedule_.empty(); }
 
     StepStatus step(double t, Vec& z) {
+        if constexpr (!detail::declares_constant_gamma<P>()) set_argument(prob_.dGamma(t, h_));
         if (scheduled()) {
             for (const int task : schedule_) {
                 if (task < s_)
@@ -147,6 +146,18 @@ private:
             throw std::invalid_argument(
                 "partitioned-exponential-rk: method row has no PERK coefficient data");
         return *data;
+    }
+
+    // Both tableaux at the damping argument x (our γh, or ΔΓ_n); perk_coefficients converts to
+    // B's x_B = 2x (the one place). Recomputed only when x changes; nothing is allocated.
+    void set_argument(double x) {
+        if (x == x_) return;
+        x_ = x;
+        perk_coefficients(data_, x, hat_, tilde_);
+        for (int i = 0; i < s_; ++i) {
+            B_.block(i * n_, 0, n_, n_).diagonal().setConstant(hat_.phi[i]);
+            B_.block((s_ + i) * n_, n_, n_, n_).diagonal().setConstant(tilde_.phi[i]);
+        }
     }
 
     double stage_time(double t, int i) const { return t + hat_.c[i] * h_; }
@@ -284,6 +295,8 @@ private:
     Mat S_;
     Eigen::PartialPivLU<Mat> lu_;
     Mat B_, dX2_;
+    const PartitionedExponentialRKData& data_;
+    double x_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 } // namespace dampsym
