@@ -125,4 +125,16 @@ struct ConstantGamma {
     double dGamma(double, double h) const { return static_cast<const Derived&>(*this).gamma * h; }
 };
 
+namespace detail {
+// Whether problem type Q declares constant damping (false when it does not say): kernels then
+// evaluate their damping factors once instead of every step.
+template <class Q>
+constexpr bool declares_constant_gamma() {
+    if constexpr (requires { Q::constant_gamma; })
+        return Q::constant_gamma;
+    else
+        return false;
+}
+} // namespace detail
+
 } // namespace dampsym

@@ -76,6 +76,36 @@ protected:
 // points; the last point is t_end.
 std::int64_t output_points(const CaseSpec& c);
 
+// Whether a case's diagnostics read the trajectory on the output grid (else only the final state).
+bool case_needs_grid(const CaseSpec& c, std::int64_t points);
+
+// Times at which a case's reference is sampled: the output grid t0..t_end (points + 1 times) when
+// `grid`, else t_end only.
+std::vector<double> reference_times(const CaseSpec& c, std::int64_t points, bool grid);
+
+// The certified-reference request for a case (SPEC §4): y' = problem.rhs from the problem's
+// initial state, sampled at `times`, with the case's stepper and tolerances. The rhs owns its
+// buffers, so an evaluation allocates nothing (one integration calls it ~10⁵ times, from one
+// thread; copies of the request have their own buffers).
+template <class P>
+ReferenceRequest reference_request(const P& problem, const CaseSpec& c, std::vector<double> times) {
+    ReferenceRequest req;
+    req.dim = problem.dim();
+    req.t0 = c.t0;
+    req.y0 = problem.initial_state();
+    req.times = std::move(times);
+    req.stepper = c.reference.stepper;
+    req.epsrel = c.reference.epsrel;
+    req.epsabs = c.reference.epsabs;
+    req.rhs = [problem, z = Vec(problem.dim()), f = Vec(problem.dim())](double t, const double* y,
+                                                                        double* dydt) mutable {
+        z = Eigen::Map<const Vec>(y, z.size());
+        problem.rhs(t, z, f);
+        Eigen::Map<Vec>(dydt, f.size()) = f;
+    };
+    return req;
+}
+
 const json* lookup(const json& root, const std::string& dotted);
 
 const char* op_name(CheckOp op);

@@ -72,6 +72,21 @@ std::int64_t output_points(const CaseSpec& c) {
     return 1;
 }
 
+bool case_needs_grid(const CaseSpec& c, std::int64_t points) {
+    return c.wants("energy") || c.wants("poincare") || c.wants("temperature") ||
+           (c.wants("error") && points > 1);
+}
+
+std::vector<double> reference_times(const CaseSpec& c, std::int64_t points, bool grid) {
+    if (!grid) return {c.t_end};
+    std::vector<double> times(static_cast<std::size_t>(points + 1));
+    for (std::int64_t i = 0; i <= points; ++i)
+        times[static_cast<std::size_t>(i)] =
+            c.t0 + static_cast<double>(i) * (c.t_end - c.t0) / static_cast<double>(points);
+    times.back() = c.t_end;
+    return times;
+}
+
 const json* lookup(const json& root, const std::string& dotted) {
     const json* node = &root;
     std::string::size_type start = 0;

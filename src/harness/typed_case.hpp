@@ -32,17 +32,10 @@ public:
         points_ = output_points(c_);
         // A trajectory grid only for diagnostics that read it; a reference only for those that
         // compare with it (the energy diagnostic without "error" reports changes only).
-        needs_grid_ = c_.wants("energy") || c_.wants("poincare") || c_.wants("temperature") ||
-                      (c_.wants("error") && points_ > 1);
+        needs_grid_ = case_needs_grid(c_, points_);
         if (c_.wants("error") || c_.wants("poincare")) {
-            const std::int64_t np = needs_grid_ ? points_ + 1 : 1;
-            ref_times_.resize(static_cast<std::size_t>(np));
-            for (std::int64_t i = 0; i < np; ++i)
-                ref_times_[static_cast<std::size_t>(i)] =
-                    needs_grid_ ? c_.t0 + static_cast<double>(i) * (c_.t_end - c_.t0) /
-                                              static_cast<double>(points_)
-                                : c_.t_end;
-            if (needs_grid_) ref_times_.back() = c_.t_end;
+            ref_times_ = reference_times(c_, points_, needs_grid_);
+            const auto np = static_cast<Eigen::Index>(ref_times_.size());
             if constexpr (P::has_exact) {
                 ref_.resize(problem_.dim(), np);
                 Vec tmp(problem_.dim());
@@ -62,22 +55,7 @@ public:
     // Certified GSL reference (SPEC §4) on the output grid, shared through the cache.
     void numerical_reference() {
         auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
-            ReferenceRequest req;
-            req.dim = problem_.dim();
-            req.t0 = c_.t0;
-            req.y0 = problem_.initial_state();
-            req.times = ref_times_;
-            req.stepper = c_.reference.stepper;
-            req.epsrel = c_.reference.epsrel;
-            req.epsabs = c_.reference.epsabs;
-            const P problem = problem_;
-            req.rhs = [problem](double t, const double* y, double* dydt) {
-                const int d = problem.dim();
-                Vec z = Eigen::Map<const Vec>(y, d);
-                Vec f(d);
-                problem.rhs(t, z, f);
-                Eigen::Map<Vec>(dydt, d) = f;
-            };
+            const ReferenceRequest req = reference_request(problem_, c_, ref_times_);
             return certified_reference(req);
         });
         reference_ = {{"kind", "gsl-certified"},

@@ -40,6 +40,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "core/problem.hpp"
 #include "methods/exponential_tableaux.hpp"
 #include "methods/newton.hpp"
 
@@ -52,17 +53,6 @@
 #include <vector>
 
 namespace dampsym {
-
-namespace detail {
-// Whether problem type Q declares constant damping (false when it does not say).
-template <class Q>
-constexpr bool declares_constant_gamma() {
-    if constexpr (requires { Q::constant_gamma; })
-        return Q::constant_gamma;
-    else
-        return false;
-}
-} // namespace detail
 
 template <class P>
 class ExponentialRK {

@@ -29,6 +29,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "core/problem.hpp"
 #include "methods/newton.hpp"
 
 #include <algorithm>
@@ -150,8 +151,14 @@ private:
     // B(2.5) with x(τ) = Γ(t+τ) − Γ(t), each factor e^{−(Γ(a)−Γ(b))} = exp(−dGamma(b, a−b)):
     //   ex_i = e^{−x(c_i h)},  F_i = e^{x(c_i h) − x(h)},  M_ij = h α_ij e^{x(c_j h) − x(c_i h)}.
     // Plain form: all factors are 1 and M = hA (set once in the constructor).
+    // With constant γ the factors do not depend on t: computed at the first step only (the same
+    // values, since dGamma(t, a) = γa for every t).
     void set_coefficients(double t) {
         if constexpr (Conformal) {
+            if constexpr (detail::declares_constant_gamma<P>()) {
+                if (coefficients_set_) return;
+                coefficients_set_ = true;
+            }
             exh_ = std::exp(-prob_.dGamma(t, h_));
             for (int i = 0; i < s_; ++i) {
                 const double ci = tab_.c[ui(i)];
@@ -246,6 +253,7 @@ private:
     Counters& c_;
     bool explicit_;
     bool use_d_ = false;
+    bool coefficients_set_ = false;
     Vec dw_;                      // d = A⁻ᵀ b
     Vec ex_, F_;                  // e^{−x(c_i h)}, e^{x(c_i h) − x(h)}
     double exh_ = 1.0;            // e^{−x(h)}

@@ -39,7 +39,7 @@
 #pragma once
 
 #include "core/method.hpp"
-#include "methods/exponential_rk.hpp" // detail::declares_constant_gamma
+#include "core/problem.hpp" // detail::declares_constant_gamma
 #include "methods/exponential_tableaux.hpp"
 #include "methods/newton.hpp"
 

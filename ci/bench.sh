@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Benchmarks: set up, build dampsym and dampsym_bench (Release, in build/), time the default suite
+# with --jobs 1 and --jobs 2, run dampsym_bench (raw output: reports/bench-raw.json), then
+# bench/bench_report.py, which writes reports/bench.json and reports/bench.md and prints the
+# acceptance table. Exits 1 if an acceptance row fails (2 on a usage or input error). Takes several
+# minutes; run it on a quiet machine.
+# Environment: DAMPSYM_BUILD_DIR (default build), DAMPSYM_BUILD_JOBS (default nproc).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash ci/setup.sh
+build="${DAMPSYM_BUILD_DIR:-build}"
+jobs="${DAMPSYM_BUILD_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DDAMPSYM_WERROR=ON -DDAMPSYM_BUILD_BENCH=ON >/dev/null
+cmake --build "$build" -j"$jobs" --target dampsym dampsym_bench
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p reports
+# The suite's own exit status (a failing check) is reported by ci/suite.sh; here only its wall time
+# is used, but a bad input (exit 2) stops the benchmark.
+for j in 1 2; do
+  s=0
+  "$build/dampsym" run --out "$tmp/suite-jobs$j" --jobs "$j" >/dev/null || s=$?
+  if [ "$s" -eq 2 ]; then echo "ci/bench.sh: dampsym run --jobs $j: bad input" >&2; exit 2; fi
+done
+"$build/dampsym_bench" --benchmark_out=reports/bench-raw.json --benchmark_out_format=json
+/usr/bin/python3 bench/bench_report.py reports/bench-raw.json \
+  --suite-jobs1 "$tmp/suite-jobs1/report.json" --suite-jobs2 "$tmp/suite-jobs2/report.json" \
+  --out-json reports/bench.json --out-md reports/bench.md
