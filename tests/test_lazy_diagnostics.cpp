@@ -111,7 +111,8 @@ TEST_CASE("lazy: work-precision timing only for step ladders with the budget on"
         CHECK(r["timing"]["wall_seconds_min"].get<double>() <=
               r["timing"]["repetitions_wall_seconds"].get<double>());
     }
-    for (const auto& r : run_case(ladder, 0.0)["runs"]) CHECK_FALSE(r.contains("timing"));
+    const json untimed = run_case(ladder, 0.0); // (a named report: the loop must not outlive it)
+    for (const auto& r : untimed["runs"]) CHECK_FALSE(r.contains("timing"));
     CHECK_FALSE(run_case(oscillator_case({"error"}), 0.002)["runs"][0].contains("timing"));
     // a diverged run is recorded as failed, not timed (explicit Euler, h·ω = 3 on γ = 0.1)
     json diverging = ladder;
