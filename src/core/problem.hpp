@@ -8,7 +8,10 @@
 //   forms: separable Rayleigh form (grad_T, force, hess_T, force_jacobian), from which
 //          SeparableProblem derives the conformal form N(z,t) and the plain form f(t,z);
 //   invariants: names, values, all decaying as e^{-2Γ(t)} (B Def. 1.1);
-//   optionally: energy(z), exact(t, z) (when has_exact).
+//   optionally: energy(z), exact(t, z) (when has_exact);
+//   optionally: static constexpr int static_n, the degrees of freedom when fixed at compile time
+//               (n() returns it); kernels that use static_dof<P>() then keep stage vectors of
+//               fixed size, which the compiler reduces to scalar code.
 #pragma once
 
 #include "core/types.hpp"
@@ -124,6 +127,15 @@ struct ConstantGamma {
     double Gamma(double t) const { return static_cast<const Derived&>(*this).gamma * t; }
     double dGamma(double, double h) const { return static_cast<const Derived&>(*this).gamma * h; }
 };
+
+// Degrees of freedom of problem type Q at compile time: Q::static_n, or Eigen::Dynamic.
+template <class Q>
+constexpr int static_dof() {
+    if constexpr (requires { Q::static_n; })
+        return Q::static_n;
+    else
+        return Eigen::Dynamic;
+}
 
 namespace detail {
 // Whether problem type Q declares constant damping (false when it does not say): kernels then

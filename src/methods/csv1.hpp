@@ -14,6 +14,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "core/problem.hpp"
 
 #include <cmath>
 #include <string_view>
@@ -46,23 +47,29 @@ public:
     }
 
 private:
+    // Stage vectors of the problem's compile-time size when it has one (static_dof): the updates
+    // below are then scalar code that needs no inlining of Eigen's assignment loops, which GCC
+    // declines in the large translation units that instantiate every kernel.
+    static constexpr int N = static_dof<P>();
+    using VecN = Eigen::Matrix<double, N, 1>;
+
     template <bool WithJacobian>
     [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
-        auto q = z.head(n_);
-        auto p = z.tail(n_);
+        const int n = N == Eigen::Dynamic ? n_ : N;
+        Eigen::Map<VecN> q(z.data(), n), p(z.data() + n, n);
+        const double hh = 0.5 * h_;
         // Constant γ: both factors are e^{−γh}, computed once (same value as per step).
-        const double d1 = P::constant_gamma ? d_const_ : std::exp(-2.0 * prob_.dGamma(t, 0.5 * h_));
-        const double d2 =
-            P::constant_gamma ? d_const_ : std::exp(-2.0 * prob_.dGamma(t + 0.5 * h_, 0.5 * h_));
+        const double d1 = P::constant_gamma ? d_const_ : std::exp(-2.0 * prob_.dGamma(t, hh));
+        const double d2 = P::constant_gamma ? d_const_ : std::exp(-2.0 * prob_.dGamma(t + hh, hh));
         prob_.force(t, q, f_);
         if constexpr (WithJacobian) {
             Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
             prob_.force_jacobian(t, q, Fq_); // at q₀
-            dp_.leftCols(n_) = (0.5 * h_) * Fq_;
+            dp_.leftCols(n_) = hh * Fq_;
             dp_.rightCols(n_).setZero();
             dp_.rightCols(n_).diagonal().setConstant(d1);
         }
-        p = d1 * p + (0.5 * h_) * f_;
+        for (int i = 0; i < n; ++i) p[i] = d1 * p[i] + hh * f_[i]; // p½
         prob_.grad_T(p, a_);
         if constexpr (WithJacobian) {
             Tpp_.setZero();        // as SeparableProblem::N_jacobian: problems may fill a part
@@ -70,9 +77,9 @@ private:
             dq_.noalias() = h_ * Tpp_ * dp_;
             dq_.leftCols(n_).diagonal().array() += 1.0;
         }
-        q += h_ * a_;
+        for (int i = 0; i < n; ++i) q[i] += h_ * a_[i]; // q₁
         prob_.force(t + h_, q, f_);
-        p = d2 * (p + (0.5 * h_) * f_);
+        for (int i = 0; i < n; ++i) p[i] = d2 * (p[i] + hh * f_[i]); // p₁
         c_.rhs_evals += 2;
         if constexpr (WithJacobian) {
             Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
@@ -80,7 +87,7 @@ private:
             c_.jac_evals += 2;
             Psi->topRows(n_) = dq_;
             Psi->bottomRows(n_) = dp_;
-            Psi->bottomRows(n_).noalias() += (0.5 * h_) * Fq_ * dq_;
+            Psi->bottomRows(n_).noalias() += hh * Fq_ * dq_;
             Psi->bottomRows(n_) *= d2;
         }
         return StepStatus::ok;
@@ -90,7 +97,7 @@ private:
     double h_;
     Counters& c_;
     int n_;
-    Vec a_, f_;
+    VecN a_, f_;     // ∇T(p½) and the force at the current stage
     Mat Fq_, Tpp_;   // ∂F/∂q and ∇²T at the current stage
     Mat dp_, dq_;    // ∂p½/∂z₀ and ∂q₁/∂z₀, n × 2n
     double d_const_; // e^{−2ΔΓ} over a half step when γ is constant

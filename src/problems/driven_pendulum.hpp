@@ -37,7 +37,8 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamm
         return o;
     }
 
-    int n() const { return 1; }
+    static constexpr int static_n = 1; // degrees of freedom (core/problem.hpp)
+    int n() const { return static_n; }
     Vec initial_state() const { return Vec{{q0, p0}}; }
 
     template <class In, class Out>

@@ -38,7 +38,8 @@ struct Hill : SeparableProblem<Hill>, UnitMass {
         return o;
     }
 
-    int n() const { return 1; }
+    static constexpr int static_n = 1; // degrees of freedom (core/problem.hpp)
+    int n() const { return static_n; }
     Vec initial_state() const { return Vec{{q0, p0}}; }
     double gamma_at(double t) const { return 0.5 * epsilon * std::cos(2.0 * t); }
     double Gamma(double t) const { return 0.25 * epsilon * std::sin(2.0 * t); }

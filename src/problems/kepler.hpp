@@ -57,7 +57,8 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
     double L0() const { return std::sqrt((1.0 - e) * (1.0 + e)); }
     static constexpr double period() { return 2.0 * std::numbers::pi; }
 
-    int n() const { return 2; }
+    static constexpr int static_n = 2; // degrees of freedom (core/problem.hpp)
+    int n() const { return static_n; }
     Vec initial_state() const { return Vec{{1.0 - e, 0.0, 0.0, std::sqrt((1.0 + e) / (1.0 - e))}}; }
 
     template <class In, class Out>
