@@ -37,31 +37,53 @@ public:
 
     // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
     [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
-        return advance<false>(t, z, nullptr);
+        return on_state<false>(t, z, nullptr);
     }
 
     // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
     StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
         if (Psi.rows() != 2 * n_ || Psi.cols() != 2 * n_) Psi.resize(2 * n_, 2 * n_);
-        return advance<true>(t, z, &Psi);
+        return on_state<true>(t, z, &Psi);
     }
 
 private:
-    // Stage vectors of the problem's compile-time size when it has one (static_dof): the updates
-    // below are then scalar code that needs no inlining of Eigen's assignment loops, which GCC
-    // declines in the large translation units that instantiate every kernel.
+    // With the problem's compile-time size (static_dof), q, p and the stage vectors are fixed-size
+    // locals for the step, which the compiler keeps in registers (z is read once and written once),
+    // and every update is scalar code that needs no inlining of Eigen's assignment loops (GCC
+    // declines those in the large translation units that instantiate every kernel). Otherwise q
+    // and p are views of z and the stage vectors are members.
     static constexpr int N = static_dof<P>();
     using VecN = Eigen::Matrix<double, N, 1>;
 
     template <bool WithJacobian>
-    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
-        const int n = N == Eigen::Dynamic ? n_ : N;
-        Eigen::Map<VecN> q(z.data(), n), p(z.data() + n, n);
+    [[gnu::always_inline]] inline StepStatus on_state(double t, Vec& z, Mat* Psi) {
+        if constexpr (N == Eigen::Dynamic) {
+            Eigen::Map<Vec> q(z.data(), n_), p(z.data() + n_, n_);
+            advance<WithJacobian>(t, q, p, a_, f_, Psi);
+        } else {
+            VecN q, p, a, f;
+            for (int i = 0; i < N; ++i) {
+                q[i] = z[i];
+                p[i] = z[N + i];
+            }
+            advance<WithJacobian>(t, q, p, a, f, Psi);
+            for (int i = 0; i < N; ++i) {
+                z[i] = q[i];
+                z[N + i] = p[i];
+            }
+        }
+        return StepStatus::ok;
+    }
+
+    // One step on q, p (n each), with a and f the storage of ∇T(p½) and of the force.
+    template <bool WithJacobian, class Q, class A>
+    [[gnu::always_inline]] inline void advance(double t, Q& q, Q& p, A& a, A& f, Mat* Psi) {
+        const int n = static_cast<int>(q.size());
         const double hh = 0.5 * h_;
         // Constant γ: both factors are e^{−γh}, computed once (same value as per step).
         const double d1 = P::constant_gamma ? d_const_ : std::exp(-2.0 * prob_.dGamma(t, hh));
         const double d2 = P::constant_gamma ? d_const_ : std::exp(-2.0 * prob_.dGamma(t + hh, hh));
-        prob_.force(t, q, f_);
+        prob_.force(t, q, f);
         if constexpr (WithJacobian) {
             Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
             prob_.force_jacobian(t, q, Fq_); // at q₀
@@ -69,17 +91,17 @@ private:
             dp_.rightCols(n_).setZero();
             dp_.rightCols(n_).diagonal().setConstant(d1);
         }
-        for (int i = 0; i < n; ++i) p[i] = d1 * p[i] + hh * f_[i]; // p½
-        prob_.grad_T(p, a_);
+        for (int i = 0; i < n; ++i) p[i] = d1 * p[i] + hh * f[i]; // p½
+        prob_.grad_T(p, a);
         if constexpr (WithJacobian) {
             Tpp_.setZero();        // as SeparableProblem::N_jacobian: problems may fill a part
             prob_.hess_T(p, Tpp_); // at p½
             dq_.noalias() = h_ * Tpp_ * dp_;
             dq_.leftCols(n_).diagonal().array() += 1.0;
         }
-        for (int i = 0; i < n; ++i) q[i] += h_ * a_[i]; // q₁
-        prob_.force(t + h_, q, f_);
-        for (int i = 0; i < n; ++i) p[i] = d2 * (p[i] + hh * f_[i]); // p₁
+        for (int i = 0; i < n; ++i) q[i] += h_ * a[i]; // q₁
+        prob_.force(t + h_, q, f);
+        for (int i = 0; i < n; ++i) p[i] = d2 * (p[i] + hh * f[i]); // p₁
         c_.rhs_evals += 2;
         if constexpr (WithJacobian) {
             Fq_.setZero(); // as SeparableProblem::N_jacobian: problems may fill a part
@@ -90,14 +112,13 @@ private:
             Psi->bottomRows(n_).noalias() += hh * Fq_ * dq_;
             Psi->bottomRows(n_) *= d2;
         }
-        return StepStatus::ok;
     }
 
     const P& prob_;
     double h_;
     Counters& c_;
     int n_;
-    VecN a_, f_;     // ∇T(p½) and the force at the current stage
+    Vec a_, f_;      // ∇T(p½) and the force (dynamic size only)
     Mat Fq_, Tpp_;   // ∂F/∂q and ∇²T at the current stage
     Mat dp_, dq_;    // ∂p½/∂z₀ and ∂q₁/∂z₀, n × 2n
     double d_const_; // e^{−2ΔΓ} over a half step when γ is constant
