@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# README command (b): set up, build, and run every test: the Release build's ctest (unit tests,
-# CLI tests, the default suite and the Python cross-check), the ASan/UBSan build's unit tests and
-# its smaller 'sanitize' suite, and
-# the clang-format check.
+# README command (b): set up, build, and run every test, the clang-format check first:
+#   - the Release build (only the dampsym binary): the default suite, the stress suite and the
+#     Python cross-check (ctest labels suite and crosscheck);
+#   - the ASan/UBSan build: every unit test (Catch2, including the CLI tests) and the smaller
+#     'sanitize' suite. The unit tests run once, under the sanitizers; building them a second
+#     time in Release would only repeat them (ci/suite.sh builds them there for local use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash ci/setup.sh
@@ -12,9 +14,9 @@ echo "== clang-format"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src reference tests -name '*.[ch]pp')
 clang-format --dry-run -Werror $files
 
-echo "== Release build and tests"
-bash ci/build.sh release
-(cd build && ctest --output-on-failure -j"$jobs")
+echo "== Release build: suites and cross-check"
+bash ci/build.sh release dampsym
+(cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck')
 
 echo "== ASan/UBSan build and unit tests"
 bash ci/build.sh asan
