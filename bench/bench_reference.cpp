@@ -1,9 +1,9 @@
 // Certified GSL reference for a pendulum case, exactly as the harness computes it: the case is the
 // default suite's verify/cases/pend-table41-g0.05.json (main solve rk8pd at epsrel 1e-14, epsabs
-// 1e-15, the reference of the pendulum Table 4.1 cases; t_end = 100, output_dt = 1) loaded through load_case
-// with --set problem.gamma=0.1 so that it is the pendulum of every other benchmark. The output
-// times, the ReferenceRequest and its rhs are built by the helpers TypedCase<P>::prepare() and
-// numerical_reference() use (src/harness/case_job.hpp), and certified_reference() is called
+// 1e-15, the reference of the pendulum Table 4.1 cases; t_end = 100, output_dt = 1) loaded through
+// load_case with --set problem.gamma=0.1 so that it is the pendulum of every other benchmark. The
+// output times, the ReferenceRequest and its rhs are built by the helpers TypedCase<P>::prepare()
+// and numerical_reference() use (src/harness/case_job.hpp), and certified_reference() is called
 // directly (run_cases would answer repeated calls from its reference cache).
 //
 //   reference/pendulum/certified   certified_reference(): main solve + rk8pd certifying solve at
