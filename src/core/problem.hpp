@@ -54,6 +54,15 @@ struct ParamMap {
     const std::vector<double>& array(const std::string& name) const { return arrays.at(name); }
 };
 
+// Degrees of freedom of problem type Q at compile time: Q::static_n, or Eigen::Dynamic.
+template <class Q>
+constexpr int static_dof() {
+    if constexpr (requires { Q::static_n; })
+        return Q::static_n;
+    else
+        return Eigen::Dynamic;
+}
+
 // Separable Rayleigh form q' = ∇T(p), p' = F(q,t) − 2γ(t)p with F = −∇_q V(q,t) (+ forcing).
 // Derived provides: n() (degrees of freedom), gamma_at(t), grad_T(p, out), hess_T(p, out),
 // force(t, q, out), force_jacobian(t, q, out). This base derives the other two forms of SPEC §1:
@@ -88,15 +97,19 @@ struct SeparableProblem {
         J.block(0, 0, n, n).diagonal().setConstant(g);
         J.block(n, n, n, n).diagonal().setConstant(-g);
     }
-    void rhs(double t, const Vec& z, Vec& out) const {
+    // z and out: Vec, or fixed-size vectors of 2·static_n (the blocks are then fixed-size too).
+    template <class Z, class Out>
+    void rhs(double t, const Z& z, Out& out) const {
+        constexpr int N = static_dof<Derived>();
         const int n = self().n();
-        auto qo = out.head(n);
-        auto po = out.tail(n);
-        self().grad_T(z.tail(n), qo);
-        self().force(t, z.head(n), po);
-        po -= 2.0 * self().gamma_at(t) * z.tail(n);
+        auto qo = out.template head<N>(n);
+        auto po = out.template segment<N>(n, n);
+        self().grad_T(z.template segment<N>(n, n), qo);
+        self().force(t, z.template head<N>(n), po);
+        po -= 2.0 * self().gamma_at(t) * z.template segment<N>(n, n);
     }
-    void rhs_jacobian(double t, const Vec& z, Mat& J) const {
+    template <class Z>
+    void rhs_jacobian(double t, const Z& z, Mat& J) const {
         const int n = self().n();
         J.setZero();
         auto Jqp = J.block(0, n, n, n);
@@ -127,15 +140,6 @@ struct ConstantGamma {
     double Gamma(double t) const { return static_cast<const Derived&>(*this).gamma * t; }
     double dGamma(double, double h) const { return static_cast<const Derived&>(*this).gamma * h; }
 };
-
-// Degrees of freedom of problem type Q at compile time: Q::static_n, or Eigen::Dynamic.
-template <class Q>
-constexpr int static_dof() {
-    if constexpr (requires { Q::static_n; })
-        return Q::static_n;
-    else
-        return Eigen::Dynamic;
-}
 
 namespace detail {
 // Whether problem type Q declares constant damping (false when it does not say): kernels then

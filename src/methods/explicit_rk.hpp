@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "core/problem.hpp"
 
 #include <string_view>
 
@@ -39,8 +40,20 @@ public:
     }
 
 private:
+    // A separable problem with a compile-time size (static_dof) has state dimension D = 2·static_n:
+    // the stage vectors are then fixed-size and the state is a fixed-size view of z, so the stage
+    // updates are short unrolled code (no out-of-line Eigen loops in the large translation units).
+    static constexpr int D = [] {
+        if constexpr (static_dof<P>() != Eigen::Dynamic && P::has_separable)
+            return 2 * static_dof<P>();
+        else
+            return int{Eigen::Dynamic};
+    }();
+    using VecD = Eigen::Matrix<double, D, 1>;
+
     template <bool WithJacobian>
-    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
+    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& zv, Mat* Psi) {
+        Eigen::Map<VecD> z(zv.data(), zv.size());
         const int s = t_.stages;
         for (int i = 0; i < s; ++i) {
             y_ = z;
@@ -73,8 +86,8 @@ private:
     const ButcherTableau& t_;
     double h_;
     Counters& c_;
-    Mat K_;
-    Vec y_, k_;
+    Eigen::Matrix<double, D, Eigen::Dynamic> K_; // stages k_1 … k_s as columns
+    VecD y_, k_;
     Mat dK_;      // [∂k_1/∂z₀ … ∂k_s/∂z₀], d × (s·d)
     Mat dY_, Jf_; // ∂y_i/∂z₀ and f'(t_i, y_i)
 };
