@@ -143,7 +143,9 @@ STRUCTURE = {
 }
 
 
-def validate_junit(path):
+def validate_junit(path, strict=True):
+    """strict=False for CTest's own JUnit (CTest 3.25 writes no errors= attribute, which the
+    Jenkins schema requires but Jenkins' junit plugin and GitLab do not)."""
     import re
     import junitparser
     tree = ET.parse(path)
@@ -159,6 +161,8 @@ def validate_junit(path):
         for k in el.attrib:
             ok = check(k in attrs, "%s: <%s %s=...> not in the JUnit schema" % (path, el.tag, k)) and ok
         for k in required:
+            if not strict and k == "errors":
+                continue
             ok = check(k in el.attrib, "%s: <%s> without %s" % (path, el.tag, k)) and ok
         if "time" in el.attrib:
             ok = check(re.fullmatch(r"[0-9]*(\.[0-9]*)?", el.attrib["time"]) is not None,
@@ -176,7 +180,7 @@ def validate_junit(path):
         ne = sum(1 for c in cases if c.find("error") is not None)
         ok = check(int(ts.get("tests")) == len(cases), "%s: %s tests=%s, %d testcases" % (
             path, ts.get("name"), ts.get("tests"), len(cases))) and ok
-        ok = check(int(ts.get("failures")) == nf and int(ts.get("errors")) == ne,
+        ok = check(int(ts.get("failures")) == nf and int(ts.get("errors", "0")) == ne,
                    "%s: %s failure/error counts" % (path, ts.get("name"))) and ok
     # and junitparser, as GitLab-like consumers read it
     xml = junitparser.JUnitXml.fromfile(path)
@@ -230,7 +234,7 @@ def mode_junit(a):
         p = run(["ctest", "--test-dir", a.ctest_build, "-R",
                  r"^case\.(osc-fig31-k1|osc-stability-det)$", "--output-junit", cj])
         check(p.returncode == 0, "ctest per-case tests: exit %d\n%s" % (p.returncode, p.stdout))
-        root = validate_junit(cj)
+        root = validate_junit(cj, strict=False)
         names = {t.get("name") for t in root.iter("testcase")}
         check(names == {"case.osc-fig31-k1", "case.osc-stability-det"},
               "ctest JUnit testcases: %s" % sorted(names))

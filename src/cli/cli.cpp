@@ -630,14 +630,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     auto add_selection = [&](CLI::App* sub) {
         sub->add_option("--suite", sel.suites,
                         "suite(s) to take cases from; repeatable; 'all' = every case")
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+            ->allow_extra_args(false);
         sub->add_option("--filter", sel.filters, "glob on case ids (repeatable: any may match)")
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+            ->allow_extra_args(false);
         sub->add_option("--problem", sel.problems, "glob on problem ids (repeatable)")
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+            ->allow_extra_args(false);
         sub->add_option("--method", sel.methods,
                         "glob on method ids (repeatable): only these runs and their checks")
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+            ->allow_extra_args(false);
         sub->add_option("--shard", sel.shard,
                         "K/N: run share K of N (cost-balanced); 'none' ignores TEST_TOTAL_SHARDS, "
                         "CI_NODE_TOTAL and SLURM_ARRAY_TASK_COUNT");
@@ -686,7 +686,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         "  dampsym run --shard 1/3 --out shard1           (or TEST_TOTAL_SHARDS/TEST_SHARD_INDEX,\n"
         "                                                 CI_NODE_TOTAL/CI_NODE_INDEX,\n"
         "                                                 SLURM_ARRAY_TASK_COUNT/_ID)\n"
-        "  dampsym run osc-order --set problem.gamma=0.3\n\n"
+        "  dampsym run osc-orders --set problem.gamma=0.3\n\n"
         "report.json: schema/report.schema.json; everything before \"provenance\" is identical\n"
         "between runs of the same build. GITHUB_STEP_SUMMARY, if set, gets totals and "
         "failures.\n\n" +
