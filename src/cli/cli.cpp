@@ -403,7 +403,9 @@ private:
             const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
             if (elapsed < 1.0) continue;
             char eta[32] = "?";
-            if (state_.tasks_done > 0 && state_.tasks_total >= state_.tasks_done)
+            if (!state_.planned)
+                std::snprintf(eta, sizeof eta, "? (references)");
+            else if (state_.tasks_done > 0 && state_.tasks_total >= state_.tasks_done)
                 std::snprintf(eta, sizeof eta, "%.0f s",
                               elapsed *
                                   static_cast<double>(state_.tasks_total - state_.tasks_done) /

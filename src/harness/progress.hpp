@@ -14,6 +14,7 @@ struct RunProgress {
     std::size_t cases_done = 0, cases_total = 0;
     std::size_t tasks_done = 0, tasks_total = 0; // tasks_total grows once the runs are planned
     std::string current;                         // id of the case whose task ran last
+    bool planned = false; // false while references are prepared (before the runs are known)
 };
 
 // Called from the worker threads, one call at a time, after every task.

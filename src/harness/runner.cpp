@@ -236,7 +236,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         if (!progress) return;
         std::lock_guard<std::mutex> lock(progress_mutex);
         ++state.tasks_done;
-        if (--remaining[case_index] == 0) ++state.cases_done;
+        if (--remaining[case_index] == 0 && state.planned) ++state.cases_done;
         state.current = cases[case_index].id;
         progress(state);
     };
@@ -264,6 +264,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
                 });
         }
         state.tasks_total += planned.size();
+        state.planned = true;
     }
     run_parallel(planned, options.jobs);
 
