@@ -266,6 +266,13 @@ def mode_shards(a):
     p = run([a.bin, "compare", base, os.path.join(merged, "report.json")])
     check(p.returncode == 0, "compare unsharded merged: exit %d\n%s" % (p.returncode, p.stdout))
     validate_junit(os.path.join(merged, "junit.xml"))
+    import jsonschema
+    with open(os.path.join(ROOT, "schema", "report.schema.json")) as fh:
+        rv = jsonschema.Draft202012Validator(json.load(fh))
+    for d in dirs + [merged]:
+        with open(os.path.join(d, "report.json")) as fh:
+            errs = list(rv.iter_errors(json.load(fh)))
+        check(not errs, "%s/report.json: schema: %s" % (d, errs[0].message if errs else ""))
     walls, ids = [], []
     for d in dirs:
         with open(os.path.join(d, "report.json")) as fh:

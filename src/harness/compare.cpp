@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <sstream>
@@ -41,10 +42,16 @@ void require_report(const json& r, const std::string& which) {
     }
 }
 
+// The shortest of %.15g..%.17g that reads back as the same double (dt=0.05, not
+// 0.050000000000000003): run and check keys stay exact and readable.
 std::string dt_text(const json& dt) {
     if (!dt.is_number()) return dt.dump();
+    const double x = dt.get<double>();
     char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", dt.get<double>());
+    for (int digits = 15; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (std::strtod(buf, nullptr) == x) break;
+    }
     return buf;
 }
 

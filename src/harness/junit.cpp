@@ -3,6 +3,7 @@
 #include "harness/report.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 namespace dampsym {
@@ -45,11 +46,17 @@ std::string xml(const std::string& s) {
     return out;
 }
 
+// The shortest of %.15g, %.16g, %.17g that reads back as the same double (0.1, not
+// 0.10000000000000001).
 std::string num(const json& v) {
     if (v.is_null()) return "null";
     if (!v.is_number_float()) return v.dump();
+    const double x = v.get<double>();
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v.get<double>());
+    for (int digits = 15; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (std::strtod(buf, nullptr) == x) break;
+    }
     return buf;
 }
 
