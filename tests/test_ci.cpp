@@ -239,7 +239,8 @@ TEST_CASE("cli: selection by --filter, repeated --suite, --problem and --method"
         INFO(describe(args, r));
         std::vector<std::string> out_ids;
         if (r.status != 0) return std::vector<std::string>{"exit " + std::to_string(r.status)};
-        for (const auto& c : json::parse(r.out)["cases"]) out_ids.push_back(c["id"]);
+        const json listed = json::parse(r.out);
+        for (const auto& c : listed["cases"]) out_ids.push_back(c["id"]);
         return out_ids;
     };
     CHECK(ids({}).size() == 3);
@@ -249,7 +250,10 @@ TEST_CASE("cli: selection by --filter, repeated --suite, --problem and --method"
     CHECK(ids({"--problem", "oscillator"}).size() == 3);
     CHECK(ids({"--problem", "pendulum"}) == std::vector<std::string>{"exit 2"});
     CHECK(ids({"--suite", "nosuch"}) == std::vector<std::string>{"exit 2"});
-    CHECK(ids({"--method", "rk3"}) == std::vector<std::string>{"cli-wrong-order"});
+    CHECK(ids({"--method", "rk3"}) == std::vector<std::string>{"cli-jobs", "cli-wrong-order"});
+    CHECK(ids({"--method", "cimp"}) == std::vector<std::string>{"cli-jobs", "cli-pass"});
+    CHECK(ids({"--method", "rk3", "--filter", "*order"}) ==
+          std::vector<std::string>{"cli-wrong-order"});
     // --method restricts the runs and checks of a case; global options after the subcommand
     const std::vector<std::string> args{"run",     "cli-wrong-order", "--method",
                                         "rk3",     "--out",           out.str(),
