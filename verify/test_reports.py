@@ -232,7 +232,13 @@ def mode_junit(a):
     # ctest --output-junit on two per-case tests
     if a.ctest_build:
         cj = os.path.join(a.work, "ctest-junit.xml")
-        p = run(["ctest", "--test-dir", a.ctest_build, "-R",
+        # a test directory of its own that includes the build's tests, so that this ctest's
+        # logs do not overwrite those of the ctest running this test
+        top = os.path.join(a.work, "ctest")
+        os.makedirs(top, exist_ok=True)
+        with open(os.path.join(top, "CTestTestfile.cmake"), "w") as fh:
+            fh.write('subdirs("%s")\n' % os.path.join(os.path.abspath(a.ctest_build), "tests"))
+        p = run(["ctest", "--test-dir", top, "-R",
                  r"^case\.(osc-fig31-k1|osc-stability-det)$", "--output-junit", cj])
         check(p.returncode == 0, "ctest per-case tests: exit %d\n%s" % (p.returncode, p.stdout))
         root = validate_junit(cj, strict=False)
