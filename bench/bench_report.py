@@ -135,9 +135,12 @@ def time_scipy(ref, repeats):
 def suite_wall(path):
     try:
         with open(path) as f:
-            return float(json.load(f)["summary"]["wall_seconds"])
+            report = json.load(f)
+        # schema_version 2 keeps the clock values in "timings"; 1 kept them in "summary"
+        section = report["timings"] if "timings" in report else report["summary"]
+        return float(section["wall_seconds"])
     except (OSError, KeyError, ValueError, TypeError, json.JSONDecodeError) as e:
-        fail_input(f"cannot read summary.wall_seconds from {path}: {e}")
+        fail_input(f"cannot read timings.wall_seconds from {path}: {e}")
 
 
 def fmt(x, digits=3):

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # README command (b): set up, build, and run every test, the clang-format check first:
-#   - the Release build (only the dampsym binary): the default suite, the stress suite and the
-#     Python cross-check (ctest labels suite and crosscheck);
+#   - the Release build (only the dampsym binary): the default suite, the stress suite, the
+#     Python cross-check and the report tests (schemas, JUnit, shards + merge, compare) on the
+#     suites' reports (ctest labels suite, crosscheck and reports; the per-case tests, label
+#     "case", would only repeat the suites);
 #   - the ASan/UBSan build: every unit test (Catch2, including the CLI tests) and the smaller
 #     'sanitize' suite. The unit tests run once, under the sanitizers; building them a second
 #     time in Release would only repeat them (ci/suite.sh builds them there for local use).
@@ -16,9 +18,9 @@ clang-format --dry-run -Werror $files
 
 echo "== Release build: suites and cross-check"
 bash ci/build.sh release dampsym
-(cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck')
+(cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports')
 
 echo "== ASan/UBSan build and unit tests"
 bash ci/build.sh asan
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-   ctest --output-on-failure -j"$jobs" -LE 'crosscheck|stress' -E '^suite\.default$')
+   ctest --output-on-failure -j"$jobs" -LE 'crosscheck|stress|reports|case' -E '^suite\.default$')

@@ -1,7 +1,9 @@
 #include "harness/report.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -101,34 +103,43 @@ void sweep_table(std::ostringstream& os, const json& c) {
 
 // Work-precision (ladder cases): error against the minimum wall time of the bare step loop and
 // the rhs evaluations, per method and step size, sorted by method then dt as run.
-void work_precision_table(std::ostringstream& os, const json& c) {
+// `t` is the case's entry in the report's timings section (null if absent).
+void work_precision_table(std::ostringstream& os, const json& c, const json* t) {
+    auto timing = [&](std::size_t i) -> const json* {
+        if (!t || i >= (*t)["runs"].size() || !(*t)["runs"][i].contains("timing")) return nullptr;
+        return &(*t)["runs"][i]["timing"];
+    };
     bool any = false;
-    for (const auto& r : c["runs"])
-        if (r.contains("timing")) any = true;
+    for (std::size_t i = 0; i < c["runs"].size(); ++i)
+        if (timing(i)) any = true;
     if (!any) return;
     os << "\nWork-precision (bare step loop: one warm-up, then the minimum of N repetitions; "
           "failed runs are not timed):\n\n"
        << "| method | dt | final error | rhs evals | wall s (min) | ns/step | N |\n"
        << "|---|---|---|---|---|---|---|\n";
-    for (const auto& r : c["runs"]) {
+    for (std::size_t i = 0; i < c["runs"].size(); ++i) {
+        const json& r = c["runs"][i];
         if (r["status"] == "not-applicable") continue;
         const json& m = r["metrics"];
         const bool has_err = m.contains("error");
-        const bool timed = r.contains("timing");
+        const json* tm = timing(i);
+        const bool timed = tm != nullptr;
         os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " | "
            << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
-           << (timed ? num(r["timing"]["wall_seconds_min"], 3) : r["status"].get<std::string>())
-           << " | " << (timed ? num(r["timing"]["ns_per_step"], 3) : "—") << " | "
-           << (timed ? num(r["timing"]["repetitions"]) : "—") << " |\n";
+           << (timed ? num((*tm)["wall_seconds_min"], 3) : r["status"].get<std::string>()) << " | "
+           << (timed ? num((*tm)["ns_per_step"], 3) : "—") << " | "
+           << (timed ? num((*tm)["repetitions"]) : "—") << " |\n";
     }
 }
 
-void runs_table(std::ostringstream& os, const json& c) {
+void runs_table(std::ostringstream& os, const json& c, const json* t) {
     os << "\n| method | dt | status | steps | final error | max error | rhs evals | Newton its | "
           "wall s |\n"
           "|---|---|---|---|---|---|---|---|---|\n";
-    for (const auto& r : c["runs"]) {
+    for (std::size_t i = 0; i < c["runs"].size(); ++i) {
+        const json& r = c["runs"][i];
+        const json* tr = t && i < (*t)["runs"].size() ? &(*t)["runs"][i] : nullptr;
         const json& m = r["metrics"];
         const bool has_err = m.contains("error");
         std::string status = r["status"].get<std::string>();
@@ -138,7 +149,7 @@ void runs_table(std::ostringstream& os, const json& c) {
            << " | " << (has_err ? num(m["error"]["max_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
            << (r.contains("newton_iters") ? num(r["newton_iters"]) : "—") << " | "
-           << (r.contains("wall_seconds") ? num(r["wall_seconds"], 3) : "—") << " |\n";
+           << (tr && tr->contains("wall_seconds") ? num((*tr)["wall_seconds"], 3) : "—") << " |\n";
     }
 }
 
@@ -196,27 +207,151 @@ void metrics_table(std::ostringstream& os, const json& c) {
     }
 }
 
+// The timings entry of case `ci` (null if absent).
+const json* case_timings(const json& report, std::size_t ci) {
+    if (!report.contains("timings") || !report["timings"].contains("cases")) return nullptr;
+    const json& tc = report["timings"]["cases"];
+    if (ci >= tc.size() || tc[ci]["id"] != report["cases"][ci]["id"]) return nullptr;
+    return &tc[ci];
+}
+
+std::string wall_text(const json& report) {
+    std::string out;
+    if (report.contains("timings") && report["timings"].contains("wall_seconds"))
+        out = num(report["timings"]["wall_seconds"], 3) + " s";
+    if (report.contains("provenance") && report["provenance"].contains("jobs"))
+        out += (out.empty() ? "" : " ") + std::string("with --jobs ") +
+               report["provenance"]["jobs"].dump();
+    return out.empty() ? "no timings" : out;
+}
+
+std::string text_of(const json& v) {
+    if (v.is_string()) return v.get<std::string>();
+    if (v.is_null()) return "unknown";
+    return v.dump();
+}
+
+// The provenance at the top of report.md: what was built, where and how it ran.
+void provenance_block(std::ostringstream& os, const json& report) {
+    if (!report.contains("provenance")) return;
+    const json& p = report["provenance"];
+    auto row = [&](const char* label, const std::string& value) {
+        os << "| " << label << " | " << value << " |\n";
+    };
+    os << "| provenance | |\n|---|---|\n";
+    if (p.contains("merged_from")) {
+        row("merged", std::to_string(p["merged_from"].size()) + " shard reports (" +
+                          text_of(p.value("command_line", json())) + ")");
+        if (!p["merged_from"].empty() && p["merged_from"][0].is_object()) {
+            std::string shards;
+            for (const auto& sp : p["merged_from"])
+                shards += (shards.empty() ? "" : "; ") + text_of(sp.value("command_line", json())) +
+                          " at " + text_of(sp.value("start_utc", json()));
+            row("shards", shards);
+        }
+    }
+    const json& src = p.contains("build")                             ? p
+                      : p.value("merged_from", json::array()).empty() ? p
+                                                                      : p["merged_from"][0];
+    if (src.contains("build")) {
+        const json& b = src["build"];
+        std::string commit = text_of(b.value("git_commit", json()));
+        if (b.value("git_dirty", json()) == true) commit += " (dirty)";
+        row("version", text_of(src.value("version", json())));
+        row("git commit", commit);
+        row("compiler", text_of(b.value("compiler", json())));
+        row("build type, flags", text_of(b.value("build_type", json())) + ", `" +
+                                     text_of(b.value("flags", json())) + "` " +
+                                     text_of(b.value("options", json())));
+        if (b.contains("libraries")) {
+            std::string libs;
+            for (auto it = b["libraries"].begin(); it != b["libraries"].end(); ++it)
+                libs += (libs.empty() ? "" : ", ") + it.key() + " " + text_of(it.value());
+            row("libraries", libs);
+        }
+    }
+    if (src.contains("host")) {
+        const json& h = src["host"];
+        std::string os_text = h.contains("os")
+                                  ? text_of(h["os"].value("name", json())) + " (" +
+                                        text_of(h["os"].value("sysname", json())) + " " +
+                                        text_of(h["os"].value("release", json())) + ", " +
+                                        text_of(h["os"].value("machine", json())) + ")"
+                                  : "unknown";
+        row("host", os_text);
+        row("CPU", text_of(h.value("cpu_model", json())) + ", " +
+                       text_of(h.value("cpu_count", json())) + " logical CPUs");
+    }
+    if (p.contains("start_utc")) row("started (UTC)", text_of(p["start_utc"]));
+    if (p.contains("command_line") && !p.contains("merged_from"))
+        row("command line", "`" + text_of(p["command_line"]) + "`");
+    if (p.contains("jobs")) row("--jobs", text_of(p["jobs"]));
+    if (p.contains("shard") && p["shard"].is_object())
+        row("shard", text_of(p["shard"].value("index", json())) + "/" +
+                         text_of(p["shard"].value("count", json())) + " (from " +
+                         text_of(p["shard"].value("source", json())) + ")");
+    os << "\n";
+}
+
 } // namespace
+
+json summarize(const json& cases) {
+    std::int64_t passed = 0, failed = 0, runs = 0, failed_cases = 0;
+    for (const auto& c : cases) {
+        bool ok = true;
+        for (const auto& ck : c["checks"]) {
+            if (ck["passed"].get<bool>()) {
+                ++passed;
+            } else {
+                ++failed;
+                ok = false;
+            }
+        }
+        if (!ok) ++failed_cases;
+        runs += static_cast<std::int64_t>(c["runs"].size());
+    }
+    return {{"cases", cases.size()},
+            {"failed_cases", failed_cases},
+            {"runs", runs},
+            {"checks_passed", passed},
+            {"checks_failed", failed}};
+}
+
+std::string report_json_text(const json& report) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::object();
+    for (const char* k : {"schema_version", "tool", "summary", "cases", "provenance", "timings"})
+        if (report.contains(k)) out[k] = nlohmann::ordered_json(report[k]);
+    for (auto it = report.begin(); it != report.end(); ++it)
+        if (!out.contains(it.key())) out[it.key()] = nlohmann::ordered_json(it.value());
+    return out.dump(2) + "\n";
+}
+
+const json* run_timing(const json& report, std::size_t case_index, std::size_t run_index) {
+    const json* t = case_timings(report, case_index);
+    if (!t || run_index >= (*t)["runs"].size()) return nullptr;
+    return &(*t)["runs"][run_index];
+}
 
 std::string render_markdown(const json& report) {
     std::ostringstream os;
     const json& s = report["summary"];
-    os << "# dampsym report\n\n"
-       << s["cases"] << " cases, " << s["runs"] << " runs: **" << s["checks_passed"]
-       << " checks passed, " << s["checks_failed"] << " failed** (" << num(s["wall_seconds"], 3)
-       << " s with --jobs " << s["jobs"]
+    os << "# dampsym report\n\n";
+    provenance_block(os, report);
+    os << s["cases"] << " cases, " << s["runs"] << " runs: **" << s["checks_passed"]
+       << " checks passed, " << s["checks_failed"] << " failed** (" << wall_text(report)
        << ").\n\nCases with a failing check come first; in each case failing checks come first. A "
           "*negative "
           "control* is a check that passes only when the structure check detects a method that "
           "lacks the "
           "property.\n";
-    std::vector<const json*> order;
-    for (const auto& c : report["cases"])
-        if (!case_passed(c)) order.push_back(&c);
-    for (const auto& c : report["cases"])
-        if (case_passed(c)) order.push_back(&c);
-    for (const json* cp : order) {
-        const json& c = *cp;
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < report["cases"].size(); ++i)
+        if (!case_passed(report["cases"][i])) order.push_back(i);
+    for (std::size_t i = 0; i < report["cases"].size(); ++i)
+        if (case_passed(report["cases"][i])) order.push_back(i);
+    for (const std::size_t ci : order) {
+        const json& c = report["cases"][ci];
+        const json* t = case_timings(report, ci);
         os << "\n## " << (case_passed(c) ? "" : "FAILED: ") << c["id"].get<std::string>();
         if (!c["title"].get<std::string>().empty()) os << " — " << c["title"].get<std::string>();
         os << "\n\n";
@@ -249,8 +384,8 @@ std::string render_markdown(const json& report) {
         order_table(os, c, "local-order");
         metrics_table(os, c);
         sweep_table(os, c);
-        work_precision_table(os, c);
-        runs_table(os, c);
+        work_precision_table(os, c, t);
+        runs_table(os, c, t);
     }
     return os.str();
 }
@@ -277,10 +412,18 @@ std::string render_summary(const json& report) {
         if (fail) os << "  failed: " << failed;
         os << "\n";
     }
+    os << render_totals(report);
+    return os.str();
+}
+
+std::string render_totals(const json& report) {
+    std::ostringstream os;
     const json& s = report["summary"];
     os << s["cases"] << " cases, " << s["runs"] << " runs, " << s["checks_passed"]
-       << " checks passed, " << s["checks_failed"] << " failed, " << num(s["wall_seconds"], 3)
-       << " s\n";
+       << " checks passed, " << s["checks_failed"] << " failed";
+    if (report.contains("timings") && report["timings"].contains("wall_seconds"))
+        os << ", " << num(report["timings"]["wall_seconds"], 3) << " s";
+    os << "\n";
     return os.str();
 }
 
@@ -288,16 +431,63 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     const std::string tmp = path + ".tmp";
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw std::runtime_error("cannot write " + tmp);
+        if (!out) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
         out << text;
-        if (!out) throw std::runtime_error("cannot write " + tmp);
+        out.flush();
+        if (!out) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
     }
-    std::filesystem::rename(tmp, path);
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw OutputError(path + ": cannot write: " + ec.message());
+    }
+}
+
+void check_output_dir(const std::string& dir) {
+    namespace fs = std::filesystem;
+    if (dir.empty()) throw OutputError("--out: empty directory name");
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+        throw OutputError(dir + ": --out: exists and is not a directory");
+    fs::create_directories(dir, ec);
+    if (ec) throw OutputError(dir + ": --out: cannot create directory: " + ec.message());
+    for (const char* name : {"report.json", "report.md"}) {
+        const fs::path p = fs::path(dir) / name;
+        if (fs::exists(p, ec) && !fs::is_regular_file(p, ec))
+            throw OutputError(p.string() + ": exists and is not a regular file");
+    }
+    const fs::path probe = fs::path(dir) / ".dampsym-write-probe";
+    {
+        std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+        if (!out)
+            throw OutputError(dir + ": --out: directory is not writable: " + std::strerror(errno));
+    }
+    fs::remove(probe, ec);
+}
+
+void check_output_file(const std::string& file) {
+    namespace fs = std::filesystem;
+    if (file.empty()) throw OutputError("empty output file name");
+    std::error_code ec;
+    const fs::path p(file);
+    if (fs::is_directory(p, ec)) throw OutputError(file + ": is a directory");
+    const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    fs::create_directories(parent, ec);
+    if (ec) throw OutputError(file + ": cannot create its directory: " + ec.message());
+    const fs::path probe = parent / (p.filename().string() + ".dampsym-write-probe");
+    {
+        std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+        if (!out) throw OutputError(file + ": cannot write: " + std::strerror(errno));
+    }
+    fs::remove(probe, ec);
 }
 
 void write_reports(const json& report, const std::string& dir) {
-    std::filesystem::create_directories(dir);
-    write_file_atomic(dir + "/report.json", report.dump(2) + "\n");
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw OutputError(dir + ": cannot create directory: " + ec.message());
+    write_file_atomic(dir + "/report.json", report_json_text(report));
     write_file_atomic(dir + "/report.md", render_markdown(report));
 }
 

@@ -1,6 +1,8 @@
 #include "harness/runner.hpp"
 
 #include "harness/case_job.hpp"
+#include "harness/progress.hpp"
+#include "harness/report.hpp"
 
 #include <atomic>
 #include <exception>
@@ -178,6 +180,44 @@ bool check_passes(const CheckSpec& cs, double value) {
 }
 
 json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
+    return run_cases(cases, options, ProgressCallback{});
+}
+
+namespace {
+
+// Moves every clock-dependent value of the case records into the report's "timings" section
+// (one entry per case, in case order, one per run, in run order): runs[].wall_seconds,
+// runs[].timing (work-precision repetitions) and metrics.cost.wall_seconds (the same number as
+// the run's wall_seconds). What remains in "cases" is identical between runs of the same build.
+json take_timings(json& out_cases) {
+    json cases = json::array();
+    for (auto& c : out_cases) {
+        json runs = json::array();
+        double sum = 0.0;
+        for (auto& r : c["runs"]) {
+            json t = {{"method", r["method"]}, {"dt", r["dt"]}};
+            if (r.contains("wall_seconds")) {
+                sum += r["wall_seconds"].get<double>();
+                t["wall_seconds"] = std::move(r["wall_seconds"]);
+                r.erase("wall_seconds");
+            }
+            if (r.contains("timing")) {
+                t["timing"] = std::move(r["timing"]);
+                r.erase("timing");
+            }
+            if (r.contains("metrics") && r["metrics"].contains("cost"))
+                r["metrics"]["cost"].erase("wall_seconds");
+            runs.push_back(std::move(t));
+        }
+        cases.push_back({{"id", c["id"]}, {"runs_wall_seconds", sum}, {"runs", std::move(runs)}});
+    }
+    return cases;
+}
+
+} // namespace
+
+json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
+               const ProgressCallback& progress) {
     const auto start = Clock::now();
     std::vector<std::unique_ptr<detail::CaseJob>> jobs;
     for (const CaseSpec& c : cases) {
@@ -186,46 +226,64 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options) {
         job->set_time_budget(options.time_budget);
         jobs.push_back(std::move(job));
     }
+    // Progress: every task is attributed to its case; a case is done when its last task is.
+    std::mutex progress_mutex;
+    RunProgress state;
+    state.cases_total = cases.size();
+    state.tasks_total = cases.size();
+    std::vector<std::size_t> remaining(cases.size(), 1);
+    auto report = [&](std::size_t case_index) {
+        if (!progress) return;
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        ++state.tasks_done;
+        if (--remaining[case_index] == 0 && state.planned) ++state.cases_done;
+        state.current = cases[case_index].id;
+        progress(state);
+    };
     std::vector<std::function<void()>> tasks;
-    for (auto& j : jobs) tasks.emplace_back([&j] { j->prepare(); });
+    for (std::size_t i = 0; i < jobs.size(); ++i)
+        tasks.emplace_back([&, i] {
+            jobs[i]->prepare();
+            report(i);
+        });
     run_parallel(tasks, options.jobs);
     tasks.clear();
-    for (auto& j : jobs) j->add_tasks(tasks);
-    run_parallel(tasks, options.jobs);
+    std::vector<std::function<void()>> planned;
+    {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        state.cases_done = 0;
+        for (std::size_t i = 0; i < jobs.size(); ++i) {
+            std::vector<std::function<void()>> mine;
+            jobs[i]->add_tasks(mine);
+            remaining[i] = mine.size();
+            if (mine.empty()) ++state.cases_done;
+            for (auto& t : mine)
+                planned.emplace_back([&report, i, task = std::move(t)] {
+                    task();
+                    report(i);
+                });
+        }
+        state.tasks_total += planned.size();
+        state.planned = true;
+    }
+    run_parallel(planned, options.jobs);
 
     json out_cases = json::array();
-    std::int64_t passed = 0, failed = 0, runs = 0, failed_cases = 0;
-    for (auto& j : jobs) {
-        json c = j->finish();
-        bool case_ok = true;
-        for (const auto& ck : c["checks"]) {
-            if (ck["passed"].get<bool>()) {
-                ++passed;
-            } else {
-                ++failed;
-                case_ok = false;
-            }
-        }
-        if (!case_ok) ++failed_cases;
-        runs += static_cast<std::int64_t>(c["runs"].size());
-        out_cases.push_back(std::move(c));
-    }
-    return {{"schema_version", 1},
+    for (auto& j : jobs) out_cases.push_back(j->finish());
+    json timings_cases = take_timings(out_cases);
+    json summary = summarize(out_cases);
+    return {{"schema_version", kReportSchemaVersion},
             {"tool", {{"name", "dampsym"}, {"version", DAMPSYM_VERSION}}},
-            {"cases", out_cases},
-            {"summary",
-             {{"cases", cases.size()},
-              {"failed_cases", failed_cases},
-              {"runs", runs},
-              {"checks_passed", passed},
-              {"checks_failed", failed},
-              {"jobs", options.jobs},
-              {"timing",
-               {{"time_budget_seconds", options.time_budget},
-                {"protocol", "one warm-up of the bare step loop, then the minimum of N "
-                             "repetitions, N chosen so they total >= the budget; "
-                             "failed runs are not timed"}}},
-              {"wall_seconds", seconds_since(start)}}}};
+            {"cases", std::move(out_cases)},
+            {"summary", std::move(summary)},
+            {"timings",
+             {{"wall_seconds", seconds_since(start)},
+              {"time_budget_seconds", options.time_budget},
+              {"protocol", "runs: wall time of the measured run (with its observers); timing: "
+                           "one warm-up of the bare step loop, then the minimum of N "
+                           "repetitions, N chosen so they total >= the budget (ladder cases "
+                           "only; failed runs are not timed)"},
+              {"cases", std::move(timings_cases)}}}};
 }
 
 } // namespace dampsym

@@ -1,0 +1,171 @@
+#include "harness/junit.hpp"
+
+#include "harness/report.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+namespace dampsym {
+namespace {
+
+using json = nlohmann::json;
+
+// XML attribute/text escaping; characters XML 1.0 forbids are dropped.
+std::string xml(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        switch (ch) {
+        case '&':
+            out += "&amp;";
+            break;
+        case '<':
+            out += "&lt;";
+            break;
+        case '>':
+            out += "&gt;";
+            break;
+        case '"':
+            out += "&quot;";
+            break;
+        case '\'':
+            out += "&apos;";
+            break;
+        case '\n':
+            out += "&#10;";
+            break;
+        case '\t':
+            out += "&#9;";
+            break;
+        default:
+            if (c >= 0x20) out += ch; // other control characters are not XML 1.0
+        }
+    }
+    return out;
+}
+
+// The shortest of %.15g, %.16g, %.17g that reads back as the same double (0.1, not
+// 0.10000000000000001).
+std::string num(const json& v) {
+    if (v.is_null()) return "null";
+    if (!v.is_number_float()) return v.dump();
+    const double x = v.get<double>();
+    char buf[64];
+    for (int digits = 15; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+        if (std::strtod(buf, nullptr) == x) break;
+    }
+    return buf;
+}
+
+// Seconds as JUnit readers accept them (no exponent).
+std::string seconds(double s) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6f", s < 0.0 ? 0.0 : s);
+    return buf;
+}
+
+std::string expected_text(const json& ck) {
+    const std::string op = ck["op"].get<std::string>();
+    std::string e = op == "near" ? num(ck["expected"]) + " +- " + num(ck["tolerance"])
+                    : op == "le" ? "<= " + num(ck["expected"])
+                    : op == "ge" ? ">= " + num(ck["expected"])
+                    : op == "lt" ? "< " + num(ck["expected"])
+                                 : "> " + num(ck["expected"]);
+    if (ck.value("abs", false)) e = "|x| " + e;
+    return e;
+}
+
+// A check whose value is missing because its run (or its reference) failed, not because the
+// value was out of tolerance.
+bool is_error(const json& ck) {
+    if (ck["passed"].get<bool>() || !ck.contains("message")) return false;
+    const std::string m = ck["message"].get<std::string>();
+    return m.rfind("run ", 0) == 0 || m.rfind("reference failed", 0) == 0;
+}
+
+} // namespace
+
+std::string junit_test_name(const json& ck) {
+    std::string name = ck["name"].get<std::string>() + " [" + ck["method"].get<std::string>();
+    if (ck.contains("dt")) name += ", dt=" + num(ck["dt"]);
+    return name + "]";
+}
+
+std::string render_junit(const json& report) {
+    std::int64_t tests = 0, failures = 0, errors = 0;
+    std::ostringstream body;
+    double total_time = 0.0;
+    const bool timed = report.contains("timings") && report["timings"].contains("wall_seconds");
+    if (timed) total_time = report["timings"]["wall_seconds"].get<double>();
+    for (std::size_t ci = 0; ci < report["cases"].size(); ++ci) {
+        const json& c = report["cases"][ci];
+        std::int64_t t = 0, f = 0, e = 0;
+        for (const auto& ck : c["checks"]) {
+            ++t;
+            if (is_error(ck))
+                ++e;
+            else if (!ck["passed"].get<bool>())
+                ++f;
+        }
+        tests += t;
+        failures += f;
+        errors += e;
+        double case_time = 0.0;
+        for (std::size_t ri = 0; ri < c["runs"].size(); ++ri)
+            if (const json* rt = run_timing(report, ci, ri); rt && rt->contains("wall_seconds"))
+                case_time += (*rt)["wall_seconds"].get<double>();
+        const std::string id = c["id"].get<std::string>();
+        body << "  <testsuite name=\"" << xml(id) << "\" tests=\"" << t << "\" failures=\"" << f
+             << "\" errors=\"" << e << "\" skipped=\"0\" time=\"" << seconds(case_time)
+             << "\">\n    <properties>\n";
+        auto property = [&](const char* name, const std::string& value) {
+            body << "      <property name=\"" << name << "\" value=\"" << xml(value) << "\"/>\n";
+        };
+        property("title", c.value("title", std::string()));
+        property("source", c.value("source", std::string()));
+        property("problem", c["problem"]["id"].get<std::string>());
+        property("file", c.value("file", std::string()));
+        body << "    </properties>\n";
+        for (const auto& ck : c["checks"]) {
+            body << "    <testcase classname=\"" << xml(id) << "\" name=\""
+                 << xml(junit_test_name(ck)) << "\"";
+            if (ck["passed"].get<bool>()) {
+                body << "/>\n";
+                continue;
+            }
+            const std::string what = "metric " + ck["metric"].get<std::string>() + ": value " +
+                                     num(ck["value"]) + ", expected " + expected_text(ck);
+            std::ostringstream detail;
+            detail << "check: " << ck["name"].get<std::string>()
+                   << (ck.value("negative_control", false) ? " (negative control)" : "")
+                   << "\nmethod: " << ck["method"].get<std::string>();
+            if (ck.contains("dt")) detail << "\ndt: " << num(ck["dt"]);
+            detail << "\nmetric: " << ck["metric"].get<std::string>()
+                   << "\nvalue: " << num(ck["value"]) << "\nexpected: " << expected_text(ck);
+            if (ck.contains("tolerance")) detail << "\ntolerance: " << num(ck["tolerance"]);
+            if (ck.contains("message")) detail << "\nmessage: " << ck["message"].get<std::string>();
+            if (ck.contains("note")) detail << "\nnote: " << ck["note"].get<std::string>();
+            if (!c.value("source", std::string()).empty())
+                detail << "\nsource: " << c["source"].get<std::string>();
+            if (is_error(ck))
+                body << ">\n      <error type=\"run-failed\" message=\""
+                     << xml(ck["message"].get<std::string>()) << "\">" << xml(detail.str())
+                     << "</error>\n    </testcase>\n";
+            else
+                body << ">\n      <failure type=\"check-failed\" message=\"" << xml(what) << "\">"
+                     << xml(detail.str()) << "</failure>\n    </testcase>\n";
+        }
+        body << "  </testsuite>\n";
+    }
+    std::ostringstream os;
+    os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"dampsym\" tests=\""
+       << tests << "\" failures=\"" << failures << "\" errors=\"" << errors << "\"";
+    if (timed) os << " time=\"" << seconds(total_time) << "\"";
+    os << ">\n" << body.str() << "</testsuites>\n";
+    return os.str();
+}
+
+} // namespace dampsym
