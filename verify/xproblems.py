@@ -109,11 +109,21 @@ class Oscillator(Problem):
                 e = math.exp(-g * tk)
                 C[k], S[k] = e * math.cos(beta * tk), e * math.sin(beta * tk) / beta
             else:
-                kap = math.sqrt(-b2)
-                slow, fast = math.exp(-w * w / (kap + g) * tk), math.exp(-(kap + g) * tk)
-                C[k], S[k] = 0.5 * (slow + fast), 0.5 * (slow - fast) / kap
+                C[k] = S[k] = math.nan     # over-damped: eigen-decomposition below
         q0, p0 = self.z0
-        return np.stack([C * q0 + S * (g * q0 + p0), C * p0 + S * (-w * w * q0 - g * p0)], axis=-1)
+        out = np.stack([C * q0 + S * (g * q0 + p0), C * p0 + S * (-w * w * q0 - g * p0)], axis=-1)
+        # over-damped (|b2 t^2| > 1, b2 < 0): q = a e^{l1 t} + b e^{l2 t} with the roots
+        # l1 = -w^2/(kap + g) (slow, no cancellation), l2 = -(kap + g), l2 - l1 = -2 kap;
+        # a = (l2 q0 - p0)/(l2 - l1), b = (p0 - l1 q0)/(l2 - l1).  The C, S form above would
+        # cancel e^{l1 t} terms in p (1 - g/kap ~ w^2/2g^2): that lost ~1e-14 at gamma = 1e3.
+        od = np.isnan(C)
+        if od.any():
+            kap = math.sqrt(-b2)
+            l1, l2 = -w * w / (kap + g), -(kap + g)
+            a, b = (l2 * q0 - p0) / (-2 * kap), (p0 - l1 * q0) / (-2 * kap)
+            e1, e2 = np.exp(l1 * t[od]), np.exp(l2 * t[od])
+            out[od] = np.stack([a * e1 + b * e2, a * l1 * e1 + b * l2 * e2], axis=-1)
+        return out
 
 
 class Pendulum(Problem):
