@@ -177,9 +177,25 @@ def metric_stability(method, prob, h):
     ev = np.linalg.eigvals(M)
     g = prob.g
     ht = 0.5 * np.trace(M)
-    return dict(det=float(np.linalg.det(M)), det_expected=math.exp(-2 * g * h), half_trace=float(ht),
-                spectral_radius=float(np.abs(ev).max()), matrix=M.tolist(),
-                F_condition=int(abs(ht) < math.exp(-g * h)))
+    w = prob.w
+    det, dexp = float(np.linalg.det(M)), math.exp(-2 * g * h)
+    b2 = (w - g) * (w + g)
+    # exact flow: half trace of e^{hA} = e^{-gh} cos(beta h) (cosh for beta^2 < 0)
+    hx = math.exp(-g * h) * (math.cos(math.sqrt(b2) * h) if b2 >= 0 else math.cosh(math.sqrt(-b2) * h))
+    out = dict(det=det, det_expected=dexp, det_rel_err=abs(det - dexp) / dexp, half_trace=float(ht),
+               half_trace_exact=hx, half_trace_exact_err=abs(ht - hx),
+               spectral_radius=float(np.abs(ev).max()), matrix=M.tolist(),
+               power_bounded=int(float(np.abs(ev).max()) <= 1.0),
+               F_condition=int(abs(ht) < math.exp(-g * h)))
+    # F's closed forms (3.10), (3.15), (3.20) (docs/conventions.md §5)
+    e = math.exp(-g * h)
+    F = {"cimp": e * (1 - h * h * b2 / 4) / (1 + h * h * b2 / 4),
+         "csv1": e * (1 - h * h * w * w / 2) * math.cosh(g * h),
+         "csv2": e * ((4 + g * g * h * h) - 2 * h * h * w * w * math.cosh(g * h / 2)) / (4 - g * g * h * h)
+         if g * h != 2 else math.nan}.get(method)
+    if F is not None:
+        out.update(half_trace_formula=F, half_trace_formula_rel_err=abs(ht - F) / abs(F) if F else abs(ht))
+    return out
 
 
 # ---------------------------------------------------------------------------------------
@@ -264,6 +280,14 @@ def check_case(case):
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
+        ours_metrics[(method, dt)] = {
+            "run.steps": mine["steps"], "run.ok": int(mine["status"] == "ok"),
+            "run.diverged": int(mine["status"] == "diverged"),
+            "run.failed_at_step": mine["steps"] if mine["status"] != "ok" else 0,
+            "run.final_time": t0 + mine["steps"] * dt}
+        if "stability" in metrics and isinstance(prob, xp.Oscillator):
+            ours_metrics[(method, dt)].update(
+                {"stability." + k: v for k, v in metric_stability(method, prob, dt).items()})
         if status != "ok" or mine["status"] != "ok":
             ok = mine["status"] == status
             if ok and "steps" in run and status == "diverged":
@@ -273,6 +297,7 @@ def check_case(case):
             rec["verdict"] = "agree" if ok else "disagree"
             continue
         chaotic = None
+        eb_floor = 0.0
         kind = "implicit" if method in xm.IMPLICIT else "explicit"
         my_t = t0 + nsteps * dt
         comps.append(cmp_rel("final_time", my_t, run.get("final_time"), TOL_TIME))
@@ -305,7 +330,7 @@ def check_case(case):
                           "rel %.3g%s" % (tol, " (" + floor_note + ")" if floor_note else ""),
                           rel_diff=diff / scale))
         state_bound = tol * scale          # absolute state difference we accept
-        mm = {}
+        mm = ours_metrics[(method, dt)]
         # errors on the output grid
         if "error" in metrics or "order" in (case.get("diagnostics") or []):
             if need_traj and points >= 2:
@@ -324,6 +349,7 @@ def check_case(case):
                        "error.max_rel": float(np.max(e[1:] / rn[1:])) if len(e) > 1 else float(e[0] / rn[0]),
                        "error.mean_abs": float(e[1:].mean()) if len(e) > 1 else float(e[0])})
             my_err.setdefault(method, {})[dt] = (float(e[-1]), est)
+            mm["error.reference_error_estimate"] = est      # OUR reference's estimate (verdicts)
             rec["notes"].append("our reference: %s, estimate %.2g" % (note, est))
             their_est = num(get_path(metrics, "error.reference_error_estimate") or 0.0)
             err_slack = state_bound + est + (0.0 if math.isnan(their_est) else their_est)
@@ -335,7 +361,27 @@ def check_case(case):
                 sl = err_slack / (rn[-1] if key.endswith("rel") else 1.0)
                 big = num(th) >= 1000 * max(est, their_est if not math.isnan(their_est) else 0.0, TINY)
                 comps.append(cmp_rel("error." + key, ours, th, TOL_ERR if big else 0.0, abs_floor=sl))
+        if "local-error" in metrics and prob.exact_available:
+            z1 = xrun.integrate(method, prob, dt, 1, t0)["z"]
+            ze = prob.exact(t0, [t0 + dt])[0]
+            la = float(np.linalg.norm(z1 - ze))
+            mm["local-error.abs"], mm["local-error.rel"] = la, la / float(np.linalg.norm(ze))
+            my_local.setdefault(method, {})[dt] = la
         traj = mine["traj"]
+        if traj is not None and "energy-balance" in metrics and points >= 10:
+            # B (3.4): R_n = |D_t H_n + 2 gamma p_n^2| with the 8th-order central difference on the
+            # output grid (interior points n = 4 .. N-4)
+            stride = max(1, int(round((t_end - t0) / (points - 1) / dt)))
+            Zg = traj[::stride]
+            Hg = prob.energy(Zg)
+            w8 = np.array([1 / 280, -4 / 105, 1 / 5, -4 / 5, 0.0, 4 / 5, -1 / 5, 4 / 105, -1 / 280])
+            D = np.convolve(Hg, w8[::-1], mode="valid") / (stride * dt)
+            pg = Zg[4:-4, prob.nq:]
+            Rb = np.abs(D + 2 * prob.g * np.sum(pg * prob.dT(pg), axis=-1))
+            mm.update({"energy-balance.max": float(Rb.max()), "energy-balance.mean": float(Rb.mean()),
+                       "energy-balance.last": float(Rb[-1]), "energy-balance.points": len(Rb)})
+            # round-off floor of the difference quotient: 8 eps max|H| sum|w| / Delta
+            eb_floor = 8 * EPS * float(np.max(np.abs(Hg))) * float(np.sum(np.abs(w8))) / (stride * dt)
         if traj is not None:
             times = t0 + dt * np.arange(len(traj))
             if "invariants" in metrics:
@@ -358,9 +404,6 @@ def check_case(case):
             if "conformal-symplectic" in metrics and prob.canonical:
                 for k, v in metric_conformal_symplectic(method, prob, dt, t0, traj).items():
                     mm["conformal-symplectic." + k] = v
-        if "stability" in metrics and isinstance(prob, xp.Oscillator):
-            for k, v in metric_stability(method, prob, dt).items():
-                mm["stability." + k] = v
         if "cost" in metrics:
             mm["cost.max_newton_iters"] = None   # iteration counts depend on the solver: verdict only
         ours_metrics[(method, dt)] = mm
@@ -389,13 +432,19 @@ def check_case(case):
         flat = flatten("", metrics, {})
         for key, th in sorted(flat.items()):
             if key.startswith("error.") or key.startswith("cost.") or key.endswith("wall_seconds") \
-                    or key in ("conformal-symplectic.norm", "conformal-symplectic.status"):
+                    or key in ("conformal-symplectic.norm", "conformal-symplectic.status",
+                               "stability.formula_source", "stability.eigenvalues"):
                 continue
             if key not in mm or mm[key] is None:
                 rec["notes"].append("metric %s not reproduced" % key)
                 rec.setdefault("not_reproduced", []).append(key)
                 continue
             ours = mm[key]
+            if key.startswith("energy-balance.") and key != "energy-balance.points":
+                unc[key] = eb_floor
+                comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=eb_floor,
+                                     label="rel %g + difference-quotient floor %.2g" % (TOL_METRIC, eb_floor)))
+                continue
             if key in band:
                 unc[key] = band[key]
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=band[key],
@@ -436,6 +485,10 @@ def check_case(case):
                     comps.append(comp(key, ours, th, dd <= TOL_STAB * np.abs(M).max(), "abs %g max|M|" % TOL_STAB))
                 elif key == "stability.spectral_radius":
                     comps.append(cmp_rel(key, ours, th, TOL_RHO))
+                elif key in ("stability.det_rel_err", "stability.half_trace_formula_rel_err"):
+                    comps.append(cmp_resid(key, ours, th, slack=8 * EPS))   # round-off quantities
+                elif key == "stability.half_trace_exact_err":
+                    comps.append(cmp_rel(key, ours, th, 1e-9, abs_floor=8 * EPS))
                 else:
                     comps.append(cmp_rel(key, ours, th, TOL_STAB, abs_floor=1e-300))
             elif any(s in key for s in ("step_rel", "global_rel", "law_rel", "conformal-symplectic.max",
@@ -491,6 +544,29 @@ def check_case(case):
         ours_metrics.setdefault((method, None), {}).update(
             {"order.slope": fit.get("slope"), "order.r2": fit.get("r2")})
         rec["verdict"] = "agree" if c["agree"] else "disagree"
+
+    # local order: fit of OUR one-step errors (floor 1000 eps max(1, |z|))
+    for method, mmd in sorted((case.get("method_metrics") or {}).items()):
+        theirs = (mmd or {}).get("local-order")
+        if theirs is None:
+            continue
+        rec = dict(case=cid, method=method + " (local-order)", comparisons=[], notes=[])
+        orders_out.append(rec)
+        errs = my_local.get(method, {})
+        if not errs:
+            rec.update(verdict="not reproduced", reason="no local errors of our own")
+            continue
+        fit = fit_order(list(errs), list(errs.values()), 1000 * EPS * max(1.0, float(np.linalg.norm(prob.z0))))
+        if fit["ok"] and theirs.get("ok"):
+            cc = cmp_rel("local-order.slope", fit["slope"], theirs.get("slope"), 0.0, abs_floor=TOL_ORDER,
+                         label="abs %g" % TOL_ORDER)
+        else:
+            cc = comp("local-order.ok", fit["ok"], bool(theirs.get("ok")), fit["ok"] == bool(theirs.get("ok")), "equal")
+        rec["comparisons"].append(cc)
+        rec["verdict"] = "agree" if cc["agree"] else "disagree"
+        for d in errs:
+            ours_metrics.setdefault((method, d), {})["local-order.slope"] = fit.get("slope")
+        ours_metrics.setdefault((method, None), {})["local-order.slope"] = fit.get("slope")
 
     # every check's verdict from OUR value
     for chk in case.get("checks") or []:
