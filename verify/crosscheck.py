@@ -143,16 +143,38 @@ def metric_temperature(prob, traj):
                 max_abs_dev_initial=float(np.max(np.abs(T - T[0]))))
 
 
+def table_factor(method, g, h):
+    """B Table 3.1: per-step linear-momentum factor each conformal method achieves."""
+    if method in ("csv1", "csv1-perk"):
+        return math.exp(-2 * g * h)
+    if method in ("csv2", "cimp"):
+        return math.exp(-g * h) * (2 - g * h) / (2 + g * h)
+    return None
+
+
 def metric_momentum(prob, traj, h, method):
+    """Sum p and sum q x p per step: factor f_n = P_{n+1}.P_n / P_n.P_n, law e^{-2 gamma h}
+    (B Ex. 1.3), law residual |P_{n+1} - law P_n| / |P_n|, and for the linear momentum the
+    factor B Table 3.1 gives the method."""
     out = {}
+    law = math.exp(-2.0 * prob.g * h)
     for kind, fn in (("linear", prob.linear_momentum), ("angular", prob.angular_momentum)):
         P = fn(traj)
         nrm = np.linalg.norm(P, axis=-1)
-        law = math.exp(-2.0 * prob.g * h)
-        step = np.linalg.norm(P[1:] - law * P[:-1], axis=-1) / np.maximum(nrm[:-1], TINY)
-        glob = np.linalg.norm(P - P[0] * np.exp(-2.0 * prob.g * h * np.arange(len(P)))[:, None], axis=-1)
-        out[kind] = dict(initial_norm=float(nrm[0]), max_law_rel=float(step.max()),
-                         last_law_rel=float(step[-1]))
+        den = np.maximum(nrm[:-1], TINY)
+        fac = np.sum(P[1:] * P[:-1], axis=-1) / np.maximum(np.sum(P[:-1] * P[:-1], axis=-1), TINY)
+        step = np.linalg.norm(P[1:] - law * P[:-1], axis=-1) / den
+        d = dict(initial_norm=float(nrm[0]), max_law_rel=float(step.max()),
+                 last_law_rel=float(step[-1]), first_factor=float(fac[0]))
+        tf = table_factor(method, prob.g, h) if kind == "linear" else None
+        exp_f = tf if tf is not None else law
+        d["max_factor_dev"] = float(np.max(np.abs(fac - exp_f)))
+        if kind == "linear":
+            d["law_factor"] = law
+            if tf is not None:
+                d["table_factor"] = tf
+                d["max_table_rel"] = float(np.max(np.linalg.norm(P[1:] - tf * P[:-1], axis=-1) / den))
+        out[kind] = d
     return out
 
 
@@ -450,7 +472,8 @@ def check_case(case):
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=band[key],
                                      label="rel %g + ensemble band %.3g" % (TOL_METRIC, band[key])))
                 continue
-            if key.startswith("momentum.") and key.endswith("law_rel"):
+            if key.startswith("momentum.") and (key.endswith("_rel") or key.endswith("factor_dev")
+                                                 or key.endswith("first_factor")):
                 kk = key.split(".")[1]
                 p_scale = float(np.sum(np.abs(prob.z0[prob.nq:])))
                 if mm.get("momentum.%s.initial_norm" % kk, 1.0) <= 1e3 * EPS * p_scale:
@@ -491,7 +514,8 @@ def check_case(case):
                     comps.append(cmp_rel(key, ours, th, 1e-9, abs_floor=8 * EPS))
                 else:
                     comps.append(cmp_rel(key, ours, th, TOL_STAB, abs_floor=1e-300))
-            elif any(s in key for s in ("step_rel", "global_rel", "law_rel", "conformal-symplectic.max",
+            elif any(s in key for s in ("step_rel", "global_rel", "law_rel", "table_rel", "factor_dev",
+                                        "conformal-symplectic.max",
                                         "conformal-symplectic.last")):
                 # on the linear path a per-step residual also carries M's own rounding: 256 eps
                 unc[key] = 256 * EPS if mine.get("linear_path") else 0.0
