@@ -137,6 +137,45 @@ def metric_energy(prob, traj, times, ref=None):
     return out
 
 
+_HB = np.array([[1, 0, 0, -10, 15, -6], [0, 1, 0, -6, 8, -3], [0, 0, .5, -1.5, 1.5, -.5],
+                [0, 0, 0, .5, -1, .5], [0, 0, 0, -4, 7, -3], [0, 0, 0, 10, -15, 6]], float)
+
+
+def dissipation_drift(prob, traj, t0, h):
+    """F (4.4): d = ln(max q) + Gamma(t) at the maxima of q, each located by the quintic Hermite
+    interpolant through (q, q', q'') at both ends of the step where q' changes sign from + to -
+    (docs/conventions.md §5); its least-squares slope, range, first and last (t, d)."""
+    q = traj[:, 0]
+    p = traj[:, prob.nq:prob.nq + 1]
+    n = np.arange(len(q))
+    t = t0 + n * h
+    qd = prob.dT(p)[:, 0]
+    qdd = (prob.force(t[:, None], traj[:, :prob.nq]) - 2 * prob.gamma(t)[..., None] * p
+           if np.ndim(prob.gamma(t)) else prob.force(t[:, None], traj[:, :prob.nq]) - 2 * prob.gamma(t) * p)
+    qdd = np.asarray(qdd)[:, 0] / prob.m if np.ndim(prob.m) == 0 else np.asarray(qdd)[:, 0] / prob.m[0]
+    k = np.nonzero((qd[:-1] > 0) & (qd[1:] <= 0))[0]
+    coef = np.stack([q[k], h * qd[k], h * h * qdd[k], h * h * qdd[k + 1], h * qd[k + 1], q[k + 1]], axis=-1) @ _HB
+    dcoef = coef[:, 1:] * np.arange(1, 6)
+    ddcoef = dcoef[:, 1:] * np.arange(1, 5)
+    s = qd[k] / (qd[k] - qd[k + 1])
+    for _ in range(60):
+        pw = s[:, None] ** np.arange(5)
+        ds = (dcoef * pw).sum(-1) / (ddcoef * pw[:, :4]).sum(-1)
+        s = np.clip(s - ds, 0.0, 1.0)
+        if np.all(np.abs(ds) <= 4 * EPS):
+            break
+    qm = (coef * s[:, None] ** np.arange(6)).sum(-1)
+    tm = t[k] + s * h
+    ok = qm > 0
+    tm, qm = tm[ok], qm[ok]
+    if len(tm) == 0:
+        return dict(maxima=0)
+    G = np.array([prob.Gamma(x) for x in tm]) - prob.Gamma(t0) if prob.t_dependent_gamma else prob.g * (tm - t0)
+    d = np.log(qm) + G
+    return dict(maxima=len(d), slope=lsq_slope(tm, d), range=float(d.max() - d.min()),
+                first=[float(tm[0]), float(d[0])], last=[float(tm[-1]), float(d[-1])], _d=d)
+
+
 def metric_temperature(prob, traj):
     T = prob.temperature(traj)
     return dict(initial=float(T[0]), max=float(T.max()), min=float(T.min()), mean=float(T.mean()),
@@ -300,7 +339,8 @@ def check_case(case):
         nsteps = int(run.get("steps_planned", run.get("steps", 0)))
         metrics = run.get("metrics") or {}
         need_traj = bool(metrics) and any(k in metrics for k in (
-            "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic"))
+            "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
+            "dissipation-drift"))
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
@@ -427,6 +467,34 @@ def check_case(case):
                 st = max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1
                 for k, v in metric_energy(prob, traj[::st], times[::st]).items():
                     mm["energy." + k] = v
+            if "dissipation-drift" in metrics and prob.nq == 1:
+                dd = dissipation_drift(prob, traj, t0, dt)
+                for k, v in dd.items():
+                    if k != "_d":
+                        mm["dissipation-drift." + k] = v
+                if "reference" in (metrics.get("dissipation-drift") or {}):
+                    # the reference's d(t) from OUR reference sampled at the same step times
+                    Zr_all, _, _ = reference_states(prob, case, times)
+                    rd = dissipation_drift(prob, Zr_all, t0, dt)
+                    for k, v in rd.items():
+                        if k != "_d":
+                            mm["dissipation-drift.reference." + k] = v
+                    if len(dd.get("_d", [])) == len(rd.get("_d", [])) and len(rd.get("_d", [])):
+                        mm["dissipation-drift.max_abs_diff_reference"] = float(np.max(np.abs(dd["_d"] - rd["_d"])))
+                    if "slope" in dd and "slope" in rd:
+                        mm["dissipation-drift.slope_minus_reference"] = dd["slope"] - rd["slope"]
+                        mm["dissipation-drift.maxima_count_diff"] = dd["maxima"] - rd["maxima"]
+            if "energy" in metrics and "error" in metrics and points >= 2:
+                # F Fig 4.3: H(reference) - H(method) on the output grid
+                stride = max(1, int(round((t_end - t0) / (points - 1) / dt)))
+                idx = np.arange(0, nsteps + 1, stride)
+                Zr, _, _ = reference_states(prob, case, t0 + idx * dt)
+                Hr, Hm = prob.energy(Zr), prob.energy(traj[idx])
+                de = Hr - Hm
+                mm["energy.max_abs_error"] = float(np.max(np.abs(de)))
+                mm["energy.final_abs_error"] = float(abs(de[-1]))
+                mm["energy.drift_slope"] = lsq_slope(t0 + idx * dt, de)
+                mm["energy.rel_drift_slope"] = lsq_slope(t0 + idx * dt, de / Hr)
             if "temperature" in metrics and hasattr(prob, "temperature"):
                 for k, v in metric_temperature(prob, traj).items():
                     mm["temperature." + k] = v
@@ -546,6 +614,9 @@ def check_case(case):
                     fl = 0.0
                 unc[key] = fl
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=fl + 1e-300))
+            elif isinstance(th, list) and isinstance(ours, list) and len(th) == len(ours):
+                ok = all(abs(a - num(b)) <= TOL_METRIC * abs(num(b)) + 1e-12 for a, b in zip(ours, th))
+                comps.append(comp(key, ours, th, ok, "rel %g per entry (+1e-12)" % TOL_METRIC))
             elif isinstance(th, (int, float)):
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=1e-300))
         rec["verdict"] = "agree" if all(c["agree"] for c in comps) else "disagree"
