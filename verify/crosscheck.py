@@ -505,8 +505,12 @@ def check_case(case):
             if "conformal-symplectic" in metrics and prob.canonical:
                 for k, v in metric_conformal_symplectic(method, prob, dt, t0, traj).items():
                     mm["conformal-symplectic." + k] = v
-        if "cost" in metrics:
-            mm["cost.max_newton_iters"] = None   # iteration counts depend on the solver: verdict only
+        if "cost" in metrics and method in xm.EXPLICIT_EVALS:
+            # implicit methods' counts depend on each side's Newton: not reproduced
+            mm["cost.rhs_evals_per_step"] = float(xm.EXPLICIT_EVALS[method])
+            mm["cost.max_newton_iters"] = 0
+            mm["cost.jac_evals_per_step"] = 0.0
+            mm["cost.newton_iters_per_step"] = 0.0
         ours_metrics[(method, dt)] = mm
         unc = ours_unc.setdefault((method, dt), {})
         band = {}
@@ -534,7 +538,7 @@ def check_case(case):
         for key, th in sorted(flat.items()):
             if isinstance(th, str):
                 continue            # provenance strings (table_source, formula_source, ...)
-            if key.startswith("error.") or key.startswith("cost.") or key.endswith("wall_seconds") \
+            if key.startswith("error.") or key.endswith("wall_seconds") \
                     or key in ("conformal-symplectic.norm", "conformal-symplectic.status",
                                "stability.formula_source", "stability.eigenvalues"):
                 continue

@@ -434,6 +434,13 @@ class GLM:
                 + np.einsum("ij,...jd->...id", GLM_V, yv)), its
 
 
+# right-hand-side (force or field) evaluations per step as the formulas are written (FSAL not
+# assumed): s stages for explicit RK; two force evaluations for F (2.12), F (2.16), B (2.20)-
+# (2.22) and HLW (3.6); one for B (2.18), (2.19) and HLW (1.8)
+EXPLICIT_EVALS = {"euler": 1, "heun": 2, "rk3": 3, "rk4": 4, "csv1": 2, "csv2": 2, "csv1-perk": 2,
+                  "csv2-perk": 2, "etdprk2": 2, "cse-if": 1, "cse-etd": 1, "symplectic-euler": 1,
+                  "symplectic-euler-adjoint": 1, "stormer-verlet": 2}
+
 IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "glifrk1",
             "glifrk2", "glifrk3", "cimp", "etdrk2", "glm4"}
 NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
