@@ -176,6 +176,28 @@ def dissipation_drift(prob, traj, t0, h):
                 first=[float(tm[0]), float(d[0])], last=[float(tm[-1]), float(d[-1])], _d=d)
 
 
+def poincare_metrics(prob, traj, dt, Zref):
+    """Sections at t = t0 + k T (T the forcing period) after a 10 % transient, q wrapped to
+    [-pi, pi): pointwise distances to OUR reference's sections and set distances (mean nearest
+    distance, Hausdorff) (docs/conventions.md §5)."""
+    stride = int(round(prob.forcing_period / dt))
+    S = traj[::stride]
+    R = Zref
+    n = min(len(S), len(R))
+    S, R = S[:n], R[:n]
+    skip = int(0.1 * (n - 1))
+    S2, R2 = S[skip:], R[skip:]
+
+    def dist(A, B):          # q is an angle: periodic difference in [-pi, pi)
+        dq = np.mod(A[..., 0] - B[..., 0] + math.pi, 2 * math.pi) - math.pi
+        return np.hypot(dq, A[..., 1] - B[..., 1])
+    pw = dist(S2, R2)
+    D = dist(S2[:, None, :], R2[None, :, :])
+    return dict(sections=n, transient_skipped=skip, pointwise_final=float(pw[-1]),
+                pointwise_max=float(pw.max()), set_mean=float(D.min(axis=1).mean()),
+                set_hausdorff=float(max(D.min(axis=1).max(), D.min(axis=0).max())))
+
+
 def metric_temperature(prob, traj):
     T = prob.temperature(traj)
     return dict(initial=float(T[0]), max=float(T.max()), min=float(T.min()), mean=float(T.mean()),
@@ -343,7 +365,7 @@ def check_case(case):
         metrics = run.get("metrics") or {}
         need_traj = bool(metrics) and any(k in metrics for k in (
             "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
-            "dissipation-drift"))
+            "dissipation-drift", "poincare"))
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
@@ -393,9 +415,13 @@ def check_case(case):
                 half = nsteps // 2
                 zm = xrun.integrate(method, prob, dt, half, t0)["z"]
                 prob.z0 = zm * (1 + 4 * EPS) + 4 * EPS * TINY
-                zb = xrun.integrate(method, prob, dt, nsteps - half, t0 + half * dt)["z"]
+                zbr = xrun.integrate(method, prob, dt, nsteps - half, t0 + half * dt, record=need_traj)
+                zb = zbr["z"]
                 prob.z0 = z0
-                D = max(D, float(np.linalg.norm(zb - z)) / scale)
+                Dm = float(np.linalg.norm(zb - z)) / scale
+                if Dm > D and need_traj and mine["traj"] is not None and zbr["traj"] is not None:
+                    pert_run = dict(z=zb, traj=np.concatenate([mine["traj"][:half], zbr["traj"]]))
+                D = max(D, Dm)
             fl = FLOOR_K * D
             if D > 1e-8 and need_traj:
                 chaotic = pert_run          # metrics get an ensemble band below
@@ -454,7 +480,10 @@ def check_case(case):
             D = np.convolve(Hg, w8[::-1], mode="valid") / (stride * dt)
             pg = Zg[4:-4, prob.nq:]
             Rb = np.abs(D + 2 * prob.g * np.sum(pg * prob.dT(pg), axis=-1))
+            diss = 2 * prob.g * np.sum(pg * prob.dT(pg), axis=-1)
             mm.update({"energy-balance.max": float(Rb.max()), "energy-balance.mean": float(Rb.mean()),
+                       # relative to the largest dissipation rate 2 gamma p.grad T(p) on the grid
+                       "energy-balance.max_rel": float(Rb.max() / diss.max()) if diss.max() > 0 else math.nan,
                        "energy-balance.last": float(Rb[-1]), "energy-balance.points": len(Rb)})
             # round-off floor of the difference quotient: 8 eps max|H| sum|w| / Delta
             eb_floor = 8 * EPS * float(np.max(np.abs(Hg))) * float(np.sum(np.abs(w8))) / (stride * dt)
@@ -470,6 +499,12 @@ def check_case(case):
                 st = max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1
                 for k, v in metric_energy(prob, traj[::st], times[::st]).items():
                     mm["energy." + k] = v
+            if "poincare" in metrics and prob.forcing_period:
+                stride = int(round(prob.forcing_period / dt))
+                ts = t0 + dt * np.arange(0, nsteps + 1, stride)
+                Zs, _, _ = reference_states(prob, case, ts)
+                for k, v in poincare_metrics(prob, traj, dt, Zs).items():
+                    mm["poincare." + k] = v
             if "dissipation-drift" in metrics and prob.nq == 1:
                 dd = dissipation_drift(prob, traj, t0, dt)
                 for k, v in dd.items():
@@ -529,6 +564,11 @@ def check_case(case):
                 alt.update({"energy." + k: v for k, v in metric_energy(prob, T2[::st], tt2[::st]).items()})
             if "temperature" in metrics and hasattr(prob, "temperature"):
                 alt.update({"temperature." + k: v for k, v in metric_temperature(prob, T2).items()})
+            if "poincare" in metrics and prob.forcing_period:
+                stride = int(round(prob.forcing_period / dt))
+                Zs, _, _ = reference_states(prob, case, t0 + dt * np.arange(0, nsteps + 1, stride))
+                alt.update({"poincare." + k: v for k, v in poincare_metrics(prob, T2, dt, Zs).items()
+                            if k not in ("sections", "transient_skipped")})
             if "momentum" in metrics and hasattr(prob, "linear_momentum"):
                 for kk, vals in metric_momentum(prob, T2, dt, method).items():
                     alt.update({"momentum.%s.%s" % (kk, k): v for k, v in vals.items()})
@@ -567,7 +607,7 @@ def check_case(case):
                     comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=dfl))
                 continue
             if key.startswith("energy-balance.") and key != "energy-balance.points":
-                unc[key] = eb_floor
+                unc[key] = eb_floor if key != "energy-balance.max_rel" else eb_floor / max(diss.max(), TINY)
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=eb_floor,
                                      label="rel %g + difference-quotient floor %.2g" % (TOL_METRIC, eb_floor)))
                 continue
