@@ -374,6 +374,10 @@ def check_case(case):
             "run.diverged": int(mine["status"] == "diverged"),
             "run.failed_at_step": mine["steps"] if mine["status"] != "ok" else 0,
             "run.final_time": t0 + mine["steps"] * dt}
+        if method in xm.EXPLICIT_EVALS:
+            ours_metrics[(method, dt)]["run.rhs_evals"] = mine["steps"] * xm.EXPLICIT_EVALS[method]
+            ours_metrics[(method, dt)]["run.jac_evals"] = 0
+            ours_metrics[(method, dt)]["run.newton_iters"] = 0
         if "stability" in metrics and isinstance(prob, xp.Oscillator):
             ours_metrics[(method, dt)].update(
                 {"stability." + k: v for k, v in metric_stability(method, prob, dt).items()})
