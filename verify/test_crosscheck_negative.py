@@ -1,13 +1,19 @@
 #!/usr/bin/python3
-"""Negative tests for verify/crosscheck.py: a corrupted report must be caught.
+"""Negative tests for verify/crosscheck.py: a corrupted report must be caught and named.
 
     /usr/bin/python3 verify/test_crosscheck_negative.py MODE REPORT.json WORKDIR
 
-MODE perturb : multiply one run's final_state by (1 + 1e-6); the cross-check must exit 1
-               and name exactly that run (case / method / dt) and nothing else.
-MODE swap    : swap the method names csv1 <-> rk3 in one case; the cross-check must exit 1
-               and name both methods in that case.
-MODE badinput: a report that is not a dampsym report; the cross-check must exit 2.
+Each mode cross-checks a small slice of the report (the cases it corrupts) once unmodified
+and once corrupted; the corrupted one must exit 1 and add DISAGREE lines that name the
+corrupted item (and nothing outside the corrupted case):
+  perturb  : one run's final_state x (1 + 1e-6)
+  metric   : one run's error.final_abs x (1 + 1e-3)
+  verdict  : one check's `passed` flipped
+  swap     : method names csv1 <-> rk3 swapped in one case
+  wrongcoef: a gauss2 run's final state replaced by what gauss2 gives with A_12 of the
+             Gauss tableau perturbed by 1e-8 (computed by our own kernel with that one
+             coefficient patched: a report "from a build with a wrong coefficient")
+  badinput : not a dampsym report -> exit 2
 """
 import copy
 import json
@@ -16,16 +22,19 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+PY = "/usr/bin/python3"
 
 
-def run_crosscheck(report, workdir):
-    path = os.path.join(workdir, "report.json")
+def run_crosscheck(report, workdir, tag):
+    d = os.path.join(workdir, tag)
+    os.makedirs(d, exist_ok=True)
+    path = os.path.join(d, "report.json")
     with open(path, "w") as fh:
         json.dump(report, fh)
-    proc = subprocess.run([sys.executable, os.path.join(HERE, "crosscheck.py"), path,
-                           "--out", workdir], capture_output=True, text=True)
-    print(proc.stdout + proc.stderr)
-    return proc.returncode, [l for l in proc.stdout.splitlines() if l.startswith("DISAGREE")]
+    proc = subprocess.run([PY, os.path.join(HERE, "crosscheck.py"), path, "--out", d, "--jobs", "1"],
+                          capture_output=True, text=True)
+    lines = [l for l in proc.stdout.splitlines() if l.startswith("DISAGREE")]
+    return proc.returncode, lines, proc.stdout + proc.stderr
 
 
 def fail(msg):
@@ -33,58 +42,96 @@ def fail(msg):
     sys.exit(1)
 
 
-def perturb(report, workdir):
-    # first ok run of an implicit method (the looser 1e-9 tolerance), else the first ok run
-    # only runs the cross-check reproduces (oscillator and pendulum), so the change is seen
-    runs = [(c, r) for c in report["cases"] for r in c["runs"] if r["status"] == "ok"
-            and any(r["final_state"]) and c["problem"]["id"] in ("oscillator", "pendulum")]
-    case, run = next(((c, r) for c, r in runs if r["method"] == "cimp"), runs[0])
-    run["final_state"] = [x * (1.0 + 1e-6) for x in run["final_state"]]
-    name = "%s / %s / dt=%g" % (case["id"], run["method"], run["dt"])
-    print("perturbed final_state of %s by 1e-6 relative" % name)
-    rc, lines = run_crosscheck(report, workdir)
+def expect_caught(report, case_ids, workdir, must_name):
+    sl = dict(report, cases=[c for c in report["cases"] if c["id"] in case_ids])
+    return sl
+
+
+def compare(base_report, bad_report, workdir, must_name):
+    _, base_lines, _ = run_crosscheck(base_report, workdir, "base")
+    rc, lines, out = run_crosscheck(bad_report, workdir, "bad")
+    new = [l for l in lines if l not in base_lines]
+    print("\n".join(new))
     if rc != 1:
+        print(out)
         fail("exit status %d, expected 1" % rc)
-    if len(lines) != 1 or not lines[0].startswith("DISAGREE " + name + ":") \
-            or "final_state" not in lines[0]:
-        fail("expected exactly one disagreement naming %s (final_state), got %s" % (name, lines))
+    for name in must_name:
+        if not any(l.startswith("DISAGREE " + name) for l in new):
+            fail("no new disagreement names %s; new: %s" % (name, new))
+    print("caught and named: %s" % ", ".join(must_name))
 
 
-def swap(report, workdir):
-    # prefer a case that also fits orders, so the order comparison is exercised as well
-    cases = [c for c in report["cases"] if c["problem"]["id"] in ("oscillator", "pendulum")
-             and {"csv1", "rk3"} <= {r["method"] for r in c["runs"] if r["status"] == "ok"}]
-    case = next((c for c in cases if {"csv1", "rk3"} <= set(c.get("method_metrics") or {})),
-                cases[0])
-    other = {"csv1": "rk3", "rk3": "csv1"}
-    for r in case["runs"]:
-        r["method"] = other.get(r["method"], r["method"])
-    mm = case.get("method_metrics") or {}
-    case["method_metrics"] = {other.get(k, k): v for k, v in mm.items()}
-    print("swapped csv1 <-> rk3 in case %s" % case["id"])
-    rc, lines = run_crosscheck(report, workdir)
-    if rc != 1:
-        fail("exit status %d, expected 1" % rc)
-    for m in ("csv1", "rk3"):
-        if not any(l.startswith("DISAGREE %s / %s" % (case["id"], m)) for l in lines):
-            fail("no disagreement named %s / %s" % (case["id"], m))
+def pick(report, pred):
+    for c in report["cases"]:
+        for r in c["runs"]:
+            if pred(c, r):
+                return c, r
+    fail("no suitable run in the report")
 
 
-def badinput(report, workdir):
-    rc, _ = run_crosscheck({"schema_version": 99, "cases": "nope"}, workdir)
-    if rc != 2:
-        fail("exit status %d for a bad report, expected 2" % rc)
+def slice_of(report, cid):
+    return dict(report, cases=[copy.deepcopy(c) for c in report["cases"] if c["id"] == cid])
 
 
 def main():
-    if len(sys.argv) != 4 or sys.argv[1] not in ("perturb", "swap", "badinput"):
+    if len(sys.argv) != 4:
         print(__doc__, file=sys.stderr)
         return 2
     mode, src, workdir = sys.argv[1:]
     os.makedirs(workdir, exist_ok=True)
     with open(src) as fh:
-        report = copy.deepcopy(json.load(fh))
-    globals()[mode](report, workdir)
+        report = json.load(fh)
+    if mode == "badinput":
+        rc, _, _ = run_crosscheck({"schema_version": 99, "cases": "nope"}, workdir, "bad")
+        if rc != 2:
+            fail("exit status %d for a bad report, expected 2" % rc)
+    elif mode in ("perturb", "metric"):
+        key = "final_state" if mode == "perturb" else "error"
+        c, r = pick(report, lambda c, r: r.get("status") == "ok" and c["problem"]["id"] == "oscillator"
+                    and r["method"] == "cimp" and "error" in (r.get("metrics") or {}) and c["id"] == "osc-orders")
+        base = slice_of(report, c["id"])
+        bad = copy.deepcopy(base)
+        for rr in bad["cases"][0]["runs"]:
+            if rr["method"] == r["method"] and rr["dt"] == r["dt"]:
+                if mode == "perturb":
+                    rr["final_state"] = [x * (1 + 1e-6) for x in rr["final_state"]]
+                else:
+                    rr["metrics"]["error"]["final_abs"] *= 1 + 1e-3
+        compare(base, bad, workdir, ["%s / %s / dt=%g" % (c["id"], r["method"], r["dt"])])
+    elif mode == "verdict":
+        c = next(c for c in report["cases"] if c["id"] == "osc-orders")
+        base = slice_of(report, c["id"])
+        bad = copy.deepcopy(base)
+        chk = next(k for k in bad["cases"][0]["checks"] if k.get("metric") == "order.slope")
+        chk["passed"] = not chk["passed"]
+        compare(base, bad, workdir, ["%s / %s / check '%s'" % (c["id"], chk["method"], chk["name"])])
+    elif mode == "swap":
+        base = slice_of(report, "osc-orders")
+        bad = copy.deepcopy(base)
+        other = {"csv1": "rk3", "rk3": "csv1"}
+        cc = bad["cases"][0]
+        for r in cc["runs"]:
+            r["method"] = other.get(r["method"], r["method"])
+        compare(base, bad, workdir, ["osc-orders / csv1", "osc-orders / rk3"])
+    elif mode == "wrongcoef":
+        base = slice_of(report, "families-orders-3-4")
+        bad = copy.deepcopy(base)
+        cc = bad["cases"][0]
+        run = next(r for r in cc["runs"] if r["method"] == "gauss2")
+        code = ("import sys, json; sys.path.insert(0, %r); import xproblems as xp, xrun; "
+                "c = json.loads(sys.stdin.read()); p = xp.make_problem(c['problem']['id'], c['problem']['params']); "
+                "o = xrun.integrate('gauss2', p, %r, %d, c['t0']); print(json.dumps(o['z'].tolist()))"
+                % (HERE, float(run["dt"]), int(run["steps"])))
+        env = dict(os.environ, XC_PERTURB_GAUSS="2,0,1,1e-8")
+        proc = subprocess.run([PY, "-c", code], input=json.dumps(cc), capture_output=True, text=True, env=env)
+        if proc.returncode:
+            fail(proc.stderr)
+        run["final_state"] = json.loads(proc.stdout)
+        print("gauss2 dt=%g final state from a tableau with A_12 + 1e-8: %s" % (run["dt"], run["final_state"]))
+        compare(base, bad, workdir, ["families-orders-3-4 / gauss2 / dt=%g" % run["dt"]])
+    else:
+        print(__doc__, file=sys.stderr)
+        return 2
     print("PASS: %s" % mode)
     return 0
 

@@ -1,0 +1,490 @@
+"""Methods of the independent cross-check, written from the papers and docs/conventions.md,
+never from dampsym's C++ sources or coefficient tables.  How each method's coefficients are
+obtained is stated at its definition (and summarised in COEFFICIENT_SOURCES).
+
+make_stepper(method, problem, h) returns step(t, z) -> (z1, newton_iterations); z may carry
+leading batch axes and may be complex (the complex step of the step map gives its exact
+Jacobian; implicit stages are then iterated until both the real and the imaginary parts have
+converged, i.e. the implicit-function-theorem derivative).
+"""
+import math
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+import scipy.linalg as sla
+
+EPS = np.finfo(float).eps
+
+
+class NotApplicable(Exception):
+    pass
+
+
+class SolveFailed(Exception):
+    pass
+
+
+# ----------------------------------------------------------------------------------------
+# Gauss-Legendre collocation tableaux from the roots of the Legendre polynomial (30 digits)
+# ----------------------------------------------------------------------------------------
+def gauss_tableau(s):
+    """c_i = (1 + x_i)/2 with x_i the roots of P_s; A_ij = int_0^{c_i} l_j (collocation
+    condition sum_j A_ij c_j^{k-1} = c_i^k / k, k = 1..s); b_j = int_0^1 l_j.  Solved in 30-digit
+    mpmath and rounded once (BS; B Example 2.1)."""
+    mpmath.mp.dps = 30
+    P = lambda x: mpmath.legendre(s, x)
+    xs = [mpmath.findroot(P, mpmath.cos(mpmath.pi * (i + 0.75) / (s + 0.5))) for i in range(s)]
+    c = sorted([(1 + x) / 2 for x in xs])
+    Vt = mpmath.matrix(s, s)
+    for k in range(s):
+        for j in range(s):
+            Vt[k, j] = c[j] ** k
+    A = np.zeros((s, s))
+    for i in range(s):
+        rhs = mpmath.matrix([c[i] ** (k + 1) / (k + 1) for k in range(s)])
+        row = mpmath.lu_solve(Vt, rhs)
+        A[i] = [float(v) for v in row]
+    rhs = mpmath.matrix([mpmath.mpf(1) / (k + 1) for k in range(s)])
+    b = np.array([float(v) for v in mpmath.lu_solve(Vt, rhs)])
+    return A, b, np.array([float(v) for v in c])
+
+
+GAUSS = {s: gauss_tableau(s) for s in (1, 2, 3)}
+# wrong-coefficient hook for the negative test: XC_PERTURB_GAUSS=s,i,j,delta perturbs A_ij
+import os as _os  # noqa: E402
+if _os.environ.get("XC_PERTURB_GAUSS"):
+    _s, _i, _j, _d = _os.environ["XC_PERTURB_GAUSS"].split(",")
+    GAUSS[int(_s)][0][int(_i), int(_j)] += float(_d)
+
+EXPLICIT_RK = {   # (A, b, c) exact rationals
+    "euler": ([[0]], [1], [0]),                                           # HLW (1.4)
+    "heun": ([[0, 0], [1, 0]], [0.5, 0.5], [0, 1]),                       # B (3.8), trapezoid
+    "rk3": ([[0, 0, 0], [0.5, 0, 0], [-1, 2, 0]], [1 / 6, 2 / 3, 1 / 6], [0, 0.5, 1]),  # Kutta
+    "rk4": ([[0, 0, 0, 0], [0.5, 0, 0, 0], [0, 0.5, 0, 0], [0, 0, 1, 0]],
+            [1 / 6, 1 / 3, 1 / 3, 1 / 6], [0, 0.5, 0.5, 1]),             # classical
+}
+
+COEFFICIENT_SOURCES = {
+    "euler": "HLW (1.4): A = 0, b = 1",
+    "heun": "B (3.8): explicit trapezoid, typed rationals",
+    "rk3": "Kutta's third order (F ch.4): c = (0, 1/2, 1), b = (1/6, 2/3, 1/6), typed rationals",
+    "rk4": "classical RK4 tableau, typed rationals",
+    "implicit-euler": "HLW (1.5): A = b = c = 1",
+    "implicit-midpoint": "HLW (1.6) = 1-stage Gauss, from the Legendre root",
+    "gauss1": "Legendre root of P_1, collocation conditions solved in 30-digit mpmath",
+    "gauss2": "Legendre roots of P_2, collocation conditions solved in 30-digit mpmath",
+    "gauss3": "Legendre roots of P_3, collocation conditions solved in 30-digit mpmath",
+    "glifrk1": "B (2.5) on the 1-stage Gauss tableau above; factors e^{-(Gamma(t+c h)-Gamma(t))}",
+    "glifrk2": "B (2.5) on the 2-stage Gauss tableau above (cf. B (2.12))",
+    "glifrk3": "B (2.5) on the 3-stage Gauss tableau above",
+    "cimp": "F (2.3): integrating factor e^{+-x/2} around the implicit midpoint (= B (2.11))",
+    "etdrk2": "B (2.13): a = sinh(x/2)/x, b = -expm1(-x)/x, phi = e^{-x/2}, phi0 = e^{-x}",
+    "cse-if": "B (2.18) with B's gamma h = 2x",
+    "cse-etd": "B (2.19) with B's gamma h = 2x: coefficient -expm1(-2x)/(2x)",
+    "csv1": "F (2.12)",
+    "csv2": "F (2.16)",
+    "csv1-perk": "B (2.20) tableau pair with B's gamma h = 2x",
+    "csv2-perk": "B (2.21) tableau pair with B's gamma h = 2x and the e^{-x/2} factor restored "
+                 "in A^_21, A^_22, b^ (docs/conventions.md §6)",
+    "etdprk2": "B (2.22) tableau pair with B's gamma h = 2x",
+    "symplectic-euler": "HLW (1.8) with u = p implicit (damping at p_{n+1}, closed form), v = q explicit",
+    "symplectic-euler-adjoint": "adjoint of HLW (1.8): q explicit with p_n, p explicit with q_{n+1}",
+    "stormer-verlet": "HLW (3.6)-(3.7): Psi^{ie}_{h/2} o Psi^{ei}_{h/2} on the full vector field",
+    "glm4": "Butcher's G-symplectic GLM (BS): A, U, B, V and the starting method typed from "
+            "the slides' surds (3 +- sqrt 3)/6 etc., sqrt evaluated in double",
+}
+
+
+# ----------------------------------------------------------------------------------------
+# complex-step Jacobian of a vector field
+# ----------------------------------------------------------------------------------------
+def jac_cs(F, t, z):
+    d = z.shape[-1]
+    zz = np.asarray(z, float)[None, :] + 1e-30j * np.eye(d)
+    return (np.imag(F(t, zz)) / 1e-30).T
+
+
+def _converged(dZ, Z, last, it):
+    """Round-off convergence of an implicit iteration, separately for the real and imaginary
+    parts: returns (done, measure)."""
+    dr, zr = np.max(np.abs(dZ.real)), np.max(np.abs(Z.real))
+    if np.iscomplexobj(Z):
+        di, zi = np.max(np.abs(dZ.imag)), np.max(np.abs(Z.imag))
+        m = max(dr / max(zr, 1e-300), di / max(zi, 1e-300) if zi > 0 else 0.0)
+    else:
+        m = dr / max(zr, 1e-300)
+    if m <= 2 * EPS or (dr == 0.0):
+        return True, m
+    if it >= 3 and m >= 0.5 * last and m <= 1e-11:   # stagnation at round-off
+        return True, m
+    return False, m
+
+
+# ----------------------------------------------------------------------------------------
+# Generic exponential / integrating-factor / plain RK kernel on a field G (N or f):
+#   Z_i = Phi_i z + h sum_j A_ij G(t + c_j h, Z_j);  z1 = phi0 z + h sum_i b_i G(t + c_i h, Z_i)
+# ----------------------------------------------------------------------------------------
+def rk_family_step(G, coef, h, implicit):
+    cache = {}
+
+    def step(t, z):
+        Phi, A, b, phi0, c = coef(t)
+        s = len(b)
+        tt = (t + c * h)[:, None]
+        Zp = Phi[:, None] * z[..., None, :]
+        if not implicit:
+            Z = np.array(Zp)
+            K = np.zeros_like(Zp)
+            for i in range(s):
+                Z[..., i, :] = Zp[..., i, :] + h * np.einsum("j,...jd->...d", A[i, :i], K[..., :i, :])
+                K[..., i, :] = G(tt[i], Z[..., i, :])
+            return phi0 * z + h * np.einsum("i,...id->...d", b, K), 0
+        d = z.shape[-1]
+        # simplified Newton: the matrix I - h A (x) J(t, z) is refreshed every 8 steps, when the
+        # coefficients change (time-dependent gamma) or after a slow solve; the iteration is
+        # run to round-off, so the reuse changes nothing but the iteration count
+        key = (A.tobytes(), bool(np.iscomplexobj(z)))
+        if cache.get("key") != key or cache["age"] >= 8 or cache["slow"]:
+            zr = z.real if np.iscomplexobj(z) else z
+            J = jac_cs(G, t, zr.reshape(-1, d)[0])
+            cache.update(key=key, age=0, slow=False,
+                         Minv=np.linalg.inv(np.eye(s * d) - h * np.kron(A, J)))
+        cache["age"] += 1
+        Minv = cache["Minv"]
+        Z = Zp + h * c[:, None] * G(t, z)[..., None, :]
+        last, it = math.inf, 0
+        while True:
+            it += 1
+            K = G(tt, Z)
+            R = Z - Zp - h * np.einsum("ij,...jd->...id", A, K)
+            shp = R.shape
+            dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(shp)
+            Z = Z - dZ
+            if not np.all(np.isfinite(Z)):
+                raise SolveFailed("non-finite Newton iterate")
+            done, last = _converged(dZ, Z, last, it)
+            if done:
+                break
+            if it > 100:
+                raise SolveFailed("Newton did not converge")
+        cache["slow"] = it > 6
+        K = G(tt, Z)
+        return phi0 * z + h * np.einsum("i,...id->...d", b, K), it
+    return step
+
+
+def plain_coef(A, b, c):
+    A, b, c = np.array(A, float), np.array(b, float), np.array(c, float)
+    one = np.ones(len(b))
+    return lambda t: (one, A, b, 1.0, c)
+
+
+def ifrk_coef(prob, alpha, beta, c, h):
+    """B (2.5): Phi_i = e^{-x(c_i h)}, A_ij = alpha_ij e^{x(c_j h) - x(c_i h)},
+    b_i = beta_i e^{x(c_i h) - x(h)}, phi0 = e^{-x(h)}, x(tau) = Gamma(t+tau) - Gamma(t)."""
+    def coef(t):
+        xc = np.array([dGamma(prob, t, ci * h) for ci in c])
+        xh = dGamma(prob, t, h)
+        return (np.exp(-xc), alpha * np.exp(xc[None, :] - xc[:, None]),
+                beta * np.exp(xc - xh), math.exp(-xh), c)
+    return coef
+
+
+def dGamma(prob, t, tau):
+    """Gamma(t + tau) - Gamma(t) without cancellation: gamma tau for constant gamma; for
+    gamma = eps cos(2t)/2, (eps/4)(sin 2(t+tau) - sin 2t) = (eps/2) cos(2t + tau) sin(tau)."""
+    if getattr(prob, "t_dependent_gamma", False):
+        return 0.5 * prob.eps * math.cos(2 * t + tau) * math.sin(tau)
+    return prob.g * tau
+
+
+def _sinhc(x):      # sinh(x/2)/x  -> 1/2
+    return 0.5 if x == 0 else math.sinh(0.5 * x) / x
+
+
+def _phi1(x):       # (1 - e^{-x})/x -> 1
+    return 1.0 if x == 0 else -math.expm1(-x) / x
+
+
+# ----------------------------------------------------------------------------------------
+# partitioned exponential RK (B (2.14)) on q' = dT(p), p' = force(q) (damping in the phi's);
+# explicit tableau pairs evaluated by repeated sweeps (the dependency graph is acyclic, so
+# 2s+1 sweeps give exactly the direct evaluation).
+# ----------------------------------------------------------------------------------------
+def perk_step(prob, coef, h, chat):
+    nq = prob.nq
+
+    def step(t, z):
+        ph, Ah, bh, ph0, pt, At, bt, pt0 = coef(t)
+        s = len(bh)
+        q, p = z[..., :nq], z[..., nq:]
+        Q = ph[:, None] * q[..., None, :]
+        P = pt[:, None] * p[..., None, :]
+        tt = (t + np.asarray(chat) * h)[:, None]
+        for _ in range(2 * s + 1):
+            Gv = prob.force(tt, Q)
+            P = pt[:, None] * p[..., None, :] + h * np.einsum("ij,...jd->...id", At, Gv)
+            Fv = prob.dT(P)
+            Q = ph[:, None] * q[..., None, :] + h * np.einsum("ij,...jd->...id", Ah, Fv)
+        Gv = prob.force(tt, Q)
+        Fv = prob.dT(P)
+        q1 = ph0 * q + h * np.einsum("i,...id->...d", bh, Fv)
+        p1 = pt0 * p + h * np.einsum("i,...id->...d", bt, Gv)
+        return np.concatenate([q1, p1], axis=-1), 0
+    return step
+
+
+def csv1_perk_coef(prob, h):
+    """B (2.20) with B's gamma h = 2x (x = our Gamma increment over the step)."""
+    def coef(t):
+        x = dGamma(prob, t, h)
+        e = math.exp(-x)           # e^{-gamma_B h / 2}
+        Ah = np.array([[0, 0], [0.5, 0.5]])
+        At = np.array([[0.5, 0], [0.5, 0]])
+        return (np.ones(2), Ah, np.array([0.5, 0.5]), 1.0,
+                np.array([e, e]), At, np.array([0.5 * e, 0.5 * e]), e * e)
+    return coef
+
+
+def csv2_perk_coef(prob, h):
+    """B (2.21) with B's gamma h = 2x and A^_21 = A^_22 = b^_1 = b^_2 = 2 e^{-gB h/4}/(4 - gB h)
+    (the factor docs/conventions.md §6 restores)."""
+    def coef(t):
+        X = 2.0 * dGamma(prob, t, h)            # B's gamma h
+        e4, e2 = math.exp(-X / 4), math.exp(-X / 2)
+        a = 2.0 / (4.0 - X) * e4
+        Ah = np.array([[0, 0], [a, a]])
+        ph = np.array([1.0, (4 + X) / (4 - X) * e2])
+        At = np.array([[2 / (4 + X), 0], [2 / (4 + X), 0]])
+        pt = np.array([4 / (4 + X) * e4] * 2)
+        bt = np.array([(4 - X) / (4 + X) * e4 / 2, e4 / 2])
+        return (ph, Ah, np.array([a, a]), (4 + X) / (4 - X) * e2, pt, At, bt, (4 - X) / (4 + X) * e2)
+    return coef
+
+
+def etdprk2_coef(prob, h):
+    """B (2.22) with B's gamma h = 2x: q by Lobatto IIIA, p by the ETD tableau."""
+    def coef(t):
+        X = 2.0 * dGamma(prob, t, h)
+        e2 = math.exp(-X / 2)
+        a = 0.5 if X == 0 else -math.expm1(-X / 2) / X
+        Ah = np.array([[0, 0], [0.5, 0.5]])
+        At = np.array([[a, 0], [a, 0]])
+        return (np.ones(2), Ah, np.array([0.5, 0.5]), 1.0,
+                np.array([e2, e2]), At, np.array([0.5 * e2, 0.5 * e2]), math.exp(-X))
+    return coef
+
+
+# ----------------------------------------------------------------------------------------
+# hand-written schemes
+# ----------------------------------------------------------------------------------------
+def csv1_step(prob, h):
+    """F (2.12): p_half = e^{-x} p - (h/2) grad V(q); q1 = q + h grad T(p_half);
+    p1 = e^{-x} (p_half - (h/2) grad V(q1)); x = gamma h (Gamma increment for time-dependent gamma)."""
+    nq = prob.nq
+
+    def step(t, z):
+        # Strang splitting: damping flow over each half step, e^{-2 (Gamma(t+h/2) - Gamma(t))}
+        # before and e^{-2 (Gamma(t+h) - Gamma(t+h/2))} after (= e^{-gamma h} for constant gamma)
+        e1 = math.exp(-2.0 * dGamma(prob, t, 0.5 * h))
+        e2 = math.exp(-2.0 * dGamma(prob, t + 0.5 * h, 0.5 * h))
+        q, p = z[..., :nq], z[..., nq:]
+        ph = e1 * p + 0.5 * h * prob.force(t, q)
+        q1 = q + h * prob.dT(ph)
+        p1 = e2 * (ph + 0.5 * h * prob.force(t + h, q1))
+        return np.concatenate([q1, p1], axis=-1), 0
+    return step
+
+
+def csv2_step(prob, h):
+    """F (2.16): (1 + x/2) p_half = e^{-x/2} p - (h/2) grad V(q);
+    (1 - x/2) q1 = e^{-x/2} [ (1 + x/2) e^{-x/2} q + h grad T(p_half) ];
+    p1 = e^{-x/2} [ (1 - x/2) p_half - (h/2) grad V(q1) ];  needs x < 2."""
+    nq = prob.nq
+
+    def step(t, z):
+        x = dGamma(prob, t, h)
+        a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
+        if b <= 0:
+            raise NotApplicable("csv2 needs gamma h < 2")
+        q, p = z[..., :nq], z[..., nq:]
+        ph = (e * p + 0.5 * h * prob.force(t, q)) / a
+        q1 = e * (a * e * q + h * prob.dT(ph)) / b
+        p1 = e * (b * ph + 0.5 * h * prob.force(t + h, q1))
+        return np.concatenate([q1, p1], axis=-1), 0
+    return step
+
+
+def cse_step(prob, h, etd):
+    """B (2.18) (IF) / (2.19) (ETD) with B's gamma h = 2x:
+    p1 = e^{-2x} p - h c grad V(q), c = 1 (IF) or -expm1(-2x)/(2x) (ETD); q1 = q + h grad T(p1)."""
+    nq = prob.nq
+
+    def step(t, z):
+        X = 2.0 * dGamma(prob, t, h)
+        c = (1.0 if X == 0 else -math.expm1(-X) / X) if etd else 1.0
+        q, p = z[..., :nq], z[..., nq:]
+        p1 = math.exp(-X) * p + h * c * prob.force(t, q)
+        q1 = q + h * prob.dT(p1)
+        return np.concatenate([q1, p1], axis=-1), 0
+    return step
+
+
+def symplectic_euler_step(prob, h, adjoint):
+    """HLW (1.8) with u = p (implicit Euler), v = q (explicit Euler) on q' = dT(p),
+    p' = force(t, q) - 2 gamma p: p1 = p + h (force(q) - 2 gamma p1) (linear in p1, solved in
+    closed form), q1 = q + h dT(p1).  The adjoint swaps the roles:
+    q1 = q + h dT(p), p1 = p + h (force(q1) - 2 gamma p)."""
+    nq = prob.nq
+
+    def step(t, z):
+        q, p = z[..., :nq], z[..., nq:]
+        g = prob.gamma(t)
+        if not adjoint:
+            p1 = (p + h * prob.force(t, q)) / (1 + 2 * g * h)
+            q1 = q + h * prob.dT(p1)
+        else:
+            q1 = q + h * prob.dT(p)
+            p1 = p + h * (prob.force(t + h, q1) - 2 * g * p)
+        return np.concatenate([q1, p1], axis=-1), 0
+    return step
+
+
+def stormer_verlet_step(prob, h):
+    """HLW (3.7): Psi^{ie}_{h/2} o Psi^{ei}_{h/2} on the full field b(q, p) = force - 2 gamma p:
+    p_half = p + h/2 b(q, p_half) (linear in p_half), q1 = q + h dT(p_half),
+    p1 = p_half + h/2 b(q1, p_half)."""
+    nq = prob.nq
+
+    def step(t, z):
+        q, p = z[..., :nq], z[..., nq:]
+        g = prob.gamma(t)
+        ph = (p + 0.5 * h * prob.force(t, q)) / (1 + g * h)
+        q1 = q + h * prob.dT(ph)
+        p1 = ph + 0.5 * h * (prob.force(t + h, q1) - 2 * g * ph)
+        return np.concatenate([q1, p1], axis=-1), 0
+    return step
+
+
+# Butcher's G-symplectic GLM (BS; docs/conventions.md §3)
+R3 = math.sqrt(3.0)
+GLM_A = np.array([[(3 + R3) / 6, 0], [-R3 / 3, (3 + R3) / 6]])
+GLM_U = np.array([[1, -(3 + 2 * R3) / 3], [1, (3 + 2 * R3) / 3]])
+GLM_B = np.array([[0.5, 0.5], [0.5, -0.5]])
+GLM_V = np.array([[1, 0], [0, -1.0]])
+GLM_A0 = np.array([[(3 + R3) / 6, 0], [-(3 + R3) / 3, (3 + R3) / 6]])
+GLM_S = np.array([(R3 - 1) / 8, (1 - R3) / 8])
+
+
+class GLM:
+    """State is the pair of values y^[n] (2, d); start() applies the starting method."""
+
+    def __init__(self, prob, h):
+        self.prob, self.h = prob, h
+        self.main = self._stages(GLM_A)
+        self.start0 = self._stages(GLM_A0)
+
+    def _stages(self, A):
+        prob, h = self.prob, self.h
+        cache = {"age": 99}
+
+        def solve(t, Yp):   # Y = Yp + h A f(Y), diagonally implicit, solved stage by stage
+            d = Yp.shape[-1]
+            Y = np.array(Yp)
+            K = np.zeros_like(Yp)
+            its = 0
+            for i in range(2):
+                base = Yp[..., i, :] + h * np.einsum("j,...jd->...d", A[i, :i], K[..., :i, :])
+                y = base.copy()
+                if i == 0:
+                    if cache["age"] >= 8:      # simplified Newton matrix refreshed every 8 steps
+                        zr = (y.real if np.iscomplexobj(y) else y).reshape(-1, d)[0]
+                        J = jac_cs(prob.f, t, zr)
+                        cache.update(age=0, Minv=[np.linalg.inv(np.eye(d) - h * A[k, k] * J)
+                                                  for k in range(2)])
+                    cache["age"] += 1
+                Minv = cache["Minv"][i]
+                last, it = math.inf, 0
+                while True:
+                    it += 1
+                    R = y - base - h * A[i, i] * prob.f(t, y)
+                    dy = R @ Minv.T
+                    y = y - dy
+                    done, last = _converged(dy, y, last, it)
+                    if done:
+                        break
+                    if it > 100:
+                        raise SolveFailed("GLM stage did not converge")
+                its += it
+                Y[..., i, :] = y
+                K[..., i, :] = prob.f(t, y)
+            return Y, K, its
+        return solve
+
+    def start(self, t, y0):
+        Y, K, _ = self.start0(t, np.stack([y0, y0], axis=-2))
+        y2 = self.h * np.einsum("i,...id->...d", GLM_S, K)
+        return np.stack([y0, y2], axis=-2)
+
+    def step(self, t, yv):
+        Yp = np.einsum("ij,...jd->...id", GLM_U, yv)
+        Y, K, its = self.main(t, Yp)
+        return (self.h * np.einsum("ij,...jd->...id", GLM_B, K)
+                + np.einsum("ij,...jd->...id", GLM_V, yv)), its
+
+
+# right-hand-side (force or field) evaluations per step as the formulas are written (FSAL not
+# assumed): s stages for explicit RK; two force evaluations for F (2.12), F (2.16), B (2.20)-
+# (2.22) and HLW (3.6); one for B (2.18), (2.19) and HLW (1.8)
+EXPLICIT_EVALS = {"euler": 1, "heun": 2, "rk3": 3, "rk4": 4, "csv1": 2, "csv2": 2, "csv1-perk": 2,
+                  "csv2-perk": 2, "etdprk2": 2, "cse-if": 1, "cse-etd": 1, "symplectic-euler": 1,
+                  "symplectic-euler-adjoint": 1, "stormer-verlet": 2}
+
+IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "glifrk1",
+            "glifrk2", "glifrk3", "cimp", "etdrk2", "glm4"}
+NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
+                   "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}
+NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
+METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE
+
+
+def make_stepper(method, prob, h):
+    if method in NEEDS_SEPARABLE and not prob.separable:
+        raise NotApplicable("%s needs a separable q/p problem" % method)
+    if method in EXPLICIT_RK:
+        A, b, c = EXPLICIT_RK[method]
+        return rk_family_step(prob.f, plain_coef(A, b, c), h, implicit=False)
+    if method == "implicit-euler":
+        return rk_family_step(prob.f, plain_coef([[1.0]], [1.0], [1.0]), h, implicit=True)
+    if method in ("implicit-midpoint", "gauss1", "gauss2", "gauss3"):
+        A, b, c = GAUSS[1 if method == "implicit-midpoint" else int(method[-1])]
+        return rk_family_step(prob.f, plain_coef(A, b, c), h, implicit=True)
+    if method in ("cimp", "glifrk1", "glifrk2", "glifrk3"):
+        A, b, c = GAUSS[1 if method == "cimp" else int(method[-1])]
+        return rk_family_step(prob.N, ifrk_coef(prob, A, b, c, h), h, implicit=True)
+    if method == "etdrk2":
+        def coef(t):
+            x = dGamma(prob, t, h)
+            return (np.array([math.exp(-0.5 * x)]), np.array([[_sinhc(x)]]),
+                    np.array([_phi1(x)]), math.exp(-x), np.array([0.5]))
+        return rk_family_step(prob.N, coef, h, implicit=True)
+    if method == "csv1":
+        return csv1_step(prob, h)
+    if method == "csv2":
+        if not prob.t_dependent_gamma and prob.g * h >= 2:
+            raise NotApplicable("csv2 needs gamma h < 2")
+        return csv2_step(prob, h)
+    if method in ("cse-if", "cse-etd"):
+        return cse_step(prob, h, etd=method == "cse-etd")
+    if method == "csv1-perk":
+        return perk_step(prob, csv1_perk_coef(prob, h), h, (0.0, 1.0))
+    if method == "csv2-perk":
+        return perk_step(prob, csv2_perk_coef(prob, h), h, (0.0, 1.0))
+    if method == "etdprk2":
+        return perk_step(prob, etdprk2_coef(prob, h), h, (0.0, 1.0))
+    if method in ("symplectic-euler", "symplectic-euler-adjoint"):
+        return symplectic_euler_step(prob, h, adjoint=method.endswith("adjoint"))
+    if method == "stormer-verlet":
+        return stormer_verlet_step(prob, h)
+    raise KeyError(method)

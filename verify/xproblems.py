@@ -1,0 +1,465 @@
+"""Problems of the independent cross-check, written from the papers (HLW ch. I, B, F) and the
+repository's docs (docs/conventions.md), never from dampsym's C++ sources.
+
+Convention (docs/conventions.md §1): q' = grad T(p), p' = -grad V(q, t) - 2 gamma(t) p;
+conformal form z' = N(t, z) - gamma(t) z with N = f + gamma z.  Every function below works on
+arrays whose LAST axis is the state (any leading batch axes) and accepts complex input, so that
+Jacobians are obtained exactly (to round-off) by the complex step.
+"""
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.special import iv
+
+EPS = np.finfo(float).eps
+
+
+class Problem:
+    """Base: separable q/p problem with mass vector `m` (T = sum p^2 / 2m)."""
+    separable = True
+    canonical = True
+    exact_available = False
+    forcing_period = None
+    t_dependent_gamma = False
+
+    def gamma(self, t):
+        return self.g
+
+    def Gamma(self, t):          # Gamma(t) = int_0^t gamma(s) ds
+        return self.g * t
+
+    def dT(self, p):
+        return p / self.m
+
+    def force(self, t, q):       # -grad V(q, t)
+        raise NotImplementedError
+
+    def f(self, t, z):
+        q, p = z[..., :self.nq], z[..., self.nq:]
+        return np.concatenate([self.dT(p), self.force(t, q) - 2.0 * self.gamma(t) * p], axis=-1)
+
+    def N(self, t, z):           # conformal form: f = N - gamma z
+        q, p = z[..., :self.nq], z[..., self.nq:]
+        g = self.gamma(t)
+        return np.concatenate([self.dT(p) + g * q, self.force(t, q) - g * p], axis=-1)
+
+    def energy(self, z):
+        q, p = z[..., :self.nq], z[..., self.nq:]
+        return 0.5 * np.sum(p * p / self.m, axis=-1) + self.V(q)
+
+    # numerical reference: DOP853 at scipy's tightest tolerance, certified by a second solve
+    def reference_grid(self, t0, times):
+        key = (t0, tuple(np.asarray(times).tolist()))
+        cache = self.__dict__.setdefault("_refcache", {})
+        if key not in cache:
+            times = np.asarray(times, float)
+            sols = []
+            for rtol, atol in ((1e-13, 1e-15), (2.3e-14, 1e-16)):
+                s = solve_ivp(lambda t, z: self.f(t, z), (t0, times[-1]), self.z0, method="DOP853",
+                              rtol=rtol, atol=atol, t_eval=times, dense_output=False)
+                if not s.success:
+                    raise RuntimeError("reference failed: " + s.message)
+                sols.append(s.y.T)
+            est = float(np.max(np.linalg.norm(sols[0] - sols[1], axis=-1)))
+            cache[key] = (sols[1], est)
+        return cache[key]
+
+
+class Oscillator(Problem):
+    """q'' + 2 gamma q' + omega^2 q = 0 (F(2.5))."""
+    pid = "oscillator"
+    params = ("omega", "gamma", "q0", "p0")
+    exact_available = True
+
+    def __init__(self, omega, gamma, q0, p0):
+        self.w, self.g = float(omega), float(gamma)
+        self.nq, self.d, self.m = 1, 2, 1.0
+        self.z0 = np.array([q0, p0], float)
+
+    def force(self, t, q):
+        return -self.w ** 2 * q
+
+    def V(self, q):
+        return 0.5 * self.w ** 2 * q[..., 0] ** 2
+
+    def invariants(self):   # H_gamma = (w^2 q^2 + p^2)/2 + g q p (B Ex. 1.2), decays e^{-2Gamma}
+        return {"H_gamma": lambda z: 0.5 * (self.w ** 2 * z[..., 0] ** 2 + z[..., 1] ** 2)
+                + self.g * z[..., 0] * z[..., 1]}
+
+    def exact(self, t0, t):
+        """Exact state at times t (array) in every regime; z' = A z, A + gI = B, B^2 = -beta^2 I."""
+        t = np.atleast_1d(np.asarray(t, float)) - t0
+        g, w = self.g, self.w
+        b2 = (w - g) * (w + g)
+        C, S = np.empty_like(t), np.empty_like(t)
+        for k, tk in enumerate(t):
+            x = b2 * tk * tk
+            if abs(x) <= 1.0:
+                c, s, tc, ts = 0.0, 0.0, 1.0, tk
+                for j in range(14):
+                    c += tc
+                    s += ts
+                    tc *= -x / ((2 * j + 1) * (2 * j + 2))
+                    ts *= -x / ((2 * j + 2) * (2 * j + 3))
+                e = math.exp(-g * tk)
+                C[k], S[k] = e * c, e * s
+            elif b2 > 0:
+                beta = math.sqrt(b2)
+                e = math.exp(-g * tk)
+                C[k], S[k] = e * math.cos(beta * tk), e * math.sin(beta * tk) / beta
+            else:
+                C[k] = S[k] = math.nan     # over-damped: eigen-decomposition below
+        q0, p0 = self.z0
+        out = np.stack([C * q0 + S * (g * q0 + p0), C * p0 + S * (-w * w * q0 - g * p0)], axis=-1)
+        # over-damped (|b2 t^2| > 1, b2 < 0): q = a e^{l1 t} + b e^{l2 t} with the roots
+        # l1 = -w^2/(kap + g) (slow, no cancellation), l2 = -(kap + g), l2 - l1 = -2 kap;
+        # a = (l2 q0 - p0)/(l2 - l1), b = (p0 - l1 q0)/(l2 - l1).  The C, S form above would
+        # cancel e^{l1 t} terms in p (1 - g/kap ~ w^2/2g^2): that lost ~1e-14 at gamma = 1e3.
+        od = np.isnan(C)
+        if od.any():
+            kap = math.sqrt(-b2)
+            l1, l2 = -w * w / (kap + g), -(kap + g)
+            a, b = (l2 * q0 - p0) / (-2 * kap), (p0 - l1 * q0) / (-2 * kap)
+            e1, e2 = np.exp(l1 * t[od]), np.exp(l2 * t[od])
+            out[od] = np.stack([a * e1 + b * e2, a * l1 * e1 + b * l2 * e2], axis=-1)
+        return out
+
+
+class Pendulum(Problem):
+    """q'' + 2 gamma q' + sin q = 0 (F(4.5) with its 2 gamma q misprint fixed)."""
+    pid = "pendulum"
+    params = ("gamma", "q0", "p0")
+
+    def __init__(self, gamma, q0, p0):
+        self.g = float(gamma)
+        self.nq, self.d, self.m = 1, 2, 1.0
+        self.z0 = np.array([q0, p0], float)
+
+    def force(self, t, q):
+        return -np.sin(q)
+
+    def V(self, q):
+        return -np.cos(q[..., 0])
+
+
+class DrivenPendulum(Problem):
+    """q'' + 2 gamma q' + lambda^2 sin q = f sin t (B 3.2.2), forcing period 2 pi."""
+    pid = "driven-pendulum"
+    params = ("f", "gamma", "lambda", "q0", "p0")
+    forcing_period = 2.0 * math.pi
+
+    def __init__(self, f, gamma, q0, p0, **kw):
+        self.F, self.g, self.lam = float(f), float(gamma), float(kw["lambda"])
+        self.nq, self.d, self.m = 1, 2, 1.0
+        self.z0 = np.array([q0, p0], float)
+
+    def force(self, t, q):
+        return -self.lam ** 2 * np.sin(q) + self.F * np.sin(t)
+
+    def V(self, q):
+        return -self.lam ** 2 * np.cos(q[..., 0])
+
+
+class Hill(Problem):
+    """q'' + 2 gamma(t) q' + kappa^2 q = 0, gamma(t) = eps cos(2t) / 2 (B 3.1.2)."""
+    pid = "hill"
+    params = ("epsilon", "kappa", "q0", "p0")
+    t_dependent_gamma = True
+
+    def __init__(self, epsilon, kappa, q0, p0):
+        self.eps, self.k = float(epsilon), float(kappa)
+        self.nq, self.d, self.m = 1, 2, 1.0
+        self.z0 = np.array([q0, p0], float)
+
+    def gamma(self, t):
+        return 0.5 * self.eps * np.cos(2.0 * t)
+
+    def Gamma(self, t):
+        return 0.25 * self.eps * np.sin(2.0 * t)
+
+    def force(self, t, q):
+        return -self.k ** 2 * q
+
+    def V(self, q):
+        return 0.5 * self.k ** 2 * q[..., 0] ** 2
+
+
+class RigidBody(Problem):
+    """B(1.7): z' = S(z) z - gamma(t) z, gamma = eps cos(2t)/2; Casimir |z|^2 and energy
+    sum z_i^2 / (2 I_i) both decay as e^{-2 Gamma} (B(3.10))."""
+    pid = "rigid-body"
+    params = ("I1", "I2", "I3", "epsilon", "z1", "z2", "z3")
+    separable = False
+    canonical = False
+    t_dependent_gamma = True
+    exact_available = True
+
+    def __init__(self, I1, I2, I3, epsilon, z1, z2, z3):
+        self.I = np.array([I1, I2, I3], float)
+        self.eps = float(epsilon)
+        self.d = 3
+        self.z0 = np.array([z1, z2, z3], float)
+
+    def gamma(self, t):
+        return 0.5 * self.eps * np.cos(2.0 * t)
+
+    def Gamma(self, t):
+        return 0.25 * self.eps * np.sin(2.0 * t)
+
+    def N(self, t, z):
+        a1, a2, a3 = 1.0 / self.I
+        z1, z2, z3 = z[..., 0], z[..., 1], z[..., 2]
+        # rows of S(z) z from B(1.7)
+        return np.stack([z3 * z2 * a3 - z2 * z3 * a2, -z3 * z1 * a3 + z1 * z3 * a1,
+                         z2 * z1 * a2 - z1 * z2 * a1], axis=-1)
+
+    def f(self, t, z):
+        return self.N(t, z) - self.gamma(t) * z
+
+    def energy(self, z):
+        return 0.5 * np.sum(z * z / self.I, axis=-1)
+
+    def invariants(self):
+        return {"casimir": lambda z: np.sum(z * z, axis=-1), "energy": self.energy}
+
+    def tau(self, t):
+        """tau(t) = int_0^t e^{-Gamma(s)} ds, Gamma = a sin 2s, a = eps/4, by the Jacobi-Anger
+        series e^{-a sin th} = I0(a) + 2 sum_k I_k(a) cos(k (th + pi/2)) integrated termwise."""
+        a = 0.25 * self.eps
+        t = np.asarray(t, float)
+        out = iv(0, a) * t
+        for k in range(1, 40):
+            ck = iv(k, a)
+            if ck < 1e-300:
+                break
+            out = out + 2.0 * ck * (np.sin(k * (2.0 * t + 0.5 * math.pi)) - math.sin(k * 0.5 * math.pi)) / (2.0 * k)
+        return out
+
+    def exact(self, t0, t):
+        """N is homogeneous of degree 2, so z(t) = e^{-Gamma(t)} y(tau(t)) with y the free body
+        (docs/conventions.md §2).  The free body is integrated once by DOP853 at scipy's tightest
+        tolerance in tau (its invariants are conserved to round-off); the estimate is the
+        difference to a 10x looser solve."""
+        t = np.atleast_1d(np.asarray(t, float))
+        G0 = self.Gamma(t0)
+        taus = self.tau(t) - self.tau(t0)
+        # the body starts at z0 at t0: y(0) = e^{Gamma(t0)} z0 in the rescaled time from t0
+        y0 = self.z0 * math.exp(G0)
+        order = np.argsort(taus)
+        tt = taus[order]
+        sols = []
+        for rtol, atol in ((1e-13, 1e-15), (2.3e-14, 1e-16)):
+            # tau measured from t0: z(t) = e^{-Gamma(t)} y(tau(t) - tau(t0)) with y(0) = e^{Gamma(t0)} z0
+            s = solve_ivp(lambda s_, y: self.N(0.0, y), (0.0, max(tt[-1], 1e-300)), y0,
+                          method="DOP853", rtol=rtol, atol=atol, t_eval=tt)
+            sols.append(s.y.T)
+        Y = np.empty((len(t), 3))
+        Y[order] = sols[1]
+        Y2 = np.empty((len(t), 3))
+        Y2[order] = sols[0]
+        sc = np.exp(-self.Gamma(t))[:, None]
+        self.exact_estimate = float(np.max(np.linalg.norm(sc * (Y - Y2), axis=-1)))
+        return sc * Y
+
+
+class Kepler(Problem):
+    """HLW(2.1)-(2.9): q'' = -q/|q|^3, q(0) = (1-e, 0), p(0) = (0, sqrt((1+e)/(1-e)))."""
+    pid = "kepler"
+    params = ("e",)
+    exact_available = True
+
+    def __init__(self, e, gamma=0.0):
+        self.e, self.g = float(e), float(gamma)
+        self.nq, self.d, self.m = 2, 4, 1.0
+        self.z0 = np.array([1 - self.e, 0.0, 0.0, math.sqrt((1 + self.e) / (1 - self.e))])
+
+    def force(self, t, q):
+        r2 = np.sum(q * q, axis=-1, keepdims=True)
+        return -q / (r2 * np.sqrt(r2))
+
+    def V(self, q):
+        return -1.0 / np.sqrt(np.sum(q * q, axis=-1))
+
+    def invariants(self):   # angular momentum L = q1 p2 - q2 p1 (HLW (2.4))
+        return {"angular_momentum": lambda z: z[..., 0] * z[..., 3] - z[..., 1] * z[..., 2]}
+
+    def exact(self, t0, t):
+        """Kepler's equation E - e sin E = t - t0 (period 2 pi, a = 1), solved by Newton."""
+        e = self.e
+        M = np.atleast_1d(np.asarray(t, float)) - t0
+        M = np.mod(M, 2 * math.pi)
+        E = M + e * np.sin(M)
+        for _ in range(60):
+            dE = (E - e * np.sin(E) - M) / (1 - e * np.cos(E))
+            E = E - dE
+            if np.all(np.abs(dE) <= 4 * EPS * np.maximum(1.0, np.abs(E))):
+                break
+        s, c = np.sin(E), np.cos(E)
+        Ed = 1.0 / (1 - e * c)
+        b = math.sqrt(1 - e * e)
+        self.exact_estimate = 0.0
+        return np.stack([c - e, b * s, -s * Ed, b * c * Ed], axis=-1)
+
+
+class NBodyBase(Problem):
+    """N bodies in `dim` dimensions with pair potentials (HLW (2.10), (3.1)), damping -2 gamma p
+    (F 2.1.2, B 3.3).  State [q_1..q_N, p_1..p_N], each block body-major."""
+
+    def setup(self, masses, q, p, dim, gamma):
+        self.masses = np.asarray(masses, float)
+        self.n, self.dim, self.g = len(self.masses), int(dim), float(gamma)
+        self.nq = self.n * self.dim
+        self.d = 2 * self.nq
+        self.m = np.repeat(self.masses, self.dim)
+        self.z0 = np.concatenate([np.asarray(q, float), np.asarray(p, float)])
+        iu = np.triu_indices(self.n, 1)
+        self.pi, self.pj = iu
+        self.inc = np.zeros((len(self.pi), self.n))
+        self.inc[np.arange(len(self.pi)), self.pi] = 1.0
+        self.inc[np.arange(len(self.pi)), self.pj] = -1.0
+
+    def pair_dphi_over_r(self, r2):      # phi'(r)/r as a function of r^2, per pair
+        raise NotImplementedError
+
+    def force(self, t, q):
+        X = q.reshape(q.shape[:-1] + (self.n, self.dim))
+        D = X[..., self.pi, :] - X[..., self.pj, :]            # q_i - q_j
+        r2 = np.sum(D * D, axis=-1)
+        w = self.pair_dphi_over_r(r2)[..., None] * D           # grad_{q_i} phi_ij
+        Fo = -np.einsum("kn,...kd->...nd", self.inc, w)        # force on i is -w, on j +w
+        return Fo.reshape(q.shape)
+
+    def V(self, q):
+        X = q.reshape(q.shape[:-1] + (self.n, self.dim))
+        D = X[..., self.pi, :] - X[..., self.pj, :]
+        return np.sum(self.pair_phi(np.sum(D * D, axis=-1)), axis=-1)
+
+    def linear_momentum(self, z):
+        P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
+        return P.sum(axis=-2)
+
+    def angular_momentum(self, z):
+        X = z[..., :self.nq].reshape(z.shape[:-1] + (self.n, self.dim))
+        P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
+        if self.dim == 2:
+            return np.sum(X[..., 0] * P[..., 1] - X[..., 1] * P[..., 0], axis=-1)[..., None]
+        return np.cross(X, P).sum(axis=-2)
+
+
+class Gravity:
+    def pair_phi(self, r2):
+        return -self.G * self.mm / np.sqrt(r2)
+
+    def pair_dphi_over_r(self, r2):      # phi = -G mi mj / r  ->  phi'(r)/r = G mi mj / r^3
+        return self.G * self.mm / (r2 * np.sqrt(r2))
+
+
+class LennardJones:
+    def pair_phi(self, r2):             # HLW (3.2): 4 eps ((s/r)^12 - (s/r)^6)
+        s6 = (self.sig ** 2 / r2) ** 3
+        return 4.0 * self.lje * (s6 * s6 - s6)
+
+    def pair_dphi_over_r(self, r2):     # phi'(r)/r = 4 eps (-12 s^12 r^-14 + 6 s^6 r^-8)
+        s6 = (self.sig ** 2 / r2) ** 3
+        return 4.0 * self.lje * (-12.0 * s6 * s6 + 6.0 * s6) / r2
+
+
+class NBody(NBodyBase):
+    pid = "nbody"
+    params = ("G", "dim", "gamma", "lj_epsilon", "lj_sigma", "masses", "p", "potential", "q")
+
+    def __init__(self, G, dim, gamma, lj_epsilon, lj_sigma, masses, p, potential, q):
+        self.setup(masses, q, p, dim, gamma)
+        self.G, self.lje, self.sig = float(G), float(lj_epsilon), float(lj_sigma)
+        self.kind = int(potential)      # 0 gravity, 1 Lennard-Jones (docs: nbody potential)
+        self.mm = self.masses[self.pi] * self.masses[self.pj]
+        if self.kind == 0:
+            self.pair_phi = lambda r2: Gravity.pair_phi(self, r2)
+            self.pair_dphi_over_r = lambda r2: Gravity.pair_dphi_over_r(self, r2)
+        else:
+            self.pair_phi = lambda r2: LennardJones.pair_phi(self, r2)
+            self.pair_dphi_over_r = lambda r2: LennardJones.pair_dphi_over_r(self, r2)
+
+
+class OuterSolarSystem(Gravity, NBodyBase):
+    """HLW (2.10), Table 2.2 (typed from the table), G and m0 from HLW I.2; p = m q'."""
+    pid = "outer-solar-system"
+    params = ("gamma",)
+
+    def __init__(self, gamma=0.0):
+        masses = [1.00000597682, 0.000954786104043, 0.000285583733151, 0.0000437273164546,
+                  0.0000517759138449, 1.0 / 1.3e8]
+        pos = [0, 0, 0, -3.5023653, -3.8169847, -1.5507963, 9.0755314, -3.0458353, -1.6483708,
+               8.3101420, -16.2901086, -7.2521278, 11.4707666, -25.7294829, -10.8169456,
+               -15.5387357, -25.2225594, -3.1902382]
+        vel = [0, 0, 0, 0.00565429, -0.00412490, -0.00190589, 0.00168318, 0.00483525, 0.00192462,
+               0.00354178, 0.00137102, 0.00055029, 0.00288930, 0.00114527, 0.00039677,
+               0.00276725, -0.00170702, -0.00136504]
+        mom = np.repeat(masses, 3) * np.array(vel)
+        self.setup(masses, pos, mom, 3, gamma)
+        self.G = 2.95912208286e-4
+        self.mm = self.masses[self.pi] * self.masses[self.pj]
+
+
+KB = 1.380658e-23
+
+
+class Argon(LennardJones, NBodyBase):
+    """HLW I.3: 7 argon atoms in a plane, Lennard-Jones, Table 3.1 data; p = m q'."""
+    pid = "argon"
+    params = ("gamma",)
+
+    def __init__(self, gamma=0.0):
+        m = 66.34e-27
+        x = [0.00, 0.02, 0.34, 0.36, -0.02, -0.35, -0.31]
+        y = [0.00, 0.39, 0.17, -0.21, -0.40, -0.16, 0.21]
+        vx = [-30, 50, -70, 90, 80, -40, -80]
+        vy = [-20, -90, -60, 40, 90, 100, -60]
+        pos = np.ravel(np.column_stack([x, y]))
+        mom = m * np.ravel(np.column_stack([vx, vy])).astype(float)
+        self.setup([m] * 7, pos, mom, 2, gamma)
+        self.lje, self.sig = 119.8 * KB, 0.341
+
+    def temperature(self, z):   # HLW (3.8): T = sum m |v|^2 / (2 N k_B)
+        p = z[..., self.nq:]
+        return np.sum(p * p / self.m, axis=-1) / (2 * self.n * KB)
+
+
+class LotkaVolterra(Problem):
+    """HLW (1.1): u' = u (v - 2), v' = v (1 - u); first integral I = ln u - u + 2 ln v - v."""
+    pid = "lotka-volterra"
+    params = ("u0", "v0")
+    separable = False
+    canonical = False
+
+    def __init__(self, u0, v0):
+        self.d = 2
+        self.z0 = np.array([u0, v0], float)
+
+    def gamma(self, t):
+        return 0.0
+
+    def Gamma(self, t):
+        return 0.0 * t
+
+    def f(self, t, z):
+        u, v = z[..., 0], z[..., 1]
+        return np.stack([u * (v - 2.0), v * (1.0 - u)], axis=-1)
+
+    N = f
+
+    def invariants(self):
+        return {"I": lambda z: np.log(z[..., 0]) - z[..., 0] + 2 * np.log(z[..., 1]) - z[..., 1]}
+
+
+PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
+                               NBody, OuterSolarSystem, Argon, LotkaVolterra)}
+
+
+def make_problem(pid, params):
+    cls = PROBLEMS[pid]
+    kw = {}
+    for k, v in params.items():
+        kw[k] = v if isinstance(v, list) else float(v)
+    return cls(**kw)

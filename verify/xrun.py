@@ -1,0 +1,191 @@
+"""Step loops of the independent cross-check (numpy; no dampsym code)."""
+import math
+
+import numpy as np
+
+import refmath
+import xscalar
+import xmethods as xm
+
+
+def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
+    """nsteps steps of size h from (t0, z0), time t0 + n h.  Returns dict(status, steps, z,
+    traj (every state incl. z0, when record), newton (total iterations), newton_max, message).
+    status: ok | diverged (non-finite, or |z| > blowup |z0| when blowup is given) |
+    solve-failed | not-applicable."""
+    z = np.array(prob.z0, float)
+    limit = math.inf if blowup is None else blowup * max(1.0, float(np.max(np.abs(z))))
+    out = dict(status="ok", steps=0, z=z, traj=None, newton=0, newton_max=0, message="")
+    try:
+        if method == "glm4":
+            glm = xm.GLM(prob, h)
+            stepf = None
+        else:
+            stepf = xm.make_stepper(method, prob, h)
+    except xm.NotApplicable as exc:
+        out.update(status="not-applicable", message=str(exc))
+        return out
+    # linear fast path: runs whose trajectory is not needed, and the 10^6+ step stress runs
+    # (a fixed rounded M biases round-off-level conservation metrics, so recorded runs step)
+    if linear_ok(method, prob) and (not record or nsteps >= 1_000_000):
+        return integrate_linear(method, prob, h, nsteps, t0, record, limit, out)
+    fast = scalar_stepper(method, prob, h)
+    if fast is not None:
+        return integrate_scalar(fast, prob, nsteps, record, limit, out)
+    small = xscalar.make(method, prob, h)
+    if small is not None:
+        return integrate_small(small, prob, nsteps, t0, h, record, limit, out)
+    traj = np.empty((nsteps + 1, prob.d)) if record else None
+    if record:
+        traj[0] = z
+    n = 0
+    try:
+        if stepf is None:
+            y = glm.start(t0, z)
+        for n in range(1, nsteps + 1):
+            t = t0 + (n - 1) * h
+            if stepf is None:
+                y, it = glm.step(t, y)
+                z = y[0]
+            else:
+                z, it = stepf(t, z)
+            out["newton"] += it
+            out["newton_max"] = max(out["newton_max"], it)
+            if record:
+                traj[n] = z
+            if not np.all(np.abs(z) < limit):
+                out.update(status="diverged", message="diverged at step %d" % n)
+                break
+    except xm.SolveFailed as exc:
+        out.update(status="solve-failed", message="%s at step %d" % (exc, n))
+    except xm.NotApplicable as exc:
+        out.update(status="not-applicable", message=str(exc))
+        n = 0
+    except (OverflowError, FloatingPointError):
+        out.update(status="diverged", message="overflow at step %d" % n)
+    out.update(steps=n, z=z, traj=traj[:n + 1] if record else None)
+    return out
+
+
+def step_jacobian(method, prob, h, t, z):
+    """Exact Jacobian of one step of the method at (t, z) by the complex step (all d directions
+    in one batched step; implicit stages converged in real and imaginary parts)."""
+    d = prob.d
+    Z = np.asarray(z, float)[None, :] + 1e-30j * np.eye(d)
+    stepf = xm.make_stepper(method, prob, h)
+    Z1, _ = stepf(t, Z)
+    return (np.imag(Z1) / 1e-30).T
+
+
+def linear_ok(method, prob):
+    """The oscillator with constant gamma is linear and autonomous: every method's step is
+    z -> M z with M our own one-step matrix (complex step of our own step map)."""
+    return type(prob).__name__ == "Oscillator" and method != "glm4"
+
+
+def integrate_linear(method, prob, h, nsteps, t0, record, limit, out):
+    """z_n = M^n z0 with M our own one-step matrix (complex step of our own step map), in
+    80-bit long double: block starts z_{kB} by the chain M^B (formed by B products), the states
+    inside all blocks at once by B vectorised applications of M.  Same mathematics as stepping;
+    M is the rounded double one-step matrix, so the final state may drift by n eps relative
+    from a stepping computation (the comparison's floor for these runs)."""
+    try:
+        M = step_jacobian(method, prob, h, t0, np.zeros(prob.d))
+    except xm.NotApplicable as exc:
+        out.update(status="not-applicable", message=str(exc))
+        return out
+    ld = np.longdouble
+    Ml = M.astype(ld)
+    B = 1024 if nsteps >= 100_000 else 64
+    K = -(-nsteps // B)                      # number of blocks
+    PB = np.eye(prob.d, dtype=ld)
+    for _ in range(B):
+        PB = Ml @ PB
+    S = np.empty((K, prob.d), dtype=ld)
+    S[0] = np.asarray(prob.z0, dtype=ld)
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(1, K):
+            S[k] = PB @ S[k - 1]
+        Z = np.empty((K, B + 1, prob.d), dtype=ld)
+        Z[:, 0] = S
+        for j in range(B):
+            Z[:, j + 1] = Z[:, j] @ Ml.T
+    full = np.concatenate([Z[:, :B].reshape(-1, prob.d), Z[-1:, B]], axis=0)[:nsteps + 1]
+    with np.errstate(over="ignore"):
+        full = full.astype(float)
+    bad = ~np.all(np.abs(full) < limit, axis=-1)
+    n = nsteps
+    if bad.any():
+        n = int(np.argmax(bad))
+        out.update(status="diverged", message="diverged at step %d" % n)
+    out.update(steps=n, z=full[n], traj=full[:n + 1] if record else None, linear_path=True)
+    return out
+
+
+def scalar_stepper(method, prob, h):
+    """One-degree-of-freedom oscillator and pendulum with constant gamma: the second, scalar
+    implementation of euler/heun/rk3/rk4/csv1/csv2/cimp in verify/refmath.py (plain floats,
+    ~10x faster than numpy on 2-vectors; tests/ compare both implementations)."""
+    kind = type(prob).__name__
+    if kind not in ("Oscillator", "Pendulum") or method not in refmath.METHODS:
+        return None
+    if kind == "Oscillator":
+        rp = refmath.Oscillator(prob.w, prob.g, prob.z0[0], prob.z0[1])
+    else:
+        rp = refmath.Pendulum(prob.g, prob.z0[0], prob.z0[1])
+    try:
+        return refmath.make_step(method, rp, h)
+    except refmath.NotApplicable:
+        return None
+
+
+def integrate_scalar(step, prob, nsteps, record, limit, out):
+    q, p = float(prob.z0[0]), float(prob.z0[1])
+    qs, ps = ([q], [p]) if record else (None, None)
+    n = 0
+    try:
+        for n in range(1, nsteps + 1):
+            q, p = step(q, p)
+            if record:
+                qs.append(q)
+                ps.append(p)
+            if not abs(q) < limit or not abs(p) < limit:
+                out.update(status="diverged", message="diverged at step %d" % n)
+                break
+    except refmath.SolveFailed as exc:
+        out.update(status="solve-failed", message="%s at step %d" % (exc, n))
+    except OverflowError:
+        out.update(status="diverged", message="overflow at step %d" % n)
+    out.update(steps=n, z=np.array([q, p]),
+               traj=np.column_stack([qs, ps]) if record else None)
+    return out
+
+
+def integrate_small(stepper, prob, nsteps, t0, h, record, limit, out):
+    z = [float(v) for v in prob.z0]
+    traj = [list(z)] if record else None
+    glm = isinstance(stepper, xscalar.GLMScalar)
+    n = 0
+    try:
+        if glm:
+            y = stepper.start(t0, z)
+        for n in range(1, nsteps + 1):
+            t = t0 + (n - 1) * h
+            if glm:
+                y, it = stepper.step(t, y)
+                z = y[0]
+            else:
+                z, it = stepper(t, z)
+            out["newton"] += it
+            out["newton_max"] = max(out["newton_max"], it)
+            if record:
+                traj.append(z)
+            if not all(abs(v) < limit for v in z):
+                out.update(status="diverged", message="diverged at step %d" % n)
+                break
+    except xm.SolveFailed as exc:
+        out.update(status="solve-failed", message="%s at step %d" % (exc, n))
+    except OverflowError:
+        out.update(status="diverged", message="overflow at step %d" % n)
+    out.update(steps=n, z=np.array(z), traj=np.array(traj) if record else None)
+    return out
