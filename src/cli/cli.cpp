@@ -82,7 +82,9 @@ int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
                 row["default"] = ps.choices[static_cast<std::size_t>(ps.default_value)];
             } else {
                 row["type"] = ps.is_array ? "array" : ps.integer ? "integer" : "number";
-                row["default"] = ps.is_array ? json(ps.default_array) : json(ps.default_value);
+                row["default"] = ps.is_array  ? json(ps.default_array)
+                                 : ps.integer ? json(static_cast<int>(ps.default_value))
+                                              : json(ps.default_value);
                 row["range"] = {{"min", ps.range.lo},
                                 {"max", ps.range.hi},
                                 {"min_exclusive", ps.range.lo_open},
@@ -96,7 +98,8 @@ int cmd_list(bool as_json, const std::string& cases_dir, std::ostream& out) {
         }
         json diagnostics = json::array();
         for (const auto& d : known_diagnostics())
-            if (diagnostic_applies(d, p)) diagnostics.push_back(d);
+            if (diagnostic_applies(d, p) && (d != "invariants" || !p.invariants.empty()))
+                diagnostics.push_back(d);
         problems.push_back({{"id", p.id},
                             {"title", p.title},
                             {"params", params},

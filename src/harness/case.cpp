@@ -382,11 +382,15 @@ std::vector<std::string> diagnostic_metric_names(const std::string& diagnostic,
 
 json parse_json_checked(const std::string& text, const std::string& source) {
     JsonChecker checker(source);
-    const bool ok = json::sax_parse(text, &checker, json::input_format_t::json, false);
+    const bool ok = json::sax_parse(text, &checker, json::input_format_t::json, true);
     if (!ok || !checker.error().empty())
         throw InputError(checker.error().empty() ? source + ": malformed JSON" : checker.error());
     // Depth, keys and numbers are checked: building the value cannot overflow the stack now.
-    return json::parse(text);
+    try {
+        return json::parse(text);
+    } catch (const json::exception& e) {
+        throw InputError(source + ": malformed JSON: " + brief(std::string(e.what())));
+    }
 }
 
 json read_case_json(const std::string& path) {
@@ -511,7 +515,7 @@ CaseSpec parse_case(const json& input, const std::string& file,
                 throw InputError(
                     e.file_ + ": " + e.key_ +
                     (e.key_.size() < it.key().size() ? " (with --set " : " (set by --set ") +
-                    brief(it.key()) + "=" + brief(it.value()) + "): " + e.what_);
+                    brief(it.key()) + "=" + brief(it.value().get<std::string>()) + "): " + e.what_);
         throw;
     }
 }
@@ -528,7 +532,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
         auto [key, value] = parse_override(o);
         set_path(j, key, value);
         c.overrides[key] = value;
-        applied[key] = value;
+        applied[key] = o.substr(o.find('=') + 1); // as typed (1e400, not inf)
     }
     c.raw = j;
 
@@ -818,7 +822,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
         const json& ej = j["expect"];
         if (!ej.is_object()) fail(file, "expect", "must be an object of named checks");
         for (auto it = ej.begin(); it != ej.end(); ++it) {
-            const std::string base = "expect." + it.key();
+            const std::string base = "expect." + brief(it.key());
             const json& cj = it.value();
             if (!cj.is_object()) fail(file, base, "must be an object");
             only_keys(cj,
