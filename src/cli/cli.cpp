@@ -57,11 +57,8 @@ std::vector<CaseFile> scan_cases(const std::string& dir) {
     std::vector<CaseFile> out;
     std::map<std::string, std::string> seen;
     for (const auto& p : paths) {
-        std::ifstream in(p);
-        std::stringstream buf;
-        buf << in.rdbuf();
-        const json j = json::parse(buf.str(), nullptr, false);
-        if (j.is_discarded() || !j.is_object()) throw InputError(p + ": malformed JSON");
+        const json j = read_case_json(p); // regular file, bounded size, depth and keys checked
+        if (!j.is_object()) throw InputError(p + ": (top level): a case must be a JSON object");
         if (!j.contains("id") || !j["id"].is_string())
             throw InputError(p + ": id: missing or not a string");
         CaseFile cf{p, j["id"].get<std::string>(), "", {}};
@@ -160,20 +157,39 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
         }
     } else {
         for (const auto& t : sel.targets) {
-            if (t.size() > 5 && t.substr(t.size() - 5) == ".json") {
+            // A path (it ends in .json or names a directory) is read as a case file, which must
+            // be a regular .json file; anything else is a case id.
+            const bool is_path = (t.size() > 5 && t.substr(t.size() - 5) == ".json") ||
+                                 t.find('/') != std::string::npos;
+            if (is_path) {
                 paths.push_back(t);
                 continue;
             }
             ensure_scanned();
             auto it = std::find_if(files.begin(), files.end(),
                                    [&](const CaseFile& f) { return f.id == t; });
-            if (it == files.end()) throw InputError(t + ": no case with this id in " + cases_dir);
-            paths.push_back(it->path);
+            if (it != files.end()) {
+                paths.push_back(it->path);
+                continue;
+            }
+            std::error_code ec;
+            const auto st = fs::status(t, ec);
+            if (!ec && fs::is_directory(st))
+                throw InputError(brief(t) + ": is a directory, not a case file or case id");
+            if (!ec && fs::exists(st))
+                throw InputError(brief(t) + ": not a case id in " + cases_dir +
+                                 ", and as a file it does not end in .json");
+            if (!valid_case_id(t))
+                throw InputError(brief(t) + ": not a case id (ids are made of A-Z a-z 0-9 . _ -) "
+                                            "and not a .json file");
+            throw InputError(t + ": no case with this id in " + cases_dir);
         }
     }
+    std::vector<CaseSpec> loaded;
+    for (const auto& p : paths) loaded.push_back(load_case(p, sets)); // all validated first
+    check_unique_ids(loaded);
     Selected out;
-    for (const auto& p : paths) {
-        CaseSpec c = load_case(p, sets); // every selected case validated before running
+    for (auto& c : loaded) {
         if (!sel.targets.empty()) {      // named cases: the filters still apply
             if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
             if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
@@ -245,12 +261,49 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
                          {"diagnostics", c.diagnostics}});
     json problems = json::array();
     for (const auto& p : problem_catalog()) {
-        json params = json::object();
-        for (const auto& ps : p.params)
-            params[ps.name] = ps.is_array ? json(ps.default_array) : json(ps.default_value);
-        problems.push_back(
-            {{"id", p.id}, {"title", p.title}, {"params", params}, {"invariants", p.invariants}});
+        json params = json::array();
+        for (const auto& ps : p.params) {
+            json row = {{"name", ps.name}, {"doc", ps.doc}};
+            if (!ps.choices.empty()) {
+                row["type"] = "choice";
+                row["choices"] = ps.choices;
+                row["default"] = ps.choices[static_cast<std::size_t>(ps.default_value)];
+            } else {
+                row["type"] = ps.is_array ? "array" : ps.integer ? "integer" : "number";
+                row["default"] = ps.is_array  ? json(ps.default_array)
+                                 : ps.integer ? json(static_cast<int>(ps.default_value))
+                                              : json(ps.default_value);
+                row["range"] = {{"min", ps.range.lo},
+                                {"max", ps.range.hi},
+                                {"min_exclusive", ps.range.lo_open},
+                                {"max_exclusive", ps.range.hi_open}};
+                if (ps.is_array) {
+                    row["max_entries"] = ps.max_size;
+                    if (ps.size_multiple > 1) row["length_multiple_of"] = ps.size_multiple;
+                }
+            }
+            params.push_back(row);
+        }
+        json diagnostics = json::array();
+        for (const auto& d : known_diagnostics())
+            if (diagnostic_applies(d, p) && (d != "invariants" || !p.invariants.empty()))
+                diagnostics.push_back(d);
+        problems.push_back({{"id", p.id},
+                            {"title", p.title},
+                            {"params", params},
+                            {"invariants", p.invariants},
+                            {"exact_solution", p.has_exact},
+                            {"diagnostics", diagnostics}});
     }
+    json diagnostics = json::array();
+    for (const auto& d : known_diagnostics())
+        diagnostics.push_back({{"id", d},
+                               {"per_method", diagnostic_is_method_level(d)},
+                               {"metrics", diagnostic_metric_names(d, {})}});
+    diagnostics.push_back({{"id", "run"},
+                           {"per_method", false},
+                           {"metrics", diagnostic_metric_names("run", {})},
+                           {"note", "the run record itself; checkable in every case"}});
     json methods = json::array();
     for (const auto& m : method_catalog())
         methods.push_back({{"id", m.id},
@@ -260,7 +313,13 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
                            {"kernel", m.kernel},
                            {"citation", m.citation}});
     if (as_json) {
-        out << json{{"cases", cases}, {"problems", problems}, {"methods", methods}}.dump(2) << "\n";
+        out << json{{"cases", cases},
+                    {"problems", problems},
+                    {"diagnostics", diagnostics},
+                    {"methods", methods},
+                    {"case_keys_doc", "docs/case-keys.md"}}
+                   .dump(2)
+            << "\n";
         return 0;
     }
     out << "Cases (" << cases_dir << "):\n";
@@ -273,10 +332,49 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
         out << "  " << c["id"].get<std::string>() << "  [" << c["problem"].get<std::string>()
             << "; " << methods_s << "; suites: " << (suites.empty() ? "-" : suites) << "]\n";
     }
-    out << "Problems:\n";
-    for (const auto& p : problems)
+    out << "Problems (parameters: default, valid range, meaning; set as problem.NAME):\n";
+    for (const auto& p : problems) {
         out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
-    out << "Methods:\n";
+        for (const auto& ps : p["params"]) {
+            out << "      " << ps["name"].get<std::string>() << " = ";
+            if (ps["type"] == "choice") {
+                std::string list;
+                for (const auto& ch : ps["choices"])
+                    list += (list.empty() ? "" : " | ") + ch.get<std::string>();
+                out << '"' << ps["default"].get<std::string>() << "\"  (one of " << list << ")";
+            } else {
+                const json& r = ps["range"];
+                std::ostringstream range;
+                range << (r["min_exclusive"].get<bool>() ? "(" : "[") << r["min"].get<double>()
+                      << ", " << r["max"].get<double>()
+                      << (r["max_exclusive"].get<bool>() ? ")" : "]");
+                if (ps["type"] == "array")
+                    out << "array of <= " << ps["max_entries"].get<int>() << " numbers in "
+                        << range.str() << " (default " << ps["default"].size() << " entries)";
+                else
+                    out << ps["default"].dump() << "  in " << range.str()
+                        << (ps["type"] == "integer" ? ", whole number" : "");
+            }
+            out << "  " << ps["doc"].get<std::string>() << "\n";
+        }
+        std::string inv, diags;
+        for (const auto& i : p["invariants"])
+            inv += (inv.empty() ? "" : ", ") + i.get<std::string>();
+        for (const auto& d : p["diagnostics"])
+            diags += (diags.empty() ? "" : ", ") + d.get<std::string>();
+        out << "      invariants: " << (inv.empty() ? "none" : inv)
+            << (p["exact_solution"].get<bool>() ? "; exact solution" : "; certified GSL reference")
+            << "\n      diagnostics: " << diags << "\n";
+    }
+    out << "Diagnostics (metrics, for \"expect\": \"<diagnostic>.<metric>\"):\n";
+    for (const auto& d : diagnostics) {
+        std::string metrics;
+        for (const auto& m : d["metrics"])
+            metrics += (metrics.empty() ? "" : ", ") + m.get<std::string>();
+        out << "  " << d["id"].get<std::string>()
+            << (d["per_method"].get<bool>() ? " (per method)" : "") << ": " << metrics << "\n";
+    }
+    out << "Case file keys: docs/case-keys.md\nMethods:\n";
     for (const auto& m : method_catalog())
         out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
             << ", " << m.form << " form, " << m.citation << "\n";
@@ -535,6 +633,16 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     const Selected selected = select_cases(sel, sets, cases_dir, true, true);
     check_output_dir(o.out_dir); // an unwritable --out fails before any case runs (exit 3)
     if (!o.junit.empty()) check_output_file(o.junit);
+    for (const auto& c : selected.cases) {
+        const double secs = case_predicted_seconds(c);
+        if (secs < 10.0) continue;
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "note: case '%s' runs %.3g steps; predicted duration about %.0f s "
+                      "(rough estimate, diagnostics and references extra)\n",
+                      c.id.c_str(), case_total_steps(c), secs);
+        err << line << std::flush;
+    }
     const auto start = std::chrono::system_clock::now();
     json report;
     {
@@ -747,6 +855,21 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         out << e.what() << "\n";
         return 0;
     } catch (const CLI::ParseError& e) {
+        // "A subcommand is required" for `dampsym frobnicate`: name the word instead.
+        for (int i = 1; i < argc; ++i) {
+            const std::string a = argv[i];
+            if (a == "--cases") {
+                ++i;
+                continue;
+            }
+            if (a.empty() || a[0] == '-') continue;
+            if (a != "list" && a != "run" && a != "methods") {
+                err << "dampsym: unknown subcommand '" << brief(a)
+                    << "' (known: list, run, methods; dampsym --help)\n";
+                return 2;
+            }
+            break;
+        }
         err << "dampsym: " << e.what() << "\n";
         return 2;
     }

@@ -24,10 +24,28 @@
 
 namespace dampsym {
 
-enum class Range { any, positive, nonnegative };
+// The interval of values a parameter may take: the range within which the problem's formulas
+// (forms, invariants, exact solution, energy) are valid in double precision. Every bound is
+// finite; lo_open/hi_open exclude the end point. Case files outside it are rejected (exit 2).
+struct Range {
+    double lo, hi;
+    bool lo_open = false, hi_open = false;
+
+    static constexpr Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+    static constexpr Range above(double lo, double hi) { return {lo, hi, true, false}; } // (lo, hi]
+    static constexpr Range below(double lo, double hi) { return {lo, hi, false, true}; } // [lo, hi)
+    static constexpr Range symmetric(double bound) { return {-bound, bound, false, false}; }
+
+    bool contains(double x) const {
+        return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
+    }
+};
 
 // A parameter: a scalar (default_value), or, when is_array, a list of numbers (default_array;
-// size_multiple > 1 requires the length to be a multiple of it, e.g. 3 for 3-D positions).
+// size_multiple > 1 requires the length to be a multiple of it, e.g. 3 for 3-D positions; at most
+// max_size entries). Every number (each entry of an array) must lie in `range`. A parameter with
+// `choices` is enum-like: the case gives one of the names, the problem receives its index.
+// An `integer` parameter takes whole numbers only.
 struct ParamSpec {
     std::string name;
     double default_value;
@@ -36,12 +54,45 @@ struct ParamSpec {
     bool is_array = false;
     std::vector<double> default_array{};
     int size_multiple = 1;
+    int max_size = 0;
+    std::vector<std::string> choices{};
+    bool integer = false;
 };
 
-// Array-valued parameter spec.
+// Array-valued parameter spec: at most max_size entries, each in `range`.
 inline ParamSpec array_param(std::string name, std::vector<double> defaults, Range range,
-                             std::string doc, int size_multiple = 1) {
-    return {std::move(name), 0.0, range, std::move(doc), true, std::move(defaults), size_multiple};
+                             std::string doc, int max_size, int size_multiple = 1) {
+    return {.name = std::move(name),
+            .default_value = 0.0,
+            .range = range,
+            .doc = std::move(doc),
+            .is_array = true,
+            .default_array = std::move(defaults),
+            .size_multiple = size_multiple,
+            .max_size = max_size};
+}
+
+// Enum-like parameter: one of `choices` by name (the default is choices[default_index]); the
+// problem's from_params receives the index as a number.
+inline ParamSpec choice_param(std::string name, int default_index, std::vector<std::string> choices,
+                              std::string doc) {
+    const double last = static_cast<double>(choices.size()) - 1.0;
+    return {.name = std::move(name),
+            .default_value = static_cast<double>(default_index),
+            .range = Range::closed(0.0, last),
+            .doc = std::move(doc),
+            .choices = std::move(choices),
+            .integer = true};
+}
+
+// Whole-number parameter in [lo, hi].
+inline ParamSpec integer_param(std::string name, int default_value, int lo, int hi,
+                               std::string doc) {
+    return {.name = std::move(name),
+            .default_value = static_cast<double>(default_value),
+            .range = Range::closed(lo, hi),
+            .doc = std::move(doc),
+            .integer = true};
 }
 
 // Validated parameter values: scalars by name (at, operator[]) and arrays by name (array).

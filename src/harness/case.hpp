@@ -5,6 +5,7 @@
 
 #include "core/problem.hpp"
 
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -17,6 +18,22 @@ namespace dampsym {
 struct InputError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+// Limits on what a case may ask for; beyond them a case is rejected (exit 2) before anything
+// runs. docs/case-keys.md states them.
+namespace limits {
+inline constexpr std::uintmax_t max_file_bytes = 16u << 20; // case file size (16 MiB)
+inline constexpr int max_depth = 16;                        // JSON nesting of a case or --set value
+inline constexpr std::size_t max_id_length = 100;           // case id: [A-Za-z0-9._-], first alnum
+inline constexpr std::size_t max_ladder = 32;               // entries of dt_ladder
+inline constexpr double max_steps_per_run = 1e9;            // (t_end − t0)/dt for every dt
+inline constexpr double max_output_points = 1e7;            // (t_end − t0)/output_dt
+inline constexpr double max_abs_time = 1e9;                 // |t0|, |t_end|
+inline constexpr double max_sweep_cells = 1e6;              // stability_sweep γ × h grid points
+inline constexpr double min_reference_tol = 1e-15;          // reference.epsrel, reference.epsabs
+inline constexpr double max_reference_tol = 1e-2;
+inline constexpr std::size_t max_message_value = 80; // characters of a bad value quoted in errors
+} // namespace limits
 
 enum class CheckOp { near, le, ge, lt, gt };
 
@@ -60,6 +77,7 @@ struct CaseSpec {
     double t0 = 0.0, t_end = 0.0;
     std::vector<double> dts;
     std::vector<std::int64_t> steps; // per dt
+    int dim = 0;                     // state dimension of the problem instance
     bool ladder = false;
     std::vector<std::string> diagnostics;
     std::optional<double> output_dt;
@@ -74,6 +92,10 @@ struct CaseSpec {
 
 // The diagnostics dampsym knows, and the metric names each one produces.
 const std::vector<std::string>& known_diagnostics();
+struct ProblemInfo;
+// Whether a case on problem `p` may request diagnostic `d` (energy, momentum, poincare, ... need
+// the problem's hooks; the stability diagnostics are the oscillator's).
+bool diagnostic_applies(const std::string& d, const ProblemInfo& p);
 bool diagnostic_is_method_level(const std::string& diagnostic);
 
 // Parses "KEY=VALUE" overrides; VALUE is JSON if it parses as JSON, else a number (nan/inf
@@ -84,5 +106,37 @@ std::pair<std::string, nlohmann::json> parse_override(const std::string& text);
 CaseSpec load_case(const std::string& path, const std::vector<std::string>& overrides);
 CaseSpec parse_case(const nlohmann::json& j, const std::string& file,
                     const std::vector<std::string>& overrides);
+
+// Parses JSON text from `source` (a file name, or "--set KEY"), rejecting before any value is
+// built: nesting deeper than limits::max_depth, duplicate keys in an object, numbers that
+// overflow a double, control characters in strings. Errors name the source and the key path.
+nlohmann::json parse_json_checked(const std::string& text, const std::string& source);
+
+// Reads a case file: it must be a regular file (not a directory, FIFO or device) of at most
+// limits::max_file_bytes, checked before reading; then parse_json_checked.
+nlohmann::json read_case_json(const std::string& path);
+
+// Whether `id` is a valid case id (limits::max_id_length characters of [A-Za-z0-9._-], the first
+// a letter or digit).
+bool valid_case_id(const std::string& id);
+
+// Throws InputError if two cases share an id (the same file twice, two files with one id, or an
+// id made equal by --set).
+void check_unique_ids(const std::vector<CaseSpec>& cases);
+
+// Steps of the whole case (every method at every step size) and a rough duration estimate in
+// seconds (about 30 ns per step and state component for explicit methods, 300 for implicit
+// ones, measured on the default suite; diagnostics and references come on top).
+double case_total_steps(const CaseSpec& c);
+double case_predicted_seconds(const CaseSpec& c);
+
+// The metric names of a diagnostic (invariant metrics for `invariant_names`; with none given,
+// the pattern "<invariant>.<stat>"), for validation and `dampsym list`.
+std::vector<std::string> diagnostic_metric_names(const std::string& diagnostic,
+                                                 const std::vector<std::string>& invariant_names);
+
+// A value or string shortened for an error message (limits::max_message_value characters).
+std::string brief(const nlohmann::json& v);
+std::string brief(const std::string& s);
 
 } // namespace dampsym

@@ -52,7 +52,7 @@ struct Argon : NBodyProblem<Argon> {
                                                                         {-80.0, -60.0}}};
 
     static std::vector<ParamSpec> param_specs() {
-        return {{"gamma", 0.0, Range::nonnegative, "damping γ per ns (SPEC §1 convention)"}};
+        return {{"gamma", 0.0, Range::closed(0.0, 1e3), "damping γ per ns"}};
     }
     static Argon from_params(const ParamMap& m) {
         Argon o;

@@ -39,8 +39,10 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
 
     double e = 0.6;
 
+    // Range: e ≤ 0.99 (HLW(2.9) needs e < 1; near 1 the initial speed √((1+e)/(1−e)) and Kepler's
+    // equation lose accuracy).
     static std::vector<ParamSpec> param_specs() {
-        return {{"e", 0.6, Range::nonnegative, "eccentricity, 0 <= e < 1 (HLW(2.9))"}};
+        return {{"e", 0.6, Range::closed(0.0, 0.99), "eccentricity, 0 <= e <= 0.99 (HLW(2.9))"}};
     }
     // Throws std::invalid_argument ("kepler: ...") unless 0 <= e < 1.
     static Kepler from_params(const ParamMap& m) {

@@ -28,9 +28,13 @@ struct LotkaVolterra {
 
     double u0 = 2.0, v0 = 2.0;
 
+    // Ranges: populations in [1e-3, 1e3]; beyond, the orbit's excursions (e^{±u0}, e^{±v0} along
+    // the level set of I) leave the range where the certified reference finishes.
     static std::vector<ParamSpec> param_specs() {
-        return {{"u0", 2.0, Range::positive, "initial predator population u(0) (HLW: 2, 4 or 6)"},
-                {"v0", 2.0, Range::positive, "initial prey population v(0) (HLW: 2 or 8)"}};
+        return {
+            {"u0", 2.0, Range::closed(1e-3, 1e3),
+             "initial predator population u(0) (HLW: 2, 4 or 6)"},
+            {"v0", 2.0, Range::closed(1e-3, 1e3), "initial prey population v(0) (HLW: 2 or 8)"}};
     }
     static LotkaVolterra from_params(const ParamMap& m) {
         LotkaVolterra o;

@@ -168,8 +168,12 @@ struct NBodySystem {
         }
     }
 
+    // Smallest initial pair distance accepted: with |q|, σ ≤ 1e6 the force and potential terms
+    // (σ/r)^12, G m_i m_j/r² stay far below overflow.
+    static constexpr double min_distance = 1e-6;
+
     // Throws std::invalid_argument (prefixed with `who`) unless d ∈ {2,3}, N ≥ 2, every mass > 0,
-    // q and p have dN entries and no two initial positions coincide.
+    // q and p have dN entries and no two initial positions are closer than min_distance.
     void validate(const std::string& who, const std::vector<double>& q0,
                   const std::vector<double>& p0) const {
         if (d != 2 && d != 3) throw std::invalid_argument(who + ": dim must be 2 or 3");
@@ -182,6 +186,14 @@ struct NBodySystem {
         const auto need = static_cast<std::size_t>(n());
         const std::string shape =
             " (dim = " + std::to_string(d) + ", N = " + std::to_string(bodies()) + " masses)";
+        // q and p agree with each other on a body count that differs from the masses': the
+        // masses are what is wrong (or dim), not q.
+        if (q0.size() == p0.size() && q0.size() != need && q0.size() % idx(d) == 0)
+            throw std::invalid_argument(who + ": masses lists N = " + std::to_string(bodies()) +
+                                        " bodies, but q and p (" + std::to_string(q0.size()) +
+                                        " numbers each, dim = " + std::to_string(d) +
+                                        ") describe " + std::to_string(q0.size() / idx(d)) +
+                                        "; masses, q and p must describe the same bodies");
         if (q0.size() != need)
             throw std::invalid_argument(who + ": q has " + std::to_string(q0.size()) +
                                         " entries, expected dim*N = " + std::to_string(need) +
@@ -193,10 +205,11 @@ struct NBodySystem {
         std::array<double, 3> u{};
         for (int i = 0; i < bodies(); ++i)
             for (int j = i + 1; j < bodies(); ++j)
-                if (!(diff(q0, i, j, u) > 0.0))
-                    throw std::invalid_argument(who + ": bodies " + std::to_string(i + 1) +
-                                                " and " + std::to_string(j + 1) +
-                                                " start at the same position");
+                if (!(diff(q0, i, j, u) >= min_distance * min_distance))
+                    throw std::invalid_argument(
+                        who + ": bodies " + std::to_string(i + 1) + " and " +
+                        std::to_string(j + 1) +
+                        " start closer than 1e-6 (at the same position or nearly)");
     }
 
 private:
@@ -304,20 +317,27 @@ struct NBody : NBodyProblem<NBody> {
         return {0.03, -0.02, 0.01, 6e-5, 0.00175, 0.000776, -0.000625, -0.000192, 0.000172};
     }
 
+    // Ranges: at most 1000 bodies; masses in [1e-30, 1e30], |q|, |p| entries ≤ 1e6, G, ε ≤ 1e6,
+    // σ in [1e-6, 1e6] and pair distances ≥ 1e-6 (checked by validate) keep every force, energy and
+    // Jacobian entry below 1e200; γ ≤ 1e3 keeps the certified reference non-stiff enough.
     static std::vector<ParamSpec> param_specs() {
         return {
-            {"gamma", 0.01, Range::nonnegative, "damping γ (SPEC §1 convention)"},
-            {"G", 1.0, Range::nonnegative, "gravitational constant (potential 0)"},
-            {"potential", 0.0, Range::nonnegative, "pair potential: 0 gravity, 1 Lennard-Jones"},
-            {"lj_epsilon", 1.0, Range::nonnegative, "Lennard-Jones ε, HLW(3.2) (potential 1)"},
-            {"lj_sigma", 1.0, Range::positive, "Lennard-Jones σ, HLW(3.2) (potential 1)"},
-            {"dim", 3.0, Range::positive, "space dimension d: 2 or 3"},
-            array_param("masses", default_masses(), Range::positive, "masses m_i (N of them)"),
+            {"gamma", 0.01, Range::closed(0.0, 1e3), "damping γ"},
+            {"G", 1.0, Range::closed(0.0, 1e6), "gravitational constant (potential gravity)"},
+            choice_param("potential", 0, {"gravity", "lennard-jones"},
+                         "pair potential: gravity −G m_i m_j/r, or Lennard-Jones HLW(3.2)"),
+            {"lj_epsilon", 1.0, Range::closed(0.0, 1e6),
+             "Lennard-Jones ε, HLW(3.2) (potential lennard-jones)"},
+            {"lj_sigma", 1.0, Range::closed(1e-6, 1e6),
+             "Lennard-Jones σ, HLW(3.2) (potential lennard-jones)"},
+            integer_param("dim", 3, 2, 3, "space dimension d: 2 or 3"),
+            array_param("masses", default_masses(), Range::closed(1e-30, 1e30),
+                        "masses m_i (N of them, 2 <= N <= 1000)", 1000),
             array_param(
-                "q", default_q(), Range::any,
-                "initial positions, d*N numbers, body-major (q_1x, q_1y[, q_1z], q_2x, ...)"),
-            array_param("p", default_p(), Range::any,
-                        "initial momenta p_i = m_i q_i', d*N numbers, body-major"),
+                "q", default_q(), Range::symmetric(1e6),
+                "initial positions, d*N numbers, body-major (q_1x, q_1y[, q_1z], q_2x, ...)", 3000),
+            array_param("p", default_p(), Range::symmetric(1e6),
+                        "initial momenta p_i = m_i q_i', d*N numbers, body-major", 3000),
         };
     }
 

@@ -44,7 +44,7 @@ struct OuterSolarSystem : NBodyProblem<OuterSolarSystem> {
          {0.00276725, -0.00170702, -0.00136504}}}; // Pluto
 
     static std::vector<ParamSpec> param_specs() {
-        return {{"gamma", 0.0, Range::nonnegative, "damping γ per day (SPEC §1 convention)"}};
+        return {{"gamma", 0.0, Range::closed(0.0, 1e3), "damping γ per day"}};
     }
     static OuterSolarSystem from_params(const ParamMap& m) {
         OuterSolarSystem o;

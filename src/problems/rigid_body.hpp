@@ -36,14 +36,16 @@ struct RigidBody {
 
     double epsilon = 0.0, I1 = 4.0, I2 = 3.0, I3 = 2.0, z1 = 4.0, z2 = 3.0, z3 = 0.0;
 
+    // Ranges: |ε| ≤ 1e3 bounds the conformal factor e^{±2Γ(t)} ≤ e^{500}; moments in [1e-6, 1e6]
+    // and |z_i| ≤ 1e6 keep z_i²/I_i and the elliptic-function solution below overflow.
     static std::vector<ParamSpec> param_specs() {
-        return {{"epsilon", 0.0, Range::any, "ε in γ(t) = ½ε cos 2t"},
-                {"I1", 4.0, Range::positive, "principal moment of inertia I1 (BS: 4)"},
-                {"I2", 3.0, Range::positive, "principal moment of inertia I2 (BS: 3)"},
-                {"I3", 2.0, Range::positive, "principal moment of inertia I3 (BS: 2)"},
-                {"z1", 4.0, Range::any, "initial angular momentum z1 (BS: I1·1)"},
-                {"z2", 3.0, Range::any, "initial angular momentum z2 (BS: I2·1)"},
-                {"z3", 0.0, Range::any, "initial angular momentum z3 (BS: I3·0)"}};
+        return {{"epsilon", 0.0, Range::symmetric(1e3), "ε in γ(t) = ½ε cos 2t"},
+                {"I1", 4.0, Range::closed(1e-6, 1e6), "principal moment of inertia I1 (BS: 4)"},
+                {"I2", 3.0, Range::closed(1e-6, 1e6), "principal moment of inertia I2 (BS: 3)"},
+                {"I3", 2.0, Range::closed(1e-6, 1e6), "principal moment of inertia I3 (BS: 2)"},
+                {"z1", 4.0, Range::symmetric(1e6), "initial angular momentum z1 (BS: I1·1)"},
+                {"z2", 3.0, Range::symmetric(1e6), "initial angular momentum z2 (BS: I2·1)"},
+                {"z3", 0.0, Range::symmetric(1e6), "initial angular momentum z3 (BS: I3·0)"}};
     }
     static RigidBody from_params(const ParamMap& m) {
         RigidBody o;
