@@ -49,10 +49,12 @@ double uniform(std::mt19937_64& rng, double lo, double hi) {
 }
 
 // Parameters drawn around the defaults: v = d (1 + 0.2u) + 0.2u', u, u' uniform in [−1, 1], the
-// parameter's range respected; arrays keep their defaults. Redrawn until from_params accepts.
+// parameter's range respected; arrays keep their defaults. Redrawn until from_params accepts; a
+// problem with constraints the draw keeps missing (e.g. counts) gets its defaults.
 template <class P>
 P random_problem(std::mt19937_64& rng, std::string& desc) {
-    for (int attempt = 0; attempt < 100; ++attempt) {
+    for (int attempt = 0; attempt <= 50; ++attempt) {
+        const bool defaults = attempt == 50;
         dampsym::ParamMap m;
         std::ostringstream os;
         for (const dampsym::ParamSpec& s : P::param_specs()) {
@@ -60,10 +62,12 @@ P random_problem(std::mt19937_64& rng, std::string& desc) {
                 m.arrays[s.name] = s.default_array;
                 continue;
             }
-            double v =
-                s.default_value * (1.0 + 0.2 * uniform(rng, -1, 1)) + 0.2 * uniform(rng, -1, 1);
-            if (s.range == dampsym::Range::positive) v = std::abs(v) + 0.1;
-            if (s.range == dampsym::Range::nonnegative) v = std::abs(v);
+            double v = s.default_value;
+            if (!defaults) {
+                v = v * (1.0 + 0.2 * uniform(rng, -1, 1)) + 0.2 * uniform(rng, -1, 1);
+                if (s.range == dampsym::Range::positive) v = std::abs(v) + 0.1;
+                if (s.range == dampsym::Range::nonnegative) v = std::abs(v);
+            }
             m[s.name] = v;
             os << s.name << "=" << v << " ";
         }
@@ -71,19 +75,23 @@ P random_problem(std::mt19937_64& rng, std::string& desc) {
             P p = P::from_params(m);
             desc = os.str();
             return p;
-        } catch (const std::exception&) {
+        } catch (const std::exception& e) {
+            if (defaults)
+                throw std::runtime_error(std::string(P::id) + ": defaults rejected: " + e.what());
         }
     }
-    throw std::runtime_error("no valid random parameters");
+    throw std::logic_error("unreachable");
 }
 
-// A state near the initial one: each component moved by up to 5% of |z0| (first draw: z0 itself).
+// A state near the initial one (first draw: z0 itself): each component moved by up to 2% of itself
+// plus 0.2% of |z0| (small enough to stay on a bound Kepler orbit).
 template <class P>
 Vec random_state(const P& p, std::mt19937_64& rng, bool first) {
     Vec z = p.initial_state();
     if (first) return z;
     const double scale = z.norm();
-    for (Eigen::Index i = 0; i < z.size(); ++i) z[i] += 0.05 * scale * uniform(rng, -1, 1);
+    for (Eigen::Index i = 0; i < z.size(); ++i)
+        z[i] += 0.02 * z[i] * uniform(rng, -1, 1) + 0.002 * scale * uniform(rng, -1, 1);
     return z;
 }
 
