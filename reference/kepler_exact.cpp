@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace dampsym {
@@ -70,6 +71,33 @@ KeplerState kepler_exact(double e, double t) {
     const double sE = std::sin(E), cE = std::cos(E);
     const double r = (1.0 - e) + e * omc; // 1 − e cos E
     return {(1.0 - e) - omc, root * sE, -sE / r, root * cE / r};
+}
+
+KeplerState kepler_propagate(const KeplerState& z0, double dt) {
+    if (dt == 0.0) return z0;
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    const double r0 = std::hypot(z0.q1, z0.q2);
+    const double v2 = z0.p1 * z0.p1 + z0.p2 * z0.p2;
+    const double H = 0.5 * v2 - 1.0 / r0;
+    if (!(H < 0.0) || !(r0 > 0.0)) return {nan, nan, nan, nan};
+    const double a = -0.5 / H;
+    const double sa = std::sqrt(a);
+    const double n = 1.0 / (a * sa);
+    const double sigma0 = z0.q1 * z0.p1 + z0.q2 * z0.p2;
+    const double ecos0 = 1.0 - r0 / a, esin0 = sigma0 / sa;
+    const double e = std::hypot(ecos0, esin0);
+    if (!(e < 1.0)) return {nan, nan, nan, nan};
+    const double E0 = (ecos0 == 0.0 && esin0 == 0.0) ? 0.0 : std::atan2(esin0, ecos0);
+    const double M = (E0 - esin0) + n * dt;
+    const double dE = kepler_eccentric_anomaly(e, M) - E0;
+    const double omc = one_minus_cos(dE), sdE = std::sin(dE);
+    const double f = 1.0 - (a / r0) * omc;
+    const double g = sa * r0 * sdE + a * sigma0 * omc;
+    const double r = r0 + (a - r0) * omc + sigma0 * sa * sdE;
+    const double fd = -sa * sdE / (r * r0);
+    const double gd = 1.0 - (a / r) * omc;
+    return {f * z0.q1 + g * z0.p1, f * z0.q2 + g * z0.p2, fd * z0.q1 + gd * z0.p1,
+            fd * z0.q2 + gd * z0.p2};
 }
 
 } // namespace dampsym

@@ -26,7 +26,20 @@ double kepler_mean_anomaly(double t);
 // returned E lies in [−π, π]).
 double kepler_eccentric_anomaly(double e, double M);
 
-// The state at time t for the initial values HLW(2.9).
+// The state at time t for the initial values HLW(2.9) at t = 0.
 KeplerState kepler_exact(double e, double t);
+
+// The state at time t0 + dt of the orbit through z0 = (q1, q2, p1, p2) at t0, for any z0 on an
+// elliptic orbit (H = ½|p|² − 1/|q| < 0 and eccentricity < 1; NaN components otherwise), by
+// Lagrange's f and g functions in the eccentric anomaly difference ΔE = E − E0 (mu = 1):
+//   a = −1/(2H),  n = a^{−3/2},  r0 = |q0|,  σ0 = q0·p0,  e cos E0 = 1 − r0/a,  e sin E0 = σ0/√a,
+//   E − e sin E = M0 + n dt with M0 = E0 − e sin E0 (solved by kepler_eccentric_anomaly),
+//   f = 1 − (a/r0)(1 − cos ΔE),   g = √a r0 sin ΔE + a σ0 (1 − cos ΔE),
+//   r = r0 + (a − r0)(1 − cos ΔE) + σ0 √a sin ΔE,
+//   f' = −√a sin ΔE/(r r0),   g' = 1 − (a/r)(1 − cos ΔE),
+//   q = f q0 + g p0,   p = f' q0 + g' p0.
+// (g follows from Kepler's equation: n dt − (ΔE − sin ΔE) = (r0/a) sin ΔE + (σ0/√a)(1 − cos ΔE),
+// so it needs ΔE only modulo 2π.) 1 − cos ΔE is formed as 2 sin²(ΔE/2). dt = 0 returns z0 exactly.
+KeplerState kepler_propagate(const KeplerState& z0, double dt);
 
 } // namespace dampsym

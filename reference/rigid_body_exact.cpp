@@ -206,10 +206,14 @@ double rigid_body_tau(double epsilon, double t) {
     return n * period + rest;
 }
 
-Vec3 rigid_body_exact(const Vec3& inertia, const Vec3& z0, double epsilon, double t) {
+Vec3 rigid_body_exact(const Vec3& inertia, const Vec3& z0, double epsilon, double t0, double t) {
+    if (t == t0) return z0;
+    const double gamma0 = 0.25 * epsilon * std::sin(2.0 * t0); // Γ(t0)
+    const double tau =
+        std::exp(gamma0) * (rigid_body_tau(epsilon, t) - rigid_body_tau(epsilon, t0));
     const FreeRigidBody free(inertia, z0);
-    const Vec3 y = free.at(rigid_body_tau(epsilon, t));
-    const double e = std::exp(-0.25 * epsilon * std::sin(2.0 * t));
+    const Vec3 y = free.at(tau);
+    const double e = std::exp(-(0.25 * epsilon * std::sin(2.0 * t) - gamma0));
     return {e * y[0], e * y[1], e * y[2]};
 }
 

@@ -1,6 +1,7 @@
 // Exact solution of the perturbed rigid body B(1.7) (SPEC §2, B §3.4):
 //
-//   z' = z × (I⁻¹ z) − γ(t) z,   γ(t) = ½ε cos 2t,   Γ(t) = ¼ε sin 2t,   z(0) = z0.
+//   z' = z × (I⁻¹ z) − γ(t) z,   γ(t) = ½ε cos 2t,   Γ(t) = ¼ε sin 2t,   z(0) = z0
+// (written here for a start at t = 0; rigid_body_exact below starts at any t0).
 //
 // N(z) = z × (I⁻¹ z) is homogeneous of degree 2, so with τ(t) = ∫₀ᵗ e^{−Γ(s)} ds
 //
@@ -85,7 +86,12 @@ private:
 // τ(t) = ∫₀ᵗ e^{−Γ(s)} ds with Γ(s) = ¼ε sin 2s (any real t).
 double rigid_body_tau(double epsilon, double t);
 
-// z(t) of B(1.7) with γ(t) = ½ε cos 2t and z(0) = z0: e^{−Γ(t)} y(τ(t)).
-Vec3 rigid_body_exact(const Vec3& inertia, const Vec3& z0, double epsilon, double t);
+// z(t) of B(1.7) with γ(t) = ½ε cos 2t and z(t0) = z0, any t0 (B(1.7) is not autonomous, so
+// this is not a shift of the solution from t = 0):
+//   z(t) = e^{−(Γ(t) − Γ(t0))} y(τ_{t0}(t)),   τ_{t0}(t) = ∫_{t0}^t e^{−(Γ(s) − Γ(t0))} ds
+//        = e^{Γ(t0)} (τ(t) − τ(t0)),           y the free body with y(0) = z0.
+// (z' = −γz + e^{−2(Γ(t)−Γ(t0))} N(y(τ_{t0})) = −γz + N(z).) t = t0 returns z0 exactly; at t0 = 0
+// the formulas reduce bitwise to e^{−Γ(t)} y(τ(t)) (Γ(0) = 0, τ(0) = 0).
+Vec3 rigid_body_exact(const Vec3& inertia, const Vec3& z0, double epsilon, double t0, double t);
 
 } // namespace dampsym

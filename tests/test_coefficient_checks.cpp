@@ -353,7 +353,7 @@ TEST_CASE("glm4 on BS's rigid body: order 4 against the exact solution", "[coeff
         const MethodInfo& info = method("glm4");
         const double t_end = 4.0;
         Vec exact(3);
-        prob.exact(t_end, exact);
+        prob.exact(0.0, prob.initial_state(), t_end, exact);
         std::vector<double> hs, errs;
         for (const int n : {20, 40, 80, 160}) {
             const double h = t_end / n;

@@ -8,7 +8,8 @@
 //   forms: separable Rayleigh form (grad_T, force, hess_T, force_jacobian), from which
 //          SeparableProblem derives the conformal form N(z,t) and the plain form f(t,z);
 //   invariants: names, values, all decaying as e^{-2Γ(t)} (B Def. 1.1);
-//   optionally: energy(z), exact(t, z) (when has_exact);
+//   optionally: energy(z); exact(t0, z0, t, out) and autonomous (when has_exact, see
+//               ExactSolution below);
 //   optionally: static constexpr int static_n, the degrees of freedom when fixed at compile time
 //               (n() returns it); kernels that use static_dof<P>() then keep stage vectors of
 //               fixed size, which the compiler reduces to scalar code.
@@ -16,6 +17,7 @@
 
 #include "core/types.hpp"
 
+#include <concepts>
 #include <limits>
 #include <map>
 #include <string>
@@ -191,6 +193,36 @@ struct ConstantGamma {
     double Gamma(double t) const { return static_cast<const Derived&>(*this).gamma * t; }
     double dGamma(double, double h) const { return static_cast<const Derived&>(*this).gamma * h; }
 };
+
+// Start time. A case's initial state is the state at its start time t0, for every problem (the
+// runner applies initial_state() at t0 and steps t0 + n h). An exact solution (has_exact = true)
+// therefore takes the start explicitly,
+//   void exact(double t0, const Vec& z0, double t, Vec& out) const;   z(t) with z(t0) = z0,
+// the solution of the problem's own ODE from (t0, z0): for an autonomous problem a shift of the
+// solution from (0, z0) by t0; for a time-dependent one (γ(t), forcing) not a shift. z(t0) must be
+// z0 exactly. The problem also declares `static constexpr bool autonomous` (f(t, z) independent
+// of t), which the tests use to check the shift property. There is deliberately no exact(t, out)
+// form (a solution written for a start at 0 and evaluated at absolute time): ExactSolution
+// rejects it, and src/harness/registry.hpp asserts the concept for every registered problem with
+// has_exact; tests/test_exact_solutions.cpp checks every such problem against its ODE, the
+// certified GSL reference and z(t0) = z0, from random t0 and states.
+template <class P>
+concept ExactSolution = requires(const P& p, const Vec& z0, Vec& out) {
+    { p.exact(0.0, z0, 0.0, out) } -> std::same_as<void>;
+    { P::autonomous } -> std::convertible_to<bool>;
+}
+&&!requires(const P& p, Vec& out) {
+    p.exact(0.0, out);
+};
+
+// Whether problem type Q satisfies the exact-solution contract (trivially when it has none).
+template <class Q>
+constexpr bool exact_solution_contract() {
+    if constexpr (Q::has_exact)
+        return ExactSolution<Q>;
+    else
+        return true;
+}
 
 namespace detail {
 // Whether problem type Q declares constant damping (false when it does not say): kernels then

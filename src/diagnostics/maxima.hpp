@@ -1,4 +1,5 @@
-// Oscillation maxima of q for the dissipation drift d(t) = ln(max q) + Γ(t) (F(4.4)), for a
+// Oscillation maxima of q for the dissipation drift d(t) = ln(max q) + Γ(t) − Γ(t0) (F(4.4), whose
+// runs start at t0 = 0; Γ counted from the start as everywhere else, bitwise F's at t0 = 0), for a
 // separable problem with one degree of freedom. Between two consecutive samples (t_a, z_a),
 // (t_b, z_b) where q' changes sign from + to −, q is interpolated by the quintic Hermite
 // polynomial through q, q' and q'' at both ends (q' = f_q(z), q'' = ∂f_q/∂z · f(t, z): the vector
@@ -19,14 +20,15 @@ namespace dampsym {
 struct Maximum {
     double t;
     double q; // max q
-    double d; // ln(q_max) + Γ(t_max)
+    double d; // ln(q_max) + Γ(t_max) − Γ(t0)
 };
 
 template <class P>
 class MaximaFinder {
 public:
-    explicit MaximaFinder(const P& problem)
-        : p_(problem), f_(problem.dim()), J_(problem.dim(), problem.dim()) {}
+    MaximaFinder(const P& problem, double t0)
+        : p_(problem), gamma0_(problem.Gamma(t0)), f_(problem.dim()),
+          J_(problem.dim(), problem.dim()) {}
 
     // Feed consecutive samples (any spacing, increasing t).
     void feed(double t, const Vec& z) {
@@ -87,10 +89,11 @@ private:
         }
         const double qmax = H(s);
         const double tm = a.t + s * h;
-        if (qmax > 0.0) maxima_.push_back({tm, qmax, std::log(qmax) + p_.Gamma(tm)});
+        if (qmax > 0.0) maxima_.push_back({tm, qmax, std::log(qmax) + (p_.Gamma(tm) - gamma0_)});
     }
 
     const P& p_;
+    double gamma0_; // Γ(t0)
     Vec f_;
     Mat J_;
     Sample prev_{};

@@ -76,7 +76,7 @@ public:
         }
         if (max_on_) {
             if constexpr (HasOneDofMaxima<P>) {
-                finder_.emplace(p_);
+                finder_.emplace(p_, t0_);
                 finder_->feed(t0_, z0);
             }
         }

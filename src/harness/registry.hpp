@@ -37,6 +37,15 @@ namespace dampsym {
 using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra,
                              NBody, Kepler, OuterSolarSystem, Argon>;
 
+// Every registered problem with an exact solution takes its start (t0, z0) (core/problem.hpp).
+template <class... Ps>
+constexpr bool exact_solutions_take_start(TypeList<Ps...>) {
+    return (exact_solution_contract<Ps>() && ...);
+}
+static_assert(exact_solutions_take_start(ProblemList{}),
+              "a problem with has_exact must provide exact(t0, z0, t, out) and autonomous, and no "
+              "exact(t, out) (core/problem.hpp ExactSolution)");
+
 template <template <class> class... Ks>
 struct KernelList {};
 using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,

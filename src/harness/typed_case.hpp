@@ -39,8 +39,9 @@ public:
             if constexpr (P::has_exact) {
                 ref_.resize(problem_.dim(), np);
                 Vec tmp(problem_.dim());
+                const Vec z0 = problem_.initial_state(); // the state at t0 (core/problem.hpp)
                 for (std::int64_t i = 0; i < np; ++i) {
-                    problem_.exact(ref_times_[static_cast<std::size_t>(i)], tmp);
+                    problem_.exact(c_.t0, z0, ref_times_[static_cast<std::size_t>(i)], tmp);
                     ref_.col(i) = tmp;
                 }
                 reference_ = {{"kind", "exact"}, {"error_estimate", 0.0}, {"points", np}};
@@ -241,7 +242,7 @@ private:
             Vec z = problem_.initial_state();
             if (stepper.step(c_.t0, z) != StepStatus::ok) return {{"reason", "solve failed"}};
             Vec exact(z.size());
-            problem_.exact(c_.t0 + h, exact);
+            problem_.exact(c_.t0, problem_.initial_state(), c_.t0 + h, exact);
             const double e = (z - exact).norm();
             out = {{"abs", e}, {"rel", e / exact.norm()}};
         }
@@ -368,7 +369,7 @@ private:
         json out = drift_of(mx);
         if constexpr (HasOneDofMaxima<P>) {
             if (reference_ok_ && ref_.cols() > 2 && ref_.cols() == points_ + 1) {
-                MaximaFinder<P> finder(problem_);
+                MaximaFinder<P> finder(problem_, c_.t0);
                 for (Eigen::Index i = 0; i < ref_.cols(); ++i)
                     finder.feed(grid_time(i), ref_.col(i));
                 const auto& rm = finder.maxima();

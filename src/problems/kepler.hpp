@@ -30,6 +30,7 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
     static constexpr std::string_view title = "Kepler's problem q''=-q/|q|^3, HLW(2.1), HLW(2.9)";
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = true;
+    static constexpr bool autonomous = true;
     static constexpr bool has_energy = true;
     static constexpr bool has_momentum = true;
     static constexpr bool linear_momentum_law = false;
@@ -85,8 +86,18 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
     double energy(const Vec& z) const {
         return 0.5 * (z[2] * z[2] + z[3] * z[3]) - 1.0 / std::hypot(z[0], z[1]);
     }
-    void exact(double t, Vec& out) const {
-        const KeplerState s = kepler_exact(e, t);
+    // Solution with z(t0) = z0 (core/problem.hpp), autonomous: from HLW(2.9)'s own state
+    // (initial_state(), bitwise) through Kepler's equation at t − t0 (kepler_exact); from any
+    // other state on an elliptic orbit by Lagrange's f and g (kepler_propagate); NaN on an
+    // unbound or radial orbit.
+    void exact(double t0, const Vec& z0, double t, Vec& out) const {
+        KeplerState s;
+        if (t == t0)
+            s = {z0[0], z0[1], z0[2], z0[3]};
+        else if (z0 == initial_state())
+            s = kepler_exact(e, t - t0);
+        else
+            s = kepler_propagate({z0[0], z0[1], z0[2], z0[3]}, t - t0);
         out[0] = s.q1;
         out[1] = s.q2;
         out[2] = s.p1;

@@ -16,6 +16,7 @@ struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscill
     static constexpr std::string_view title = "damped harmonic oscillator q''+2γq'+ω²q=0";
     static constexpr bool is_linear = true;
     static constexpr bool has_exact = true;
+    static constexpr bool autonomous = true;
     static constexpr bool has_energy = true;
     static constexpr bool autonomous_potential = true; // V = ω²q²/2: Ḣ = −2γp²
     static constexpr std::array<std::string_view, 1> invariant_names{"H_gamma"};
@@ -58,8 +59,10 @@ struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscill
         out[0] = 0.5 * (omega * omega * z[0] * z[0] + z[1] * z[1]) + gamma * z[0] * z[1];
     }
     double energy(const Vec& z) const { return 0.5 * (z[1] * z[1] + omega * omega * z[0] * z[0]); }
-    void exact(double t, Vec& out) const {
-        const OscillatorState s = oscillator_exact(omega, gamma, q0, p0, t);
+    // Solution with z(t0) = z0 (core/problem.hpp): constant coefficients, so the solution from
+    // (0, z0) at t − t0 (bitwise the old t0 = 0 form; at t = t0 exactly z0: C = 1, S = 0).
+    void exact(double t0, const Vec& z0, double t, Vec& out) const {
+        const OscillatorState s = oscillator_exact(omega, gamma, z0[0], z0[1], t - t0);
         out[0] = s.q;
         out[1] = s.p;
     }

@@ -10,7 +10,9 @@
 // H = ½ Σ z_i²/I_i; energy() = H. Defaults: BS's I = (4, 3, 2) and ω0 = (1, 1, 0), z0 = I ω0 =
 // (4, 3, 0) (the z defaults do not follow a changed I). Exact solution for every ε
 // (reference/rigid_body_exact.hpp): z(t) = e^{−Γ(t)} y(τ(t)) with the free body y in Jacobi
-// elliptic functions; exact(t) is the solution with z(0) = z0 at t = 0.
+// elliptic functions; exact(t0, z0, t) is the solution with z(t0) = z0, which for this
+// time-dependent γ is not a shift of the one from t = 0: z(t) = e^{−(Γ(t)−Γ(t0))} y(τ_{t0}(t)),
+// τ_{t0}(t) = ∫_{t0}^t e^{−(Γ(s)−Γ(t0))} ds, y the free body from z0.
 #pragma once
 
 #include "core/problem.hpp"
@@ -31,6 +33,7 @@ struct RigidBody {
     static constexpr bool constant_gamma = false;
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = true;
+    static constexpr bool autonomous = false; // γ(t)
     static constexpr bool has_energy = true;
     static constexpr std::array<std::string_view, 2> invariant_names{"casimir", "energy"};
 
@@ -104,8 +107,8 @@ struct RigidBody {
     double energy(const Vec& z) const {
         return 0.5 * (z[0] * z[0] / I1 + z[1] * z[1] / I2 + z[2] * z[2] / I3);
     }
-    void exact(double t, Vec& out) const {
-        const Vec3 s = rigid_body_exact({I1, I2, I3}, {z1, z2, z3}, epsilon, t);
+    void exact(double t0, const Vec& z0, double t, Vec& out) const {
+        const Vec3 s = rigid_body_exact({I1, I2, I3}, {z0[0], z0[1], z0[2]}, epsilon, t0, t);
         out[0] = s[0];
         out[1] = s[1];
         out[2] = s[2];
