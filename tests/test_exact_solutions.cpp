@@ -65,8 +65,8 @@ P random_problem(std::mt19937_64& rng, std::string& desc) {
             double v = s.default_value;
             if (!defaults) {
                 v = v * (1.0 + 0.2 * uniform(rng, -1, 1)) + 0.2 * uniform(rng, -1, 1);
-                if (s.range == dampsym::Range::positive) v = std::abs(v) + 0.1;
-                if (s.range == dampsym::Range::nonnegative) v = std::abs(v);
+                if (s.range.lo >= 0.0) v = std::abs(v) + (s.range.lo_open ? 0.1 : 0.0);
+                if (!s.range.contains(v)) v = s.default_value; // outside the problem's range
             }
             m[s.name] = v;
             os << s.name << "=" << v << " ";
