@@ -307,14 +307,14 @@ def make_case(suffix, method, w, g, solve, how, m, side):
                         "would exceed it)" % (p["n"], fmt(p["err"]))}
             if conformal and p["F"]:
                 ex["bounded run at %s h*: e^{2 gamma t} H_gamma stays bounded" % label] = {
-                    "metric": "invariants.H_gamma.max_global_rel", "methods": [method], "dt": dt,
+                    "metric": "invariants.H_gamma.max_global_ratio_dev", "methods": [method], "dt": dt,
                     "le": g17(1.01 * p["inv"]),
                     "note": "inside F's region both eigenvalues have modulus e^{-gamma h}: the conformal "
                             "energy oscillates on the modified ellipse, max |e^{2 gamma t}H_gamma/H_gamma(0) - 1| "
                             "= %s by iterating M (1%% margin)" % fmt(p["inv"])}
             elif conformal:
                 ex["bounded run at %s h*, outside F's region: e^{2 gamma t} H_gamma grows" % label] = {
-                    "metric": "invariants.H_gamma.max_global_rel", "methods": [method], "dt": dt,
+                    "metric": "invariants.H_gamma.max_global_ratio_dev", "methods": [method], "dt": dt,
                     "ge": 1e6, "negative_control": True,
                     "note": "outside F's region the eigenvalues are real, one of modulus > e^{-gamma h}: the "
                             "run stays bounded (rho(M) = %s < 1) but e^{2 gamma t} H_gamma grows; iterating M "

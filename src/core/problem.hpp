@@ -7,9 +7,12 @@
 //   double dGamma(double t, double h) const;            Γ(t+h) − Γ(t), without cancellation
 //   forms: separable Rayleigh form (grad_T, force, hess_T, force_jacobian), from which
 //          SeparableProblem derives the conformal form N(z,t) and the plain form f(t,z);
-//   invariants: names, values, all decaying as e^{-2Γ(t)} (B Def. 1.1);
-//   optionally: energy(z); exact(t0, z0, t, out) and autonomous (when has_exact, see
-//               ExactSolution below);
+//   invariants: names, values, all decaying as e^{-2Γ(t)} (B Def. 1.1), and next to them the
+//               scale of each law residual (invariant_scale_defs, invariant_scales: a magnitude
+//               that does not vanish with the invariant, docs/conventions.md "Law residuals and
+//               their scales");
+//   optionally: energy(z) with energy_scale(z); exact(t0, z0, t, out) and autonomous (when
+//               has_exact, see ExactSolution below);
 //   optionally: static constexpr int static_n, the degrees of freedom when fixed at compile time
 //               (n() returns it); kernels that use static_dof<P>() then keep stage vectors of
 //               fixed size, which the compiler reduces to scalar code.

@@ -43,6 +43,8 @@ public:
     }
 
     const std::vector<Maximum>& maxima() const { return maxima_; }
+    // Maxima of q at or below 0 (not in maxima(): d(t) = ln(max q) + Γ is undefined there).
+    std::int64_t nonpositive() const { return nonpositive_; }
 
 private:
     struct Sample {
@@ -89,7 +91,10 @@ private:
         }
         const double qmax = H(s);
         const double tm = a.t + s * h;
-        if (qmax > 0.0) maxima_.push_back({tm, qmax, std::log(qmax) + (p_.Gamma(tm) - gamma0_)});
+        if (qmax > 0.0)
+            maxima_.push_back({tm, qmax, std::log(qmax) + (p_.Gamma(tm) - gamma0_)});
+        else
+            ++nonpositive_; // ln(max q) undefined: counted, reported by the d(t) metrics
     }
 
     const P& p_;
@@ -99,6 +104,7 @@ private:
     Sample prev_{};
     bool have_prev_ = false;
     std::vector<Maximum> maxima_;
+    std::int64_t nonpositive_ = 0;
 };
 
 } // namespace dampsym

@@ -17,27 +17,66 @@
 
 namespace dampsym {
 
+// Law residuals are measured against a scale S(z) ≥ |I(z)| that does not vanish with the invariant
+// (the problem declares it next to the invariant: invariant_scales; docs/conventions.md, "Law
+// residuals and their scales"). A residual is undefined where its scale is not a normal positive
+// number (the state has underflowed to zero, or is not finite); one undefined point makes the run's
+// metric undefined (reported with its reason, and a check on it fails with that reason).
+inline bool scale_defined(double s) {
+    return s >= std::numeric_limits<double>::min();
+}
+
 struct InvariantStats {
-    double max_step_rel = 0.0;   // max_n |I_{n+1} − e^{−2ΔΓ} I_n| / |I_n|
-    double last_step_rel = 0.0;  // the same at the last step
-    double max_global_rel = 0.0; // max_n |I_n − e^{−2Γ(t_n)} I_0| / |e^{−2Γ(t_n)} I_0|
-    // Least-squares sums for the drift slope of I_n/(e^{−2Γ(t_n)} I_0) − 1 against t.
+    double max_step_res = 0.0;   // max_n |I_{n+1} − e^{−2ΔΓ} I_n| / S(z_n)
+    double last_step_res = 0.0;  // the same at the last step
+    double max_step_abs = 0.0;   // max_n |I_{n+1} − e^{−2ΔΓ} I_n|
+    double scale_at_max = 0.0;   // S(z_n) at the step of max_step_res
+    double scale_initial = 0.0;  // S(z_0)
+    double max_global_res = 0.0; // max_n |I_n − e^{−2Γ(t_n)} I_0| / S(z_n)
+    std::int64_t undefined_steps = 0, first_undefined_step = -1; // S(z_n) not a normal number
+    // The invariant relative to its law's prediction, r_n = e^{2Γ(t_n)} I_n / I_0 − 1 (F's
+    // conformal energy ratio). Evaluating I_n costs a round-off u_n = ε S(z_n) / |e^{−2Γ(t_n)} I_0|
+    // in r_n, which is not small when I_0 is round-off on its scale or when the terms of an
+    // indefinite invariant outgrow the law's value (over-damped H_γ: S(z_n) e^{2Γ} grows). r_n is
+    // defined only where it is resolved: u_n ≤ 1e-8, or u_n ≤ 1e-2 |r_n| (a large deviation known
+    // to two digits); one unresolved point makes the ratio metrics undefined.
+    static constexpr double ratio_abs_resolution = 1e-8, ratio_rel_resolution = 1e-2;
+    bool ratio_defined = true;
+    std::int64_t first_unresolved_ratio = -1;
+    double max_ratio_dev = 0.0; // max_n |e^{2Γ(t_n)} I_n / I_0 − 1|
+    // Least-squares sums for the slopes against t of (I_n − e^{−2Γ(t_n)} I_0) / S(z_n) (g) and of
+    // e^{2Γ(t_n)} I_n / I_0 − 1 (r).
     double sx = 0, sy = 0, sxx = 0, sxy = 0, count = 0;
-    double drift_slope() const {
-        const double den = count * sxx - sx * sx;
-        return den > 0.0 ? (count * sxy - sx * sy) / den : 0.0;
+    double rx = 0, ry = 0, rxx = 0, rxy = 0, rcount = 0;
+    static double slope(double n, double x, double y, double xx, double xy) {
+        const double den = n * xx - x * x;
+        return den > 0.0 ? (n * xy - x * y) / den : 0.0;
+    }
+    double global_res_slope() const { return slope(count, sx, sy, sxx, sxy); }
+    double ratio_dev_slope() const { return slope(rcount, rx, ry, rxx, rxy); }
+    void undefined_at(std::int64_t n) {
+        if (undefined_steps++ == 0) first_undefined_step = n;
     }
 };
 
 // Per-step conformal law of a vector quantity X (total linear or angular momentum):
 // law: X_{n+1} = e^{−2ΔΓ} X_n (B Ex. 1.3); table: X_{n+1} = f X_n with the factor f the method
-// declares (B Table 3.1), when it declares one. Residuals are ‖·‖₂ relative to ‖X_n‖₂.
+// declares (B Table 3.1), when it declares one. Residuals are ‖·‖₂ on the scale S(z_n) the problem
+// declares (Σ‖p_i‖ and Σ‖q_i‖‖p_i‖: linear_momentum_scale, angular_momentum_scale). The measured
+// factor X_{n+1}·X_n/‖X_n‖² is a ratio to ‖X_n‖ itself: it is defined only where
+// ‖X_n‖ ≥ factor_floor · S(z_n) (below that its round-off, ≈ ε S/‖X_n‖, exceeds ~1e-8).
 struct VectorLawStats {
-    double max_law_rel = 0.0, last_law_rel = 0.0;
-    double max_table_rel = 0.0;                                     // only with a table factor
-    double first_factor = std::numeric_limits<double>::quiet_NaN(); // X_1·X_0/|X_0|²
-    double max_factor_dev = 0.0; // max_n |X_{n+1}·X_n/|X_n|² − f| / f (f = table, else law)
-    double initial_norm = 0.0;
+    static constexpr double factor_floor = 1e-8;
+    double max_law_res = 0.0, last_law_res = 0.0;
+    double max_table_res = 0.0; // only with a table factor
+    double max_law_abs = 0.0;   // max_n ‖X_{n+1} − e^{−2ΔΓ} X_n‖₂
+    double first_factor = std::numeric_limits<double>::quiet_NaN(); // X_1·X_0/‖X_0‖²
+    double max_factor_dev = 0.0; // max_n |X_{n+1}·X_n/‖X_n‖² − f| / f (f = table, else law)
+    double initial_norm = 0.0;   // ‖X_0‖₂
+    double scale_initial = 0.0;  // S(z_0)
+    double scale_at_max = 0.0;   // S(z_n) at the step of max_law_res
+    std::int64_t undefined_steps = 0, first_undefined_step = -1; // S(z_n) not a normal number
+    std::int64_t factor_undefined_steps = 0, first_factor_undefined_step = -1;
 };
 
 // Energy balance residual R(t_n) = |D_t H_n − Ḣ_n| with the 8th-order central difference D_t and
@@ -71,8 +110,17 @@ public:
         if (stride_ > 0) grid_.col(0) = z0;
         if (inv_on_) {
             p_.invariants(t0_, z0, inv_prev_.data());
+            p_.invariant_scales(t0_, z0, scale_prev_.data());
             inv0_ = inv_prev_;
             stats_.assign(P::invariant_names.size(), InvariantStats{});
+            for (std::size_t k = 0; k < stats_.size(); ++k) {
+                stats_[k].scale_initial = scale_prev_[k];
+                if (!scale_defined(scale_prev_[k])) stats_[k].undefined_at(0);
+                if (!ratio_resolved(scale_prev_[k], inv0_[k], 0.0, 0.0)) {
+                    stats_[k].ratio_defined = false;
+                    stats_[k].first_unresolved_ratio = 0;
+                }
+            }
         }
         if (max_on_) {
             if constexpr (HasOneDofMaxima<P>) {
@@ -91,6 +139,8 @@ public:
                 p_.angular_momentum(z0, ang_prev_);
                 lin_.initial_norm = lin_prev_.norm();
                 ang_.initial_norm = ang_prev_.norm();
+                lin_scale_prev_ = lin_.scale_initial = p_.linear_momentum_scale(z0);
+                ang_scale_prev_ = ang_.scale_initial = p_.angular_momentum_scale(z0);
             }
         }
         if constexpr (HasEnergyBalance<P>) {
@@ -114,26 +164,39 @@ public:
 
     const Mat& grid() const { return grid_; }
     const std::vector<InvariantStats>& invariant_stats() const { return stats_; }
+    double initial_invariant(std::size_t k) const { return inv0_[k]; }
     std::vector<Maximum> maxima() const {
         return finder_ ? finder_->maxima() : std::vector<Maximum>{};
     }
+    std::int64_t nonpositive_maxima() const { return finder_ ? finder_->nonpositive() : 0; }
     const VectorLawStats& linear_momentum_stats() const { return lin_; }
     const VectorLawStats& angular_momentum_stats() const { return ang_; }
     const EnergyBalanceStats& energy_balance_stats() const { return eb_; }
 
 private:
-    void vector_law(VectorLawStats& s, const Vec& prev, const Vec& now, double law, double table) {
-        const double norm2 = std::max(prev.squaredNorm(), 1e-300);
-        const double norm = std::sqrt(norm2);
-        const double rel = (now - law * prev).norm() / norm;
-        s.max_law_rel = std::max(s.max_law_rel, rel);
-        s.last_law_rel = rel;
+    void vector_law(VectorLawStats& s, std::int64_t n, const Vec& prev, const Vec& now,
+                    double scale, double law, double table) {
+        if (!scale_defined(scale)) {
+            if (s.undefined_steps++ == 0) s.first_undefined_step = n - 1;
+        } else {
+            const double abs = (now - law * prev).norm();
+            const double res = abs / scale;
+            if (res > s.max_law_res || n == 1) s.scale_at_max = scale;
+            s.max_law_res = std::max(s.max_law_res, res);
+            s.last_law_res = res;
+            s.max_law_abs = std::max(s.max_law_abs, abs);
+            if (!std::isnan(table))
+                s.max_table_res = std::max(s.max_table_res, (now - table * prev).norm() / scale);
+        }
+        const double norm2 = prev.squaredNorm();
+        if (!(std::sqrt(norm2) >= VectorLawStats::factor_floor * scale) || !scale_defined(scale)) {
+            if (s.factor_undefined_steps++ == 0) s.first_factor_undefined_step = n - 1;
+            return;
+        }
         const double factor = now.dot(prev) / norm2;
-        if (std::isnan(s.first_factor)) s.first_factor = factor;
+        if (n == 1) s.first_factor = factor;
         const double f = std::isnan(table) ? law : table;
         s.max_factor_dev = std::max(s.max_factor_dev, std::abs(factor - f) / std::abs(f));
-        if (!std::isnan(table))
-            s.max_table_rel = std::max(s.max_table_rel, (now - table * prev).norm() / norm);
     }
 
     void momentum_step(std::int64_t n, const Vec& z) {
@@ -141,10 +204,13 @@ private:
             const double law = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
             p_.linear_momentum(z, lin_now_);
             p_.angular_momentum(z, ang_now_);
-            vector_law(lin_, lin_prev_, lin_now_, law, table_factor_);
-            vector_law(ang_, ang_prev_, ang_now_, law, std::numeric_limits<double>::quiet_NaN());
+            vector_law(lin_, n, lin_prev_, lin_now_, lin_scale_prev_, law, table_factor_);
+            vector_law(ang_, n, ang_prev_, ang_now_, ang_scale_prev_, law,
+                       std::numeric_limits<double>::quiet_NaN());
             lin_prev_.swap(lin_now_);
             ang_prev_.swap(ang_now_);
+            lin_scale_prev_ = p_.linear_momentum_scale(z);
+            ang_scale_prev_ = p_.angular_momentum_scale(z);
         }
     }
 
@@ -176,34 +242,77 @@ private:
     }
 
     void invariants_step(std::int64_t n, double t, const Vec& z) {
-        std::array<double, max_invariants> now{};
+        std::array<double, max_invariants> now{}, scale_now{};
         p_.invariants(t, z, now.data());
+        p_.invariant_scales(t, z, scale_now.data());
         const double decay_step = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
         const double two_gamma = 2.0 * (p_.Gamma(t) - p_.Gamma(t0_));
         for (std::size_t k = 0; k < stats_.size(); ++k) {
             InvariantStats& s = stats_[k];
-            const double expected = decay_step * inv_prev_[k];
-            const double rel =
-                std::abs(now[k] - expected) / std::max(std::abs(inv_prev_[k]), 1e-300);
-            s.max_step_rel = std::max(s.max_step_rel, rel);
-            s.last_step_rel = rel;
-            // ratio I_n / (e^{−2Γ} I_0) in log form so that long runs do not underflow
-            double ratio = 0.0;
-            if (now[k] != 0.0 && inv0_[k] != 0.0) {
-                const double sign = (now[k] > 0) == (inv0_[k] > 0) ? 1.0 : -1.0;
-                ratio = sign * std::exp(std::log(std::abs(now[k])) - std::log(std::abs(inv0_[k])) +
-                                        two_gamma);
+            // step law on the scale of the earlier state
+            const double abs = std::abs(now[k] - decay_step * inv_prev_[k]);
+            const double res = abs / scale_prev_[k];
+            if (!scale_defined(scale_prev_[k]) || !std::isfinite(res)) {
+                s.undefined_at(n - 1);
+            } else {
+                if (res > s.max_step_res || n == 1) s.scale_at_max = scale_prev_[k];
+                s.max_step_res = std::max(s.max_step_res, res);
+                s.last_step_res = res;
+                s.max_step_abs = std::max(s.max_step_abs, abs);
             }
-            const double g = ratio - 1.0;
-            s.max_global_rel = std::max(s.max_global_rel, std::abs(g));
-            const double x = t - t0_;
-            s.sx += x;
-            s.sy += g;
-            s.sxx += x * x;
-            s.sxy += x * g;
-            s.count += 1.0;
+            // global law (I_n − e^{−2Γ} I_0) / S(z_n); e^{−2Γ} I_0 / S(z_n) in log form so that
+            // long runs do not underflow
+            if (!scale_defined(scale_now[k]) || !std::isfinite(now[k])) {
+                s.undefined_at(n);
+            } else {
+                double expected = 0.0;
+                if (inv0_[k] != 0.0)
+                    expected = std::copysign(
+                        std::exp(std::log(std::abs(inv0_[k])) - two_gamma - std::log(scale_now[k])),
+                        inv0_[k]);
+                const double g = now[k] / scale_now[k] - expected;
+                s.max_global_res = std::max(s.max_global_res, std::abs(g));
+                const double x = t - t0_;
+                s.sx += x;
+                s.sy += g;
+                s.sxx += x * x;
+                s.sxy += x * g;
+                s.count += 1.0;
+            }
+            // ratio I_n / (e^{−2Γ} I_0) in log form so that long runs do not underflow
+            if (s.ratio_defined) {
+                double ratio = 0.0;
+                if (now[k] != 0.0) {
+                    const double sign = (now[k] > 0) == (inv0_[k] > 0) ? 1.0 : -1.0;
+                    ratio = sign * std::exp(std::log(std::abs(now[k])) -
+                                            std::log(std::abs(inv0_[k])) + two_gamma);
+                }
+                const double r = ratio - 1.0;
+                if (!std::isfinite(r) || !ratio_resolved(scale_now[k], inv0_[k], two_gamma, r)) {
+                    s.ratio_defined = false;
+                    s.first_unresolved_ratio = n;
+                }
+                s.max_ratio_dev = std::max(s.max_ratio_dev, std::abs(r));
+                const double x = t - t0_;
+                s.rx += x;
+                s.ry += r;
+                s.rxx += x * x;
+                s.rxy += x * r;
+                s.rcount += 1.0;
+            }
             inv_prev_[k] = now[k];
+            scale_prev_[k] = scale_now[k];
         }
+    }
+
+    // Whether r = e^{2Γ} I / I_0 − 1 is resolved at a state of scale S (InvariantStats), with
+    // log u = log ε + log S − log|I_0| + 2Γ (no overflow for long runs).
+    static bool ratio_resolved(double scale, double i0, double two_gamma, double r) {
+        if (!scale_defined(scale) || i0 == 0.0) return false;
+        const double log_u = std::log(std::numeric_limits<double>::epsilon()) + std::log(scale) -
+                             std::log(std::abs(i0)) + two_gamma;
+        return log_u <= std::log(InvariantStats::ratio_abs_resolution) ||
+               log_u <= std::log(InvariantStats::ratio_rel_resolution * std::abs(r));
     }
 
     const P& p_;
@@ -211,11 +320,12 @@ private:
     std::int64_t stride_ = 0;
     Mat grid_;
     bool inv_on_ = false, max_on_ = false, mom_on_ = false, eb_on_ = false;
-    std::array<double, max_invariants> inv_prev_{}, inv0_{};
+    std::array<double, max_invariants> inv_prev_{}, inv0_{}, scale_prev_{};
     std::vector<InvariantStats> stats_;
     std::optional<MaximaFinder<P>> finder_;
     double table_factor_ = std::numeric_limits<double>::quiet_NaN();
     Vec lin_prev_, lin_now_, ang_prev_, ang_now_;
+    double lin_scale_prev_ = 0.0, ang_scale_prev_ = 0.0;
     VectorLawStats lin_, ang_;
     std::array<double, 9> eb_energy_{}, eb_rate_{};
     Vec grad_t_;

@@ -198,18 +198,21 @@ std::vector<std::string> metric_names(const std::string& diagnostic,
         std::vector<std::string> out;
         for (const auto& inv : invariants)
             for (const char* stat :
-                 {"max_step_rel", "last_step_rel", "max_global_rel", "drift_slope"})
+                 {"max_step_res", "last_step_res", "max_step_abs", "scale_initial",
+                  "scale_at_max_step_res", "max_global_res", "global_res_slope",
+                  "max_global_ratio_dev", "ratio_dev_slope", "undefined_points"})
                 out.push_back(inv + "." + stat);
         return out;
     }
     if (diagnostic == "energy")
-        return {"max_abs_error",   "final_abs_error",  "drift_slope",
-                "rel_drift_slope", "max_abs_change",   "change_slope",
-                "max_rel_change",  "rel_change_slope", "growth_ratio"};
+        return {"max_abs_error",  "final_abs_error", "drift_slope",    "error_res_slope",
+                "max_abs_change", "change_slope",    "max_change_res", "change_res_slope",
+                "growth_ratio",   "scale_initial"};
     if (diagnostic == "dissipation-drift")
         return {"slope",
                 "range",
                 "maxima",
+                "maxima_nonpositive",
                 "slope_minus_reference",
                 "max_abs_diff_reference",
                 "maxima_count_diff",
@@ -217,14 +220,17 @@ std::vector<std::string> metric_names(const std::string& diagnostic,
     if (diagnostic == "momentum") {
         std::vector<std::string> out;
         for (const char* part : {"linear", "angular"})
-            for (const char* stat : {"max_law_rel", "last_law_rel", "first_factor",
-                                     "max_factor_dev", "max_table_rel", "initial_norm"})
+            for (const char* stat :
+                 {"max_law_res", "last_law_res", "max_law_abs", "scale_initial",
+                  "scale_at_max_law_res", "first_factor", "max_factor_dev", "max_table_res",
+                  "initial_norm", "undefined_points", "factor_undefined_points"})
                 out.push_back(std::string(part) + "." + stat);
         return out;
     }
     if (diagnostic == "conformal-symplectic")
         return {"max_rel", "last_rel", "max_abs", "last_abs", "steps_measured"};
-    if (diagnostic == "energy-balance") return {"max", "last", "mean", "max_rel", "points"};
+    if (diagnostic == "energy-balance")
+        return {"max", "last", "mean", "max_rel", "max_rate", "points"};
     if (diagnostic == "poincare")
         return {"sections", "pointwise_max", "pointwise_final", "set_mean", "set_hausdorff"};
     if (diagnostic == "temperature")

@@ -161,7 +161,8 @@ void metrics_table(std::ostringstream& os, const json& c) {
         const char* label;
     };
     static const Col cols[] = {
-        {"invariants", "", "invariant max step residual (rel)"},
+        {"invariants", "", "invariant max step residual / scale (scale)"},
+        {"momentum", "", "momentum max law residual / scale (scale)"},
         {"dissipation-drift", "slope", "d(t) slope"},
         {"dissipation-drift", "maxima", "maxima"},
         {"energy", "max_abs_error", "max |H_exact−H|"},
@@ -192,11 +193,20 @@ void metrics_table(std::ostringstream& os, const json& c) {
             std::string cell = "—";
             if (m.contains(col->diag)) {
                 const json& d = m[col->diag];
-                if (std::string(col->key).empty()) {
+                if (std::string(col->diag) == "invariants") {
+                    // residual on the invariant's scale, and the scale at that step
                     cell.clear();
                     for (auto it = d.begin(); it != d.end(); ++it)
                         cell += (cell.empty() ? "" : ", ") + it.key() + " " +
-                                num(it.value()["max_step_rel"], 3);
+                                num(it.value()["max_step_res"], 3) + " (scale " +
+                                num(it.value()["scale_at_max_step_res"], 3) + ")";
+                } else if (std::string(col->diag) == "momentum") {
+                    cell.clear();
+                    for (const char* part : {"linear", "angular"})
+                        if (d.contains(part) && d[part].contains("max_law_res"))
+                            cell += (cell.empty() ? "" : ", ") + std::string(part) + " " +
+                                    num(d[part]["max_law_res"], 3) + " (scale " +
+                                    num(d[part]["scale_at_max_law_res"], 3) + ")";
                 } else if (d.contains(col->key)) {
                     cell = num(d[col->key], 4);
                 }

@@ -165,27 +165,22 @@ private:
         }
         if (ok && reference_ok_ && c_.wants("error")) metrics["error"] = error_metrics(rec, z);
         if (ok && reference_ok_ && c_.wants("energy")) metrics["energy"] = energy_metrics(rec);
-        if (ok && c_.wants("invariants")) {
-            json inv = json::object();
-            for (std::size_t k = 0; k < P::invariant_names.size(); ++k) {
-                const InvariantStats& s = rec.invariant_stats()[k];
-                inv[std::string(P::invariant_names[k])] = {{"max_step_rel", s.max_step_rel},
-                                                           {"last_step_rel", s.last_step_rel},
-                                                           {"max_global_rel", s.max_global_rel},
-                                                           {"drift_slope", s.drift_slope()}};
-            }
-            metrics["invariants"] = inv;
-        }
+        if (ok && c_.wants("invariants")) metrics["invariants"] = invariant_metrics(rec);
         if (ok && c_.wants("dissipation-drift")) metrics["dissipation-drift"] = drift_metrics(rec);
         if (ok && c_.wants("momentum")) metrics["momentum"] = momentum_metrics(rec, info, h);
         if (ok && c_.wants("energy-balance")) {
             const EnergyBalanceStats& e = rec.energy_balance_stats();
-            metrics["energy-balance"] = {
-                {"max", e.max},
-                {"last", e.last},
-                {"mean", e.count ? e.sum / static_cast<double>(e.count) : 0.0},
-                {"max_rel", e.max_rate > 0.0 ? e.max / e.max_rate : 0.0},
-                {"points", e.count}};
+            json eb = {{"max", e.max},
+                       {"last", e.last},
+                       {"mean", e.count ? e.sum / static_cast<double>(e.count) : 0.0},
+                       {"max_rate", e.max_rate},
+                       {"points", e.count}};
+            // R relative to the largest |Ḣ|: undefined when Ḣ ≡ 0 (γ = 0 or p ≡ 0)
+            if (scale_defined(e.max_rate))
+                eb["max_rel"] = e.max / e.max_rate;
+            else
+                set_undefined(eb, "max_rel", "max |dH/dt| is 0: no rate to compare with");
+            metrics["energy-balance"] = eb;
         }
         if (c_.wants("conformal-symplectic"))
             metrics["conformal-symplectic"] = conformal_symplectic_metrics<K>(info, h, n);
@@ -244,57 +239,93 @@ private:
             Vec exact(z.size());
             problem_.exact(c_.t0, problem_.initial_state(), c_.t0 + h, exact);
             const double e = (z - exact).norm();
-            out = {{"abs", e}, {"rel", e / exact.norm()}};
+            out = {{"abs", e}};
+            if (scale_defined(exact.norm()))
+                out["rel"] = e / exact.norm();
+            else
+                set_undefined(out, "rel", "exact solution at t0 + h has norm 0");
         }
         return out;
     }
 
+    // Relative errors e_n / ‖z_ref(t_n)‖ are defined only where the reference's norm is a normal
+    // number above 100× its certified error estimate (below that the reference cannot resolve a
+    // relative error; a solution decayed to ~0 makes the ratio meaningless): one such point makes
+    // final_rel / max_rel undefined (null, with the reason), never a huge or a zero ratio.
     json error_metrics(const Recorder<P>& rec, const Vec& z_final) const {
         double max_abs = 0.0, max_rel = 0.0, sum_abs = 0.0;
         Eigen::Index count = 0;
+        const double ref_floor = 100.0 * ref_error_;
+        std::string rel_undefined;
+        auto rel_of = [&](double e, double ref_norm, double t) {
+            if (ref_norm >= std::numeric_limits<double>::min() && ref_norm > ref_floor)
+                return e / ref_norm;
+            if (rel_undefined.empty())
+                rel_undefined = "reference norm " + json(ref_norm).dump() +
+                                " at t = " + json(t).dump() +
+                                " is below max(DBL_MIN, 100 x its error estimate)";
+            return 0.0;
+        };
         if (needs_grid_) {
             const Mat& g = rec.grid();
             for (Eigen::Index i = 1; i < g.cols(); ++i) { // the initial point is exact
                 const double e = (g.col(i) - ref_.col(i)).norm();
                 max_abs = std::max(max_abs, e);
-                max_rel = std::max(max_rel, e / ref_.col(i).norm());
+                max_rel = std::max(max_rel, rel_of(e, ref_.col(i).norm(), grid_time(i)));
                 sum_abs += e;
                 ++count;
             }
         }
         const Vec ref_final = ref_.col(ref_.cols() - 1);
         const double final_abs = (z_final - ref_final).norm();
-        const double final_rel = final_abs / ref_final.norm();
+        const std::string grid_undefined = rel_undefined;
+        rel_undefined.clear();
+        const double final_rel = rel_of(final_abs, ref_final.norm(), c_.t_end);
+        const std::string final_undefined = rel_undefined;
         max_abs = std::max(max_abs, final_abs);
         max_rel = std::max(max_rel, final_rel);
         // mean over the output grid t_1..t_end: B Fig 3.1's "average absolute error"
         const double mean_abs = count ? sum_abs / static_cast<double>(count) : final_abs;
-        return {{"final_abs", final_abs}, {"final_rel", final_rel},
-                {"max_abs", max_abs},     {"mean_abs", mean_abs},
-                {"max_rel", max_rel},     {"reference_error_estimate", ref_error_}};
+        json out = {{"final_abs", final_abs}, {"final_rel", final_rel},
+                    {"max_abs", max_abs},     {"mean_abs", mean_abs},
+                    {"max_rel", max_rel},     {"reference_error_estimate", ref_error_}};
+        if (!final_undefined.empty()) set_undefined(out, "final_rel", final_undefined);
+        if (!final_undefined.empty() || !grid_undefined.empty())
+            set_undefined(out, "max_rel",
+                          grid_undefined.empty() ? final_undefined : grid_undefined);
+        return out;
     }
 
+    // Energy changes H_n − H_0 on the scale S_H(z_0) and errors H_exact − H_n on S_H(z_ref(t_n)),
+    // S_H the problem's energy_scale (T + |V|, or H for a definite energy; docs/conventions.md),
+    // so that an energy crossing zero does not make a ratio blow up.
     json energy_metrics(const Recorder<P>& rec) const {
         if constexpr (P::has_energy) {
             const Mat& g = rec.grid();
-            std::vector<double> t, err, rel, change;
+            std::vector<double> t, err, res, change;
             const double e0 = problem_.energy(g.col(0));
+            const double s0 = problem_.energy_scale(g.col(0));
             const bool with_ref = reference_ok_ && ref_.cols() == g.cols();
-            std::vector<double> rel_change;
-            double max_err = 0.0, max_change = 0.0, max_rel_change = 0.0;
+            std::vector<double> change_res;
+            double max_err = 0.0, max_change = 0.0, max_change_res = 0.0;
+            std::string err_undefined;
             for (Eigen::Index i = 0; i < g.cols(); ++i) {
                 const double en = problem_.energy(g.col(i));
                 t.push_back(grid_time(i));
                 if (with_ref) {
                     const double exact = problem_.energy(ref_.col(i));
+                    const double scale = problem_.energy_scale(ref_.col(i));
                     err.push_back(exact - en); // H_exact − H_approx (F Fig 4.3)
-                    rel.push_back(err.back() / exact);
+                    if (!scale_defined(scale) && err_undefined.empty())
+                        err_undefined = "energy scale of the reference is " + json(scale).dump() +
+                                        " at t = " + json(t.back()).dump();
+                    res.push_back(scale_defined(scale) ? err.back() / scale : 0.0);
                     max_err = std::max(max_err, std::abs(err.back()));
                 }
                 change.push_back(en - e0);
-                rel_change.push_back((en - e0) / std::abs(e0));
+                change_res.push_back(scale_defined(s0) ? (en - e0) / s0 : 0.0);
                 max_change = std::max(max_change, std::abs(change.back()));
-                max_rel_change = std::max(max_rel_change, std::abs(rel_change.back()));
+                max_change_res = std::max(max_change_res, std::abs(change_res.back()));
             }
             // Growth of |H_n − H_0| between the two halves of the run: ≈ 1 when the error is
             // bounded, ≈ 2 when it grows linearly (HLW Table 2.1).
@@ -305,15 +336,27 @@ private:
                     std::max(i <= mid ? first_half : second_half,
                              std::abs(change[static_cast<std::size_t>(i)]));
             json out = {{"max_abs_change", max_change},
-                        {"growth_ratio", first_half > 0.0 ? second_half / first_half : 0.0},
                         {"change_slope", least_squares(t, change).slope},
-                        {"max_rel_change", max_rel_change},
-                        {"rel_change_slope", least_squares(t, rel_change).slope}};
+                        {"scale_initial", s0},
+                        {"max_change_res", max_change_res},
+                        {"change_res_slope", least_squares(t, change_res).slope}};
+            if (first_half > 0.0)
+                out["growth_ratio"] = second_half / first_half;
+            else
+                set_undefined(out, "growth_ratio", "|H_n - H_0| = 0 on the first half");
+            if (!scale_defined(s0)) {
+                const std::string why = "energy scale at t0 is " + json(s0).dump();
+                set_undefined(out, "max_change_res", why);
+                set_undefined(out, "change_res_slope", why);
+            }
             if (with_ref) {
                 out["max_abs_error"] = max_err;
                 out["final_abs_error"] = std::abs(err.back());
                 out["drift_slope"] = least_squares(t, err).slope;
-                out["rel_drift_slope"] = least_squares(t, rel).slope;
+                if (err_undefined.empty())
+                    out["error_res_slope"] = least_squares(t, res).slope;
+                else
+                    set_undefined(out, "error_res_slope", err_undefined);
             }
             return out;
         } else {
@@ -322,8 +365,63 @@ private:
         }
     }
 
-    static json drift_of(const std::vector<Maximum>& mx) {
-        json out = {{"maxima", mx.size()}};
+    // The invariants' law residuals on their declared scales (recorder.hpp, docs/conventions.md).
+    json invariant_metrics(const Recorder<P>& rec) const {
+        json inv = json::object();
+        for (std::size_t k = 0; k < P::invariant_names.size(); ++k) {
+            const InvariantStats& s = rec.invariant_stats()[k];
+            json o = {{"scale", std::string(P::invariant_scale_defs[k])},
+                      {"scale_initial", s.scale_initial},
+                      {"max_step_res", s.max_step_res},
+                      {"last_step_res", s.last_step_res},
+                      {"max_step_abs", s.max_step_abs},
+                      {"scale_at_max_step_res", s.scale_at_max},
+                      {"max_global_res", s.max_global_res},
+                      {"global_res_slope", s.global_res_slope()},
+                      {"max_global_ratio_dev", s.max_ratio_dev},
+                      {"ratio_dev_slope", s.ratio_dev_slope()},
+                      {"undefined_points", s.undefined_steps}};
+            if (!s.ratio_defined) {
+                const std::string why =
+                    "at step " + std::to_string(s.first_unresolved_ratio) +
+                    " the round-off eps S(z_n) / |e^{-2 Gamma} I_0| of e^{2 Gamma} I_n / I_0 "
+                    "exceeds max(1e-8, 1e-2 |ratio - 1|) (I_0 = " +
+                    json(rec.initial_invariant(k)).dump() +
+                    ", scale S(z_0) = " + json(s.scale_initial).dump() + "); read max_global_res";
+                set_undefined(o, "max_global_ratio_dev", why);
+                set_undefined(o, "ratio_dev_slope", why);
+            }
+            if (s.undefined_steps > 0) {
+                const std::string why = "scale not a positive normal number (state ~0 or not "
+                                        "finite) at step " +
+                                        std::to_string(s.first_undefined_step) + " and " +
+                                        std::to_string(s.undefined_steps - 1) + " more";
+                for (const char* key :
+                     {"max_step_res", "last_step_res", "max_global_res", "global_res_slope"})
+                    set_undefined(o, key, why);
+            }
+            inv[std::string(P::invariant_names[k])] = o;
+        }
+        return inv;
+    }
+
+    // A metric with no defined value here: null, and its reason under "undefined" in the same
+    // object; a check on it fails with that reason (finish()).
+    static void set_undefined(json& o, const std::string& key, const std::string& reason) {
+        o[key] = nullptr;
+        o["undefined"][key] = reason;
+    }
+
+    // d(t) = ln(max q) + Γ(t) at the positive maxima; a maximum of q at or below 0 has no d(t)
+    // (over-damped motion): then every d(t) metric is undefined, with the count as the reason.
+    static json drift_of(const std::vector<Maximum>& mx, std::int64_t nonpositive) {
+        json out = {{"maxima", mx.size()}, {"maxima_nonpositive", nonpositive}};
+        if (nonpositive > 0) {
+            const std::string why =
+                std::to_string(nonpositive) + " maxima of q are <= 0, where ln(max q) is undefined";
+            for (const char* key : {"slope", "range"}) set_undefined(out, key, why);
+            return out;
+        }
         if (mx.size() < 3) return out; // slope missing: a check on it fails with that reason
         std::vector<double> t, d;
         double lo = mx[0].d, hi = mx[0].d;
@@ -366,16 +464,17 @@ private:
 
     json drift_metrics(const Recorder<P>& rec) const {
         const std::vector<Maximum> mx = rec.maxima();
-        json out = drift_of(mx);
+        json out = drift_of(mx, rec.nonpositive_maxima());
         if constexpr (HasOneDofMaxima<P>) {
             if (reference_ok_ && ref_.cols() > 2 && ref_.cols() == points_ + 1) {
                 MaximaFinder<P> finder(problem_, c_.t0);
                 for (Eigen::Index i = 0; i < ref_.cols(); ++i)
                     finder.feed(grid_time(i), ref_.col(i));
                 const auto& rm = finder.maxima();
-                const json ref = drift_of(rm);
+                const json ref = drift_of(rm, finder.nonpositive());
                 out["reference"] = ref;
-                if (ref.contains("slope") && out.contains("slope"))
+                if (ref.contains("slope") && out.contains("slope") && ref["slope"].is_number() &&
+                    out["slope"].is_number())
                     out["slope_minus_reference"] =
                         out["slope"].get<double>() - ref["slope"].get<double>();
                 double max_diff = 0.0;
@@ -406,23 +505,44 @@ private:
     }
 
     json momentum_metrics(const Recorder<P>& rec, const MethodInfo& info, double h) const {
-        auto one = [](const VectorLawStats& s, bool with_table) {
-            json o = {{"max_law_rel", s.max_law_rel},
-                      {"last_law_rel", s.last_law_rel},
+        auto one = [](const VectorLawStats& s, bool with_table, const char* scale) {
+            json o = {{"scale", scale},
+                      {"scale_initial", s.scale_initial},
+                      {"max_law_res", s.max_law_res},
+                      {"last_law_res", s.last_law_res},
+                      {"max_law_abs", s.max_law_abs},
+                      {"scale_at_max_law_res", s.scale_at_max},
                       {"first_factor", s.first_factor},
                       {"max_factor_dev", s.max_factor_dev},
-                      {"initial_norm", s.initial_norm}};
-            if (with_table) o["max_table_rel"] = s.max_table_rel;
+                      {"initial_norm", s.initial_norm},
+                      {"undefined_points", s.undefined_steps},
+                      {"factor_undefined_points", s.factor_undefined_steps}};
+            if (with_table) o["max_table_res"] = s.max_table_res;
+            if (s.undefined_steps > 0) {
+                const std::string why = "scale not a positive normal number at step " +
+                                        std::to_string(s.first_undefined_step);
+                for (const char* key : {"max_law_res", "last_law_res", "max_table_res"})
+                    if (o.contains(key)) set_undefined(o, key, why);
+            }
+            if (s.factor_undefined_steps > 0) {
+                const std::string why =
+                    "|X_n| < 1e-8 x scale at step " +
+                    std::to_string(s.first_factor_undefined_step) + " (" +
+                    std::to_string(s.factor_undefined_steps) +
+                    " steps): the factor X_{n+1}.X_n/|X_n|^2 is round-off there";
+                set_undefined(o, "max_factor_dev", why);
+                if (s.first_factor_undefined_step == 0) set_undefined(o, "first_factor", why);
+            }
             return o;
         };
-        json ang = one(rec.angular_momentum_stats(), false);
+        json ang = one(rec.angular_momentum_stats(), false, "sum_i |q_i| |p_i|");
         if constexpr (requires { P::linear_momentum_law; }) {
             // e.g. Kepler's fixed centre: Σp has no law, only the angular momentum is reported.
             if (!P::linear_momentum_law)
                 return {{"angular", ang}, {"linear", {{"reason", "no linear momentum law"}}}};
         }
         const double table = table_momentum_factor(info, h);
-        json lin = one(rec.linear_momentum_stats(), !std::isnan(table));
+        json lin = one(rec.linear_momentum_stats(), !std::isnan(table), "sum_i |p_i|");
         lin["law_factor"] = std::exp(-2.0 * problem_.dGamma(c_.t0, h));
         if (!std::isnan(table)) {
             lin["table_factor"] = table;
@@ -691,6 +811,16 @@ private:
         return {{"run", r}};
     }
 
+    // The reason set_undefined() recorded for metric "a.b.key" (under "a.b".undefined.key), or "".
+    static std::string undefined_reason(const json& metrics, const std::string& metric) {
+        const auto dot = metric.rfind('.');
+        const json* parent = lookup(metrics, metric.substr(0, dot));
+        if (!parent || !parent->is_object() || !parent->contains("undefined")) return {};
+        const json& u = (*parent)["undefined"];
+        const std::string key = metric.substr(dot + 1);
+        return u.contains(key) && u[key].is_string() ? u[key].get<std::string>() : std::string();
+    }
+
     std::vector<double> sweep_gammas_, sweep_hs_;
     std::vector<std::vector<SweepRow>> sweep_rows_; // [method][γ row], pre-sized in sweep_tasks
 
@@ -816,6 +946,12 @@ json TypedCase<P>::finish() {
                     ck["passed"] = false;
                     ck["value"] = nullptr;
                     ck["message"] = "reference failed: " + reference_.value("error", std::string());
+                } else if (v && v->is_null() && !undefined_reason(metrics, cs.metric).empty()) {
+                    // defined nowhere here (recorder.hpp, docs/conventions.md): fails, whatever
+                    // the check's direction (a negative control too), with the reason
+                    ck["passed"] = false;
+                    ck["value"] = nullptr;
+                    ck["message"] = "metric undefined: " + undefined_reason(metrics, cs.metric);
                 } else if (!v || !v->is_number()) {
                     ck["passed"] = false;
                     ck["value"] = nullptr;

@@ -17,6 +17,7 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamm
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = false;
     static constexpr std::array<std::string_view, 0> invariant_names{};
+    static constexpr std::array<std::string_view, 0> invariant_scale_defs{};
 
     double gamma = 0.1, lambda = 1.0, f = 1.0, q0 = 0.0, p0 = 0.0;
 
@@ -52,6 +53,7 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamm
     }
 
     void invariants(double, const Vec&, double*) const {}
+    void invariant_scales(double, const Vec&, double*) const {}
     // Period of the forcing f sin t: Poincaré sections at t = 2πk (B Fig 3.5).
     double forcing_period() const { return 2.0 * M_PI; }
 };

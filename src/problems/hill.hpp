@@ -20,6 +20,7 @@ struct Hill : SeparableProblem<Hill>, UnitMass {
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = false;
     static constexpr std::array<std::string_view, 0> invariant_names{};
+    static constexpr std::array<std::string_view, 0> invariant_scale_defs{};
 
     double epsilon = 0.1, kappa = 1.0, q0 = 1.0, p0 = 0.0;
 
@@ -60,6 +61,7 @@ struct Hill : SeparableProblem<Hill>, UnitMass {
     }
 
     void invariants(double, const Vec&, double*) const {}
+    void invariant_scales(double, const Vec&, double*) const {}
 };
 
 } // namespace dampsym

@@ -36,6 +36,9 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
     static constexpr bool linear_momentum_law = false;
     static constexpr bool autonomous_potential = true; // V = −1/|q|
     static constexpr std::array<std::string_view, 1> invariant_names{"angular_momentum"};
+    // Law residual scale (docs/conventions.md): L = q1 p2 − q2 p1 vanishes for radial motion, so
+    // its scale is |z|ᵀ|A||z| = |q1 p2| + |q2 p1|.
+    static constexpr std::array<std::string_view, 1> invariant_scale_defs{"|q1 p2| + |q2 p1|"};
     static constexpr double gamma = 0.0; // no damping: γ ≡ 0 (used by ConstantGamma)
 
     double e = 0.6;
@@ -83,8 +86,15 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
     }
 
     void invariants(double, const Vec& z, double* out) const { out[0] = z[0] * z[3] - z[1] * z[2]; }
+    void invariant_scales(double, const Vec& z, double* out) const {
+        out[0] = std::abs(z[0] * z[3]) + std::abs(z[1] * z[2]);
+    }
     double energy(const Vec& z) const {
         return 0.5 * (z[2] * z[2] + z[3] * z[3]) - 1.0 / std::hypot(z[0], z[1]);
+    }
+    // Scale of energy changes and errors: T + |V| = ½|p|² + 1/|q| (H = T + V crosses zero).
+    double energy_scale(const Vec& z) const {
+        return 0.5 * (z[2] * z[2] + z[3] * z[3]) + 1.0 / std::hypot(z[0], z[1]);
     }
     // Solution with z(t0) = z0 (core/problem.hpp), autonomous: from HLW(2.9)'s own state
     // (initial_state(), bitwise) through Kepler's equation at t − t0 (kepler_exact); from any
@@ -113,6 +123,11 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
     void angular_momentum(const Vec& z, Vec& out) const {
         out.resize(1);
         out[0] = z[0] * z[3] - z[1] * z[2];
+    }
+    // Scales of the momentum laws (docs/conventions.md): ‖p‖ and ‖q‖‖p‖.
+    double linear_momentum_scale(const Vec& z) const { return std::hypot(z[2], z[3]); }
+    double angular_momentum_scale(const Vec& z) const {
+        return std::hypot(z[0], z[1]) * std::hypot(z[2], z[3]);
     }
 };
 

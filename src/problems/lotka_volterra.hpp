@@ -25,6 +25,11 @@ struct LotkaVolterra {
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = false;
     static constexpr std::array<std::string_view, 1> invariant_names{"I"};
+    // Law residual scale (docs/conventions.md): I ≤ max(ln u − u) + max(2 ln v − v) =
+    // −1 + 2 ln 2 − 2 ≈ −1.61 on the whole domain, so I is bounded away from zero and |I| is its
+    // own scale (the plain relative residual).
+    static constexpr std::array<std::string_view, 1> invariant_scale_defs{
+        "|I| (I <= 2 ln 2 - 3 < 0)"};
 
     double u0 = 2.0, v0 = 2.0;
 
@@ -63,6 +68,10 @@ struct LotkaVolterra {
     // HLW(1.2); NaN once a population leaves (0, ∞), which the check then reports.
     void invariants(double, const Vec& z, double* out) const {
         out[0] = std::log(z[0]) - z[0] + 2.0 * std::log(z[1]) - z[1];
+    }
+    void invariant_scales(double t, const Vec& z, double* out) const {
+        invariants(t, z, out);
+        out[0] = std::abs(out[0]);
     }
 };
 

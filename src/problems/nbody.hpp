@@ -143,6 +143,32 @@ struct NBodySystem {
         }
         return t;
     }
+    // Scales of the momentum laws (docs/conventions.md, "Law residuals and their scales"):
+    // Σ‖p_i‖₂ ≥ ‖Σp_i‖₂ and Σ‖q_i‖₂‖p_i‖₂ ≥ every term |q_ia p_ib| of Σ q_i × p_i; both are
+    // invariant under rotations and vanish only when every term of the momentum does.
+    template <class In>
+    double linear_momentum_scale(const In& p) const {
+        double s = 0.0;
+        for (int i = 0; i < bodies(); ++i) {
+            double n2 = 0.0;
+            for (int k = 0; k < d; ++k) n2 += p[i * d + k] * p[i * d + k];
+            s += std::sqrt(n2);
+        }
+        return s;
+    }
+    template <class InQ, class InP>
+    double angular_momentum_scale(const InQ& q, const InP& p) const {
+        double s = 0.0;
+        for (int i = 0; i < bodies(); ++i) {
+            double q2 = 0.0, p2 = 0.0;
+            for (int k = 0; k < d; ++k) {
+                q2 += q[i * d + k] * q[i * d + k];
+                p2 += p[i * d + k] * p[i * d + k];
+            }
+            s += std::sqrt(q2 * p2);
+        }
+        return s;
+    }
     // Σ p_i, length d.
     template <class In>
     void linear_momentum(const In& p, Vec& out) const {
@@ -243,6 +269,7 @@ struct NBodyProblem : SeparableProblem<Derived>, ConstantGamma<Derived> {
     // Σ p_i obeys e^{−2γt} (B Ex. 1.3): true for a closed N-body system.
     static constexpr bool linear_momentum_law = true;
     static constexpr std::array<std::string_view, 0> invariant_names{};
+    static constexpr std::array<std::string_view, 0> invariant_scale_defs{};
 
     NBodySystem sys;
     double gamma = 0.0;
@@ -277,10 +304,16 @@ struct NBodyProblem : SeparableProblem<Derived>, ConstantGamma<Derived> {
     }
 
     void invariants(double, const Vec&, double*) const {}
+    void invariant_scales(double, const Vec&, double*) const {}
     // H = T + V (B(3.9), HLW(2.10), HLW(3.1)).
     double energy(const Vec& z) const {
         const int k = n();
         return sys.kinetic(z.tail(k)) + sys.potential(z.head(k));
+    }
+    // Scale of energy changes and errors: T + |V| (H = T + V may cross zero).
+    double energy_scale(const Vec& z) const {
+        const int k = n();
+        return sys.kinetic(z.tail(k)) + std::abs(sys.potential(z.head(k)));
     }
     double potential_energy(const Vec& z) const { return sys.potential(z.head(n())); }
     double kinetic_energy(const Vec& z) const { return sys.kinetic(z.tail(n())); }
@@ -289,6 +322,12 @@ struct NBodyProblem : SeparableProblem<Derived>, ConstantGamma<Derived> {
     void linear_momentum(const Vec& z, Vec& out) const { sys.linear_momentum(z.tail(n()), out); }
     void angular_momentum(const Vec& z, Vec& out) const {
         sys.angular_momentum(z.head(n()), z.tail(n()), out);
+    }
+    double linear_momentum_scale(const Vec& z) const {
+        return sys.linear_momentum_scale(z.tail(n()));
+    }
+    double angular_momentum_scale(const Vec& z) const {
+        return sys.angular_momentum_scale(z.head(n()), z.tail(n()));
     }
 };
 

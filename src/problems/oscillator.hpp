@@ -7,6 +7,7 @@
 #include "reference/oscillator_exact.hpp"
 
 #include <array>
+#include <cmath>
 #include <string_view>
 
 namespace dampsym {
@@ -20,6 +21,11 @@ struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscill
     static constexpr bool has_energy = true;
     static constexpr bool autonomous_potential = true; // V = ω²q²/2: Ḣ = −2γp²
     static constexpr std::array<std::string_view, 1> invariant_names{"H_gamma"};
+    // Scale of each invariant's law residual (docs/conventions.md, "Law residuals and their
+    // scales"): H_γ = zᵀAz is indefinite for γ > ω (it passes through zero), so its scale is
+    // |z|ᵀ|A||z| = ½(ω²q² + p²) + γ|qp|, the sum of the magnitudes of its terms.
+    static constexpr std::array<std::string_view, 1> invariant_scale_defs{
+        "|z|^T|A||z| = (w^2 q^2 + p^2)/2 + gamma |q p|"};
 
     double omega = 1.0, gamma = 0.0, q0 = 1.0, p0 = 0.0;
 
@@ -58,7 +64,12 @@ struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscill
     void invariants(double, const Vec& z, double* out) const {
         out[0] = 0.5 * (omega * omega * z[0] * z[0] + z[1] * z[1]) + gamma * z[0] * z[1];
     }
+    void invariant_scales(double, const Vec& z, double* out) const {
+        out[0] = 0.5 * (omega * omega * z[0] * z[0] + z[1] * z[1]) + gamma * std::abs(z[0] * z[1]);
+    }
     double energy(const Vec& z) const { return 0.5 * (z[1] * z[1] + omega * omega * z[0] * z[0]); }
+    // Scale of energy changes and errors: H itself (a definite form, zero only at z = 0).
+    double energy_scale(const Vec& z) const { return energy(z); }
     // Solution with z(t0) = z0 (core/problem.hpp): constant coefficients, so the solution from
     // (0, z0) at t − t0 (bitwise the old t0 = 0 form; at t = t0 exactly z0: C = 1, S = 0).
     void exact(double t0, const Vec& z0, double t, Vec& out) const {

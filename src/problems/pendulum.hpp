@@ -19,6 +19,7 @@ struct Pendulum : SeparableProblem<Pendulum>, UnitMass, ConstantGamma<Pendulum> 
     static constexpr bool has_energy = true;
     static constexpr bool autonomous_potential = true; // V = −cos q: energy balance B(3.4)
     static constexpr std::array<std::string_view, 0> invariant_names{};
+    static constexpr std::array<std::string_view, 0> invariant_scale_defs{};
 
     double gamma = 0.0, q0 = 1.0, p0 = 0.0;
 
@@ -51,7 +52,11 @@ struct Pendulum : SeparableProblem<Pendulum>, UnitMass, ConstantGamma<Pendulum> 
     }
 
     void invariants(double, const Vec&, double*) const {}
+    void invariant_scales(double, const Vec&, double*) const {}
     double energy(const Vec& z) const { return 0.5 * z[1] * z[1] - std::cos(z[0]); }
+    // Scale of energy changes and errors: T + the amplitude of V = ½p² + 1 (H crosses zero;
+    // |−cos q| ≤ 1, and the amplitude does not vanish where cos q does).
+    double energy_scale(const Vec& z) const { return 0.5 * z[1] * z[1] + 1.0; }
 };
 
 } // namespace dampsym

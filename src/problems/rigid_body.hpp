@@ -36,6 +36,10 @@ struct RigidBody {
     static constexpr bool autonomous = false; // γ(t)
     static constexpr bool has_energy = true;
     static constexpr std::array<std::string_view, 2> invariant_names{"casimir", "energy"};
+    // Law residual scales (docs/conventions.md): both invariants are definite forms, bounded away
+    // from zero by the state's size, so each is its own scale (the plain relative residual).
+    static constexpr std::array<std::string_view, 2> invariant_scale_defs{"|I| (definite)",
+                                                                          "|I| (definite)"};
 
     double epsilon = 0.0, I1 = 4.0, I2 = 3.0, I3 = 2.0, z1 = 4.0, z2 = 3.0, z3 = 0.0;
 
@@ -104,9 +108,12 @@ struct RigidBody {
         out[0] = z.squaredNorm();
         out[1] = energy(z);
     }
+    void invariant_scales(double t, const Vec& z, double* out) const { invariants(t, z, out); }
     double energy(const Vec& z) const {
         return 0.5 * (z[0] * z[0] / I1 + z[1] * z[1] / I2 + z[2] * z[2] / I3);
     }
+    // Scale of energy changes and errors: H itself (definite).
+    double energy_scale(const Vec& z) const { return energy(z); }
     void exact(double t0, const Vec& z0, double t, Vec& out) const {
         const Vec3 s = rigid_body_exact({I1, I2, I3}, {z0[0], z0[1], z0[2]}, epsilon, t0, t);
         out[0] = s[0];
