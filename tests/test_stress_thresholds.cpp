@@ -39,8 +39,8 @@ double bisect_flip(const std::function<bool(double)>& pred, double a, double b) 
 double f_boundary(const char* method, double w, double g, bool upper) {
     const dampsym::MethodInfo* info = dampsym::find_method(method);
     REQUIRE(info != nullptr);
-    REQUIRE(info->oscillator.F_condition != nullptr);
-    auto F = [&](double h) { return info->oscillator.F_condition(w, g, h); };
+    REQUIRE(dampsym::oscillator_formulas(info->id).F_condition != nullptr);
+    auto F = [&](double h) { return dampsym::oscillator_formulas(info->id).F_condition(w, g, h); };
     const double h_max = 10.0 / w;
     const int n = 100000;
     std::vector<double> found;
