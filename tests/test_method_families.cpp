@@ -53,6 +53,19 @@ const ButcherTableau* tableau_of(const MethodInfo& m) {
     return nullptr;
 }
 
+// 2-stage Gauss for both q and p: a partitioned pair the partitioned engine solves by Newton.
+const MethodInfo& gauss2_pair() {
+    static const MethodInfo m{
+        "gauss2-pair",
+        4,
+        true,
+        dampsym::Form::separable,
+        0u,
+        "test",
+        dampsym::PartitionedTableau{&dampsym::gauss_tableau(2), &dampsym::gauss_tableau(2)}};
+    return m;
+}
+
 const MethodInfo& method(std::string_view id) {
     const MethodInfo* m = dampsym::find_method(id);
     if (m == nullptr) FAIL("method not in the catalog: " << std::string(id));
@@ -502,8 +515,9 @@ TEST_CASE("the stage-Newton solver: policies, counters, failure on NaN, inf and 
               dampsym::NewtonPolicy::full, 1.0, [&](double) { return inf; }, refreshes, c3)
               .first == 0);
     Counters c4;
+    // (from 0.7 the iteration x ← (x² − 1)/(2x) wanders without converging)
     CHECK(solve(
-              dampsym::NewtonPolicy::full, 1.0, [](double x) { return x * x + 1.0; }, refreshes, c4)
+              dampsym::NewtonPolicy::full, 0.7, [](double x) { return x * x + 1.0; }, refreshes, c4)
               .first == 0);
     CHECK(c4.newton_iters == dampsym::StageNewton::max_iterations);
 }
@@ -535,14 +549,7 @@ TEST_CASE("a stage solve that cannot converge returns solve_failed and leaves z 
         });
     }
     // Partitioned kernel, Newton path (Gauss pair): q'' = q² + 1 with a huge step.
-    static const MethodInfo gauss_pair{
-        "gauss2-pair",
-        4,
-        true,
-        dampsym::Form::separable,
-        0u,
-        "test",
-        dampsym::PartitionedTableau{&dampsym::gauss_tableau(2), &dampsym::gauss_tableau(2)}};
+    const MethodInfo& gauss_pair = gauss2_pair();
     const RiccatiSeparable sep;
     Counters c;
     dampsym::PartitionedRK<RiccatiSeparable> k(sep, gauss_pair, 5.0, c);
@@ -591,14 +598,7 @@ TEST_CASE("partitioned and Runge-Kutta kernels agree where the methods coincide"
     const double h = 0.1;
     const int n = 100;
     // Gauss for both q and p (Newton path of the partitioned kernel) is gauss2 on the full field.
-    static const MethodInfo gauss_pair{
-        "gauss2-pair",
-        4,
-        true,
-        dampsym::Form::separable,
-        0u,
-        "test",
-        dampsym::PartitionedTableau{&dampsym::gauss_tableau(2), &dampsym::gauss_tableau(2)}};
+    const MethodInfo& gauss_pair = gauss2_pair();
     Counters c1, c2;
     Vec za = prob.initial_state(), zb = za;
     REQUIRE(run(prob, gauss_pair, h, n, za, c1));

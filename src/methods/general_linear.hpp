@@ -17,10 +17,10 @@
 //   Y_i − h a_ii f(t_i, Y_i) = W_i := (U y)_i + h Σ_{j<i} a_ij F_j
 // by Newton's method with the analytic Jacobian rhs_jacobian (I − h a_ii ∂f, one LU per
 // iteration), from Y_i = W_i; an explicit stage (a_ii = 0) is one evaluation. A full A is solved by
-// Newton's method on the whole (s·d)×(s·d) system (blocks δ_ij I − h a_ij ∂f_j). Each iteration
-// evaluates f and ∂f at the current iterate; the solver is the one stage-Newton solver of
-// methods/newton.hpp (update within a few ulps of the scale, or stalled below 1e-10 of the
-// scale). The stage derivatives are then taken from the stage equations, without another
+// Newton's method on the whole (s·d)×(s·d) system (blocks δ_ij I − h a_ij ∂f_j), simplified for
+// s ≥ 2 as in the RK engine (the matrix at the predictor). The solver is the one stage-Newton
+// solver of methods/newton.hpp (update within a few ulps of the scale, or stalled below 1e-10 of
+// the scale). The stage derivatives are then taken from the stage equations, without another
 // evaluation:
 //   F_i = (Y_i − W_i)/(h a_ii)   (triangular),   h F = A⁻¹ (Y − U y)   (full, A invertible),
 // as the RK engine (rk_engine.hpp) does; a singular full A evaluates f at the converged stages
@@ -195,26 +195,32 @@ private:
         StageNewton& nw = &plan == &main_ ? coupled_main_ : coupled_start_;
         Vec& X = nw.X;
         for (int i = 0; i < s; ++i) X.segment(i * d_, d_) = W_.col(i);
-        const int it = nw.solve(NewtonPolicy::full, c_, [&](bool) {
+        // The policy of the RK engine for the same coupled system: full Newton for one stage,
+        // simplified (matrix at the predictor) for several.
+        const NewtonPolicy policy = s >= 2 ? NewtonPolicy::simplified : NewtonPolicy::full;
+        const int it = nw.solve(policy, c_, [&](bool refresh) {
             for (int j = 0; j < s; ++j) {
                 const double tj = t + c[j] * h_;
                 x_ = X.segment(j * d_, d_);
                 prob_.rhs(tj, x_, f_);
-                prob_.rhs_jacobian(tj, x_, J_);
                 Fs_.col(j) = f_;
-                Js_.middleCols(j * d_, d_) = J_;
+                if (refresh) {
+                    prob_.rhs_jacobian(tj, x_, J_);
+                    Js_.middleCols(j * d_, d_) = J_;
+                }
             }
             c_.rhs_evals += s;
-            c_.jac_evals += s;
+            if (refresh) c_.jac_evals += s;
             for (int i = 0; i < s; ++i) {
                 auto Ri = nw.R.segment(i * d_, d_);
                 Ri = X.segment(i * d_, d_) - W_.col(i);
                 for (int j = 0; j < s; ++j) {
                     if (A(i, j) != 0.0) Ri -= (h_ * A(i, j)) * Fs_.col(j);
-                    nw.S.block(i * d_, j * d_, d_, d_) =
-                        -(h_ * A(i, j)) * Js_.middleCols(j * d_, d_);
+                    if (refresh)
+                        nw.S.block(i * d_, j * d_, d_, d_) =
+                            -(h_ * A(i, j)) * Js_.middleCols(j * d_, d_);
                 }
-                nw.S.block(i * d_, i * d_, d_, d_).diagonal().array() += 1.0;
+                if (refresh) nw.S.block(i * d_, i * d_, d_, d_).diagonal().array() += 1.0;
             }
         });
         if (it == 0) return false;
