@@ -273,6 +273,25 @@ def main():
         ratio(scipy_info["cpu_seconds_min"] if scipy_info else None,
               reference["cpu_seconds"] if reference else None), ">=", 20.0,
         "bench_report.py solve_ivp ÷ reference/pendulum/certified")
+    # Data-defined kernels against the hand-written and implicit references (same pendulum, h,
+    # gamma; bench/run_timing.py measures the same ratios through `dampsym run`).
+    def kernel_row(name, num, den, key, limit, peer=False):
+        prefix = "peer/pendulum/" if peer else "harness/pendulum/"
+        row(name, ratio(value(runs, f"harness/pendulum/{num}", key), value(runs, prefix + den, key)),
+            "<=", limit, f"harness/pendulum/{num} ÷ {prefix}{den} ({key})")
+
+    kernel_row("stormer-verlet / csv1 (ns per step)", "stormer-verlet", "csv1", "ns_per_step", 1.15)
+    kernel_row("csv1-perk / csv1 (ns per step)", "csv1-perk", "csv1", "ns_per_step", 1.15)
+    kernel_row("cse-if / csv1 (ns per force evaluation)", "cse-if", "csv1", "ns_per_force_eval",
+               1.15)
+    kernel_row("cse-etd / csv1 (ns per force evaluation)", "cse-etd", "csv1", "ns_per_force_eval",
+               1.15)
+    kernel_row("rk4 / odeint runge_kutta4 (ns per step)", "rk4", "odeint-rk4", "ns_per_step", 1.10,
+               peer=True)
+    for s_ in (1, 2, 3):
+        kernel_row(f"glifrk{s_} / gauss{s_} (ns per step)", f"glifrk{s_}", f"gauss{s_}",
+                   "ns_per_step", 1.15)
+    kernel_row("etdrk2 / gauss1 (ns per step)", "etdrk2", "gauss1", "ns_per_step", 1.15)
     suites = None
     if a.suite_jobs1:
         w1, w2 = suite_wall(a.suite_jobs1), suite_wall(a.suite_jobs2)
@@ -298,9 +317,6 @@ def main():
         ("bare csv1 loop / odeint velocity_verlet (ns per force evaluation)",
          ratio(value(runs, "peer/pendulum/bare-csv1", "ns_per_force_eval"),
                value(runs, "peer/pendulum/odeint-velocity-verlet", "ns_per_force_eval"))),
-        ("rk4 harness / odeint runge_kutta4 (ns per step)",
-         ratio(value(runs, "harness/pendulum/rk4", "ns_per_step"),
-               value(runs, "peer/pendulum/odeint-rk4", "ns_per_step"))),
         ("csv1 pendulum: the runner's own loop in run_cases (case shard) / bare loop (ns per step)",
          ratio(value(runs, "overhead/pendulum/run_cases-csv1", "loop_ns_per_step"),
                value(runs, "peer/pendulum/bare-csv1", "ns_per_step"))),

@@ -2,8 +2,9 @@
 # Benchmarks: set up, build dampsym and dampsym_bench (Release, in build/), time the default suite
 # with --jobs 1 and --jobs 2, run dampsym_bench (raw output: reports/bench-raw.json), then
 # bench/bench_report.py, which writes reports/bench.json and reports/bench.md and prints the
-# acceptance table. Exits 1 if an acceptance row fails (2 on a usage or input error). Takes several
-# minutes; run it on a quiet machine.
+# acceptance table, then bench/run_timing.py (the kernel ratios through `dampsym run`). Exits 1
+# if an acceptance row fails (2 on a usage or input error). Takes several minutes; run it on a
+# quiet machine.
 # Environment: DAMPSYM_BUILD_DIR (default build), DAMPSYM_BUILD_JOBS (default nproc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +24,13 @@ for j in 1 2; do
   if [ "$s" -eq 2 ]; then echo "ci/bench.sh: dampsym run --jobs $j: bad input" >&2; exit 2; fi
 done
 "$build/dampsym_bench" --benchmark_out=reports/bench-raw.json --benchmark_out_format=json
+status=0
 /usr/bin/python3 bench/bench_report.py reports/bench-raw.json \
   --suite-jobs1 "$tmp/suite-jobs1/report.json" --suite-jobs2 "$tmp/suite-jobs2/report.json" \
-  --out-json reports/bench.json --out-md reports/bench.md
+  --out-json reports/bench.json --out-md reports/bench.md || status=$?
+if [ "$status" -eq 2 ]; then exit 2; fi
+# The same kernel ratios through `dampsym run` (each method alone, 10^7 pendulum steps, no
+# diagnostic, the run's own wall time): reports/run-timing.json.
+/usr/bin/python3 bench/run_timing.py "$build/dampsym" --out-json reports/run-timing.json || {
+  s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
+exit "$status"

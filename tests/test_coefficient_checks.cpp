@@ -53,8 +53,15 @@ const MethodInfo& method(std::string_view id) {
     return *m;
 }
 
-bool is_rk_family(const MethodInfo& m) {
-    return m.kernel == "explicit-rk" || m.kernel == "implicit-rk" || m.kernel == "ifrk";
+// The Butcher tableau of an RK or IFRK row (the RK checks apply to it), else nullptr.
+const dampsym::ButcherTableau* rk_tableau(const MethodInfo& m) {
+    if (const auto* d = dampsym::method_data<dampsym::RungeKuttaTableau>(m)) return d->tableau;
+    if (const auto* d = dampsym::method_data<dampsym::IntegratingFactorTableau>(m))
+        return d->tableau;
+    return nullptr;
+}
+const dampsym::PartitionedTableau* prk_pair(const MethodInfo& m) {
+    return dampsym::method_data<dampsym::PartitionedTableau>(m);
 }
 
 // Least-squares slope of log y against log x.
@@ -126,13 +133,12 @@ GlmCoefficients gauss_as_glm(int s) {
 MethodInfo glm_method(const GlmCoefficients& g, int order) {
     MethodInfo m{};
     m.id = g.name;
-    m.kernel = "general-linear";
     m.order = order;
     m.implicit = true;
-    m.form = "plain";
+    m.form = dampsym::Form::plain;
     m.claims = dampsym::claim_g_symplectic;
     m.citation = "test";
-    m.glm = &g;
+    m.data = dampsym::GeneralLinearCoefficients{&g};
     return m;
 }
 
@@ -167,16 +173,16 @@ TEST_CASE("rooted trees are generated with the right counts and densities", "[co
 TEST_CASE("every registered method passes the coefficient checks of its family", "[coefficients]") {
     int checked = 0, unchecked = 0;
     for (const MethodInfo& m : dampsym::method_catalog()) {
-        INFO("method " << m.id << " (kernel " << m.kernel << ", order " << m.order << ")");
+        INFO("method " << m.id << " (kernel " << dampsym::kernel_name(m) << ", order " << m.order
+                       << ")");
         const auto checks = dampsym::method_checks(m);
         for (const auto& c : checks) {
             INFO(c.name << ": " << c.what << ", value " << c.value);
             CHECK(c.agrees());
         }
         (checks.empty() ? unchecked : checked) += 1;
-        if (is_rk_family(m)) {
-            REQUIRE(m.tableau != nullptr);
-            const auto oc = dampsym::rk_order_conditions(*m.tableau);
+        if (rk_tableau(m) != nullptr) {
+            const auto oc = dampsym::rk_order_conditions(*rk_tableau(m));
             if (verbose())
                 std::printf("%-24s order %d, measured %d, residual at order+1 %.2e\n",
                             std::string(m.id).c_str(), m.order, oc.measured_order,
@@ -188,13 +194,11 @@ TEST_CASE("every registered method passes the coefficient checks of its family",
                 CHECK(oc.measured_order == dampsym::rk_max_tree_order);
             }
             CHECK_FALSE(checks.empty());
-        } else if (m.kernel == "partitioned-rk") {
-            REQUIRE(m.tableau != nullptr);
-            REQUIRE(m.tableau_p != nullptr);
-            const auto oc = dampsym::prk_order_conditions(*m.tableau, *m.tableau_p);
+        } else if (prk_pair(m) != nullptr) {
+            const auto oc = dampsym::prk_order_conditions(*prk_pair(m)->q, *prk_pair(m)->p);
             CHECK(oc.measured_order == m.order);
             CHECK(oc.residual[static_cast<std::size_t>(m.order)] > 1e-6);
-        } else if (m.kernel == "general-linear") {
+        } else if (dampsym::method_data<dampsym::GeneralLinearCoefficients>(m) != nullptr) {
             CHECK(checks.size() == 4);
         }
     }
@@ -210,19 +214,20 @@ TEST_CASE("symplecticity on the coefficients: Gauss and the symplectic PRKs hold
           "[coefficients]") {
     for (const char* id : {"gauss1", "gauss2", "gauss3", "implicit-midpoint"}) {
         INFO(id);
-        const double r = dampsym::rk_symplecticity_residual(*method(id).tableau);
+        const double r = dampsym::rk_symplecticity_residual(*rk_tableau(method(id)));
         if (verbose()) std::printf("%s: symplecticity residual %.2e\n", id, r);
         CHECK(r <= 1e-15);
     }
     for (const char* id : {"symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}) {
         INFO(id);
-        const auto ps = dampsym::prk_symplecticity(*method(id).tableau, *method(id).tableau_p);
+        const auto ps =
+            dampsym::prk_symplecticity(*prk_pair(method(id))->q, *prk_pair(method(id))->p);
         CHECK(ps.condition <= 1e-15);
         CHECK(ps.weights == 0.0);
     }
     for (const char* id : {"rk3", "rk4", "heun", "euler", "implicit-euler"}) {
         INFO(id);
-        const double r = dampsym::rk_symplecticity_residual(*method(id).tableau);
+        const double r = dampsym::rk_symplecticity_residual(*rk_tableau(method(id)));
         if (verbose()) std::printf("%s: symplecticity residual %.2e (negative control)\n", id, r);
         CHECK(r > 1e-3);
     }
@@ -436,7 +441,7 @@ TEST_CASE("glm4 conserves the G-weighted quadratic forms of its two values to ro
     // G = VᵀGV, DU = BᵀGV. Rigid body: M = I (Casimir F) and M = I⁻¹ (E = 2H).
     const RigidBody prob = bs_rigid_body();
     const MethodInfo& info = method("glm4");
-    const Mat& G = info.glm->G;
+    const Mat& G = dampsym::method_data<dampsym::GeneralLinearCoefficients>(info)->glm->G;
     const Mat casimir_matrix = Mat::Identity(3, 3);
     const Mat energy_matrix = Vec{{1.0 / prob.I1, 1.0 / prob.I2, 1.0 / prob.I3}}.asDiagonal();
     auto weighted = [&](const Mat& y, const Mat& M) {

@@ -106,7 +106,8 @@ double ls_slope(const std::vector<double>& x, const std::vector<double>& y) {
 }
 
 // Calls f.template operator()<K>() for the exponential kernel K (ExponentialRK<P> or
-// PartitionedExponentialRK<P>) named by info.kernel, when it applies to P; REQUIREs that it does.
+// PartitionedExponentialRK<P>) whose Data is the type of info's coefficient set, when it applies to
+// P; REQUIREs that it does.
 // Dispatches like the registry's with_kernel (checked against it in "catalog rows ...") but
 // instantiates only the two kernels of this file. Not inlined: GCC 12 reports a false
 // -Wuse-after-free inside Eigen when a kernel's constructor is inlined into these lambdas.
@@ -115,7 +116,8 @@ template <class P, class F>
     bool called = false;
     const auto try_kernel = [&]<class K>() {
         if constexpr (K::template applies<P>) {
-            if (!called && K::kernel_id == info.kernel) {
+            const auto* data = std::get_if<typename K::Data>(&info.data);
+            if (!called && data != nullptr && K::accepts(*data)) {
                 f.template operator()<K>();
                 called = true;
             }
@@ -207,14 +209,14 @@ void if_gauss2_pair(double xB, ExponentialTableau& q, ExponentialTableau& p) {
 }
 const dampsym::PartitionedExponentialRKData if_gauss2_pair_data{
     "if-gauss2-pair", "B(2.14) with Gauss / IF-Gauss", "integrating-factor", 2, if_gauss2_pair};
-const MethodInfo if_gauss2_pair_info{.id = "if-gauss2-pair",
-                                     .kernel = "partitioned-exponential-rk",
-                                     .order = 4,
-                                     .implicit = true,
-                                     .form = "separable",
-                                     .claims = dampsym::claim_conformal_symplectic,
-                                     .citation = "test",
-                                     .family_data = &if_gauss2_pair_data};
+const MethodInfo if_gauss2_pair_info{
+    .id = "if-gauss2-pair",
+    .order = 4,
+    .implicit = true,
+    .form = dampsym::Form::separable,
+    .claims = dampsym::claim_conformal_symplectic,
+    .citation = "test",
+    .data = dampsym::PartitionedExponentialCoefficients{&if_gauss2_pair_data}};
 
 // B(2.21) exactly as printed (q tableau without e^{−x_B/4}), to show why the data is corrected.
 void csv2_as_printed(double xB, ExponentialTableau& q, ExponentialTableau& p) {
@@ -224,25 +226,24 @@ void csv2_as_printed(double xB, ExponentialTableau& q, ExponentialTableau& p) {
 }
 const dampsym::PartitionedExponentialRKData csv2_printed_data{
     "csv2-as-printed", "B(2.21) as printed", "integrating-factor", 2, csv2_as_printed};
-const MethodInfo csv2_printed_info{.id = "csv2-as-printed",
-                                   .kernel = "partitioned-exponential-rk",
-                                   .order = 1,
-                                   .implicit = false,
-                                   .form = "separable",
-                                   .claims = dampsym::claim_none,
-                                   .citation = "test",
-                                   .family_data = &csv2_printed_data};
+const MethodInfo csv2_printed_info{
+    .id = "csv2-as-printed",
+    .order = 1,
+    .implicit = false,
+    .form = dampsym::Form::separable,
+    .claims = dampsym::claim_none,
+    .citation = "test",
+    .data = dampsym::PartitionedExponentialCoefficients{&csv2_printed_data}};
 
 // IF-Gauss as ERK data, stepped by the ERK kernel (compared with glifrk on the ifrk kernel).
 MethodInfo if_gauss_info(int s) {
     return MethodInfo{.id = dampsym::if_gauss_data(s).name,
-                      .kernel = "exponential-rk",
                       .order = 2 * s,
                       .implicit = true,
-                      .form = "conformal",
+                      .form = dampsym::Form::conformal,
                       .claims = dampsym::claim_conformal_symplectic,
                       .citation = dampsym::if_gauss_data(s).source,
-                      .family_data = &dampsym::if_gauss_data(s)};
+                      .data = dampsym::ExponentialCoefficients{&dampsym::if_gauss_data(s)}};
 }
 
 } // namespace
@@ -362,9 +363,12 @@ TEST_CASE("catalog rows of the exponential families", "[exponential]") {
     for (const Row& r : rows) {
         INFO(r.id);
         const MethodInfo& m = method(r.id);
-        CHECK(m.kernel == r.kernel);
+        CHECK(dampsym::kernel_name(m) == r.kernel);
         CHECK(m.order == r.order);
-        CHECK(m.family_data != nullptr);
+        const bool has_data =
+            dampsym::method_data<dampsym::ExponentialCoefficients>(m) != nullptr ||
+            dampsym::method_data<dampsym::PartitionedExponentialCoefficients>(m) != nullptr;
+        CHECK(has_data);
         CHECK(((m.claims & dampsym::claim_conformal_symplectic) != 0) == r.conformal);
         CHECK(dampsym::method_applies(r.id, "pendulum"));
         CHECK(dampsym::method_applies(r.id, "nbody"));
@@ -375,7 +379,7 @@ TEST_CASE("catalog rows of the exponential families", "[exponential]") {
               (std::string_view(r.kernel) == "exponential-rk"));
         // The registry dispatches the row to its kernel.
         const KernelMatch km = dampsym::with_kernel<dampsym::Pendulum>(
-            m, [&]<class K>() { CHECK(K::kernel_id == m.kernel); });
+            m, [&]<class K>() { CHECK(K::kernel_id == r.kernel); });
         CHECK(km == KernelMatch::applied);
     }
     CHECK(method("etdprk2").claims == dampsym::claim_none);

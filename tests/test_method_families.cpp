@@ -8,11 +8,12 @@
 //  - conformal symplecticity of glifrk1..3 on Hill's equation, gauss1..3 as negative controls;
 //  - solve failure returns StepStatus::solve_failed with z unchanged;
 //  - evaluation counts, the Newton path of the partitioned kernel, explicit tableaux.
-// Kernels are dispatched by kernel id like the registry's with_kernel, but only among the three
-// family kernels (with_family_kernel).
+// Kernels are dispatched by the type of the row's coefficient set like the registry's with_kernel,
+// but only among the three family kernels (with_family_kernel).
 // Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
 #include "core/integrate.hpp"
 #include "harness/registry.hpp"
+#include "methods/newton.hpp"
 #include "methods/tableaux.hpp"
 #include "reference/gsl_reference.hpp"
 
@@ -24,6 +25,7 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 using Catch::Matchers::WithinAbs;
@@ -40,6 +42,28 @@ namespace {
 bool verbose() {
     static const bool v = std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
     return v;
+}
+
+// The (q) Butcher tableau of a row of the RK, IFRK or partitioned RK families.
+const ButcherTableau* tableau_of(const MethodInfo& m) {
+    if (const auto* d = dampsym::method_data<dampsym::RungeKuttaTableau>(m)) return d->tableau;
+    if (const auto* d = dampsym::method_data<dampsym::IntegratingFactorTableau>(m))
+        return d->tableau;
+    if (const auto* d = dampsym::method_data<dampsym::PartitionedTableau>(m)) return d->q;
+    return nullptr;
+}
+
+// 2-stage Gauss for both q and p: a partitioned pair the partitioned engine solves by Newton.
+const MethodInfo& gauss2_pair() {
+    static const MethodInfo m{
+        "gauss2-pair",
+        4,
+        true,
+        dampsym::Form::separable,
+        0u,
+        "test",
+        dampsym::PartitionedTableau{&dampsym::gauss_tableau(2), &dampsym::gauss_tableau(2)}};
+    return m;
 }
 
 const MethodInfo& method(std::string_view id) {
@@ -83,7 +107,8 @@ bool with_family_kernel(const MethodInfo& info, F&& f) {
     bool called = false;
     const auto try_kernel = [&]<class K>() {
         if constexpr (K::template applies<P>) {
-            if (!called && K::kernel_id == info.kernel) {
+            const auto* data = std::get_if<typename K::Data>(&info.data);
+            if (!called && data != nullptr && K::accepts(*data)) {
                 f.template operator()<K>();
                 called = true;
             }
@@ -248,15 +273,16 @@ TEST_CASE("catalog rows of the family kernels", "[families]") {
     };
     for (const Row& r : rows) {
         const MethodInfo& m = method(r.id);
-        CHECK(m.kernel == r.kernel);
-        CHECK(m.form == r.form);
+        CHECK(dampsym::kernel_name(m) == r.kernel);
+        CHECK(dampsym::form_name(m.form) == r.form);
         CHECK(m.order == r.order);
-        CHECK(m.tableau != nullptr);
-        CHECK((m.tableau_p != nullptr) == (m.kernel == "partitioned-rk"));
+        CHECK(tableau_of(m) != nullptr);
+        CHECK((dampsym::method_data<dampsym::PartitionedTableau>(m) != nullptr) ==
+              (dampsym::kernel_name(m) == "partitioned-rk"));
         const bool structure = (m.claims & dampsym::claim_conformal_symplectic) != 0;
-        CHECK(structure == (m.kernel == "ifrk"));
+        CHECK(structure == (dampsym::kernel_name(m) == "ifrk"));
     }
-    CHECK(method("glifrk2").tableau == &dampsym::gauss_tableau(2));
+    CHECK(tableau_of(method("glifrk2")) == &dampsym::gauss_tableau(2));
     CHECK(dampsym::method_applies("stormer-verlet", "pendulum"));
     CHECK_FALSE(dampsym::method_applies("stormer-verlet", "rigid-body"));
     CHECK(dampsym::method_applies("glifrk3", "rigid-body"));
@@ -436,11 +462,64 @@ TEST_CASE("conformal symplecticity on Hill's equation: glifrk1..3 exact, gauss1.
             std::printf("%-8s conformal defect on hill (eps 1, h 0.5): max %.1e, min %.1e\n", id,
                         worst, least);
         INFO(id);
-        if (info.kernel == "ifrk")
+        if (dampsym::method_data<dampsym::IntegratingFactorTableau>(info) != nullptr)
             CHECK(worst <= 1e-13);
         else
             CHECK(least >= 1e-8); // negative control, at every step: Gauss on the full field
     }
+}
+
+TEST_CASE("the stage-Newton solver: policies, counters, failure on NaN, inf and no convergence",
+          "[families][newton]") {
+    // x² − 2 = 0 from x = 1 (the solver every implicit kernel uses, methods/newton.hpp).
+    const auto solve = [](dampsym::NewtonPolicy policy, double x0, auto&& residual, int& refreshes,
+                          Counters& c) {
+        dampsym::StageNewton nw(1);
+        nw.X[0] = x0;
+        refreshes = 0;
+        const int it = nw.solve(policy, c, [&](bool refresh) {
+            const double x = nw.X[0];
+            nw.R[0] = residual(x);
+            if (refresh) {
+                nw.S(0, 0) = 2.0 * x;
+                ++refreshes;
+            }
+        });
+        return std::pair{it, nw.X[0]};
+    };
+    const auto sq = [](double x) { return x * x - 2.0; };
+    int refreshes = 0;
+    Counters c;
+    const auto [it_full, x_full] = solve(dampsym::NewtonPolicy::full, 1.0, sq, refreshes, c);
+    CHECK(it_full >= 4);
+    CHECK(it_full <= 8);
+    CHECK(refreshes == it_full); // full: the matrix at every iteration
+    CHECK(c.newton_iters == it_full);
+    CHECK_THAT(x_full, WithinRel(std::sqrt(2.0), 4e-16));
+    Counters c2;
+    const auto [it_simpl, x_simpl] =
+        solve(dampsym::NewtonPolicy::simplified, 1.4, sq, refreshes, c2);
+    CHECK(refreshes == 1); // simplified: once, at the predictor
+    CHECK(it_simpl > 4);   // linear convergence
+    CHECK(c2.newton_iters == it_simpl);
+    CHECK_THAT(x_simpl, WithinRel(std::sqrt(2.0), 4e-16));
+    // Negative controls: a NaN residual, an infinite iterate, and x² + 1 = 0 (no real root) fail.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    Counters c3;
+    CHECK(solve(
+              dampsym::NewtonPolicy::full, 1.0, [&](double) { return nan; }, refreshes, c3)
+              .first == 0);
+    CHECK(c3.newton_iters == 1);
+    CHECK(solve(
+              dampsym::NewtonPolicy::full, 1.0, [&](double) { return inf; }, refreshes, c3)
+              .first == 0);
+    Counters c4;
+    // (from 0.7 the iteration x ← (x² − 1)/(2x) wanders without converging)
+    CHECK(solve(
+              dampsym::NewtonPolicy::full, 0.7, [](double x) { return x * x + 1.0; }, refreshes, c4)
+              .first == 0);
+    CHECK(c4.newton_iters == dampsym::StageNewton::max_iterations);
 }
 
 TEST_CASE("a stage solve that cannot converge returns solve_failed and leaves z unchanged",
@@ -470,16 +549,7 @@ TEST_CASE("a stage solve that cannot converge returns solve_failed and leaves z 
         });
     }
     // Partitioned kernel, Newton path (Gauss pair): q'' = q² + 1 with a huge step.
-    static const MethodInfo gauss_pair{"gauss2-pair",
-                                       "partitioned-rk",
-                                       4,
-                                       true,
-                                       "separable",
-                                       0u,
-                                       "test",
-                                       &dampsym::gauss_tableau(2),
-                                       {},
-                                       &dampsym::gauss_tableau(2)};
+    const MethodInfo& gauss_pair = gauss2_pair();
     const RiccatiSeparable sep;
     Counters c;
     dampsym::PartitionedRK<RiccatiSeparable> k(sep, gauss_pair, 5.0, c);
@@ -509,7 +579,7 @@ TEST_CASE("evaluation counts per step", "[families]") {
     for (const char* id :
          {"implicit-euler", "gauss1", "gauss2", "gauss3", "glifrk1", "glifrk2", "glifrk3"}) {
         const Counters c = per_step(id);
-        const int s = method(id).tableau->stages;
+        const int s = tableau_of(method(id))->stages;
         INFO(id);
         CHECK(c.rhs_evals == s * c.newton_iters);
         CHECK(c.jac_evals == (s == 1 ? s * c.newton_iters : s * n));
@@ -528,16 +598,7 @@ TEST_CASE("partitioned and Runge-Kutta kernels agree where the methods coincide"
     const double h = 0.1;
     const int n = 100;
     // Gauss for both q and p (Newton path of the partitioned kernel) is gauss2 on the full field.
-    static const MethodInfo gauss_pair{"gauss2-pair",
-                                       "partitioned-rk",
-                                       4,
-                                       true,
-                                       "separable",
-                                       0u,
-                                       "test",
-                                       &dampsym::gauss_tableau(2),
-                                       {},
-                                       &dampsym::gauss_tableau(2)};
+    const MethodInfo& gauss_pair = gauss2_pair();
     Counters c1, c2;
     Vec za = prob.initial_state(), zb = za;
     REQUIRE(run(prob, gauss_pair, h, n, za, c1));
@@ -571,11 +632,17 @@ TEST_CASE("partitioned and Runge-Kutta kernels agree where the methods coincide"
     CHECK_THAT(ze[0], WithinRel(prob.q0 + h * p1, 1e-15));
 
     // An explicit tableau through the implicit-rk engine is the classical RK4 loop.
-    static const MethodInfo rk4_engine{"rk4-engine", "implicit-rk",         4, false, "plain", 0u,
-                                       "test",       method("rk4").tableau, {}};
+    static const MethodInfo rk4_engine{"rk4-engine",
+                                       4,
+                                       false,
+                                       dampsym::Form::plain,
+                                       0u,
+                                       "test",
+                                       dampsym::RungeKuttaTableau{tableau_of(method("rk4"))}};
     Vec zr = prob.initial_state();
     Counters c5;
-    REQUIRE(run(prob, rk4_engine, h, n, zr, c5));
+    // (the registry steps an explicit tableau with explicit-rk; the engine is called directly)
+    REQUIRE(run_steps<dampsym::ImplicitRK<dampsym::Pendulum>>(prob, rk4_engine, h, n, zr, c5));
     CHECK(c5.rhs_evals == 4 * n);
     CHECK(c5.newton_iters == 0);
     Vec y = prob.initial_state(), k1(2), k2(2), k3(2), k4(2);
@@ -595,8 +662,13 @@ TEST_CASE("IFRK from an explicit tableau (rk4 under the integrating factor) has 
           "[families]") {
     // Hill's equation, time-dependent γ, reference from glifrk3 at a small step.
     const dampsym::Hill prob = hill(1.0);
-    static const MethodInfo if_rk4{
-        "if-rk4", "ifrk", 4, false, "conformal", 0u, "test", method("rk4").tableau, {}};
+    static const MethodInfo if_rk4{"if-rk4",
+                                   4,
+                                   false,
+                                   dampsym::Form::conformal,
+                                   0u,
+                                   "test",
+                                   dampsym::IntegratingFactorTableau{tableau_of(method("rk4"))}};
     const double t_end = 5.0;
     Vec zref = prob.initial_state();
     Counters c;

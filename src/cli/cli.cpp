@@ -309,8 +309,8 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
         methods.push_back({{"id", m.id},
                            {"order", m.order},
                            {"implicit", m.implicit},
-                           {"form", m.form},
-                           {"kernel", m.kernel},
+                           {"form", form_name(m.form)},
+                           {"kernel", kernel_name(m)},
                            {"citation", m.citation}});
     if (as_json) {
         out << json{{"cases", cases},
@@ -377,7 +377,7 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
     out << "Case file keys: docs/case-keys.md\nMethods:\n";
     for (const auto& m : method_catalog())
         out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
-            << ", " << m.form << " form, " << m.citation << "\n";
+            << ", " << form_name(m.form) << " form, " << m.citation << "\n";
     return 0;
 }
 
@@ -392,10 +392,10 @@ int cmd_methods(bool check, bool as_json, std::ostream& out) {
     int agree = 0, disagree = 0, unchecked = 0;
     for (const auto& m : method_catalog()) {
         json row = {{"id", m.id},
-                    {"kernel", m.kernel},
+                    {"kernel", kernel_name(m)},
                     {"order", m.order},
                     {"implicit", m.implicit},
-                    {"form", m.form},
+                    {"form", form_name(m.form)},
                     {"claims", claim_words(m.claims)},
                     {"citation", m.citation}};
         if (check) {

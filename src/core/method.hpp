@@ -1,19 +1,23 @@
-// What a method is: a MethodInfo row (data: id, order, claims, the kernel that steps it and the
-// kernel's coefficient data) plus one kernel class template per family or hand-written scheme:
+// What a method is: a MethodInfo row (data: id, order, claims, form and one typed coefficient set,
+// MethodData) plus one kernel class template per family or hand-written scheme:
 //
 //   template <class P> struct Kernel {
-//       static constexpr std::string_view kernel_id;
+//       static constexpr std::string_view kernel_id;       // for listings and reports only
+//       using Data = ...;                                  // the MethodData alternative it steps
+//       static bool accepts(const Data&);                  // which of those rows it steps
 //       template <class Q> static constexpr bool applies;   // which problem forms it needs
 //       Kernel(const P&, const MethodInfo&, double h, Counters&);
 //       StepStatus step(double t, Vec& z);                 // z_n -> z_{n+1} in place
 //   };
 //
+// The registry (src/harness/registry.hpp) chooses the kernel of a row by std::visit on its data.
 // Adding a method of an existing family is one MethodInfo row in src/methods/catalog.cpp.
 #pragma once
 
 #include "core/types.hpp"
 
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace dampsym {
@@ -45,37 +49,90 @@ struct ButcherTableau {
     double A(int i, int j) const { return a[static_cast<std::size_t>(i * stages + j)]; }
 };
 
-// Closed forms of F ch. 3 for the one-step matrix M of a method on the oscillator, when known.
-struct OscillatorFormulas {
-    // ½ tr M as a function of (ω, γ, h): F(3.10), (3.15), (3.20).
-    double (*half_trace)(double omega, double gamma, double h) = nullptr;
-    // F's "stability" condition |½ tr M| < e^{-γh} in closed form: F(3.12), (3.17), (3.22).
-    bool (*F_condition)(double omega, double gamma, double h) = nullptr;
-    // Leading coefficient c of ½tr M − e^{-γh}cos(βh) = c h⁴ + O(h⁵), up to sign (SPEC §5 gives
-    // them up to sign; F's (3.13), (3.18), (3.23) are typos). Checks compare magnitudes.
-    double (*h4_coefficient)(double omega, double gamma) = nullptr;
-    const char* source = "";
+// Whether A is strictly lower triangular (every stage explicit).
+inline bool is_explicit_tableau(const ButcherTableau& t) {
+    for (int i = 0; i < t.stages; ++i)
+        for (int j = i; j < t.stages; ++j)
+            if (t.A(i, j) != 0.0) return false;
+    return true;
+}
+
+// Equation form a method steps (SPEC §1): the plain full vector field z' = f(t, z), the conformal
+// form z' = N(z, t) − γz, or the separable Rayleigh form q' = ∇T(p), p' = F(q, t) − 2γp.
+enum class Form { plain, conformal, separable };
+constexpr std::string_view form_name(Form f) {
+    switch (f) {
+    case Form::plain:
+        return "plain";
+    case Form::conformal:
+        return "conformal";
+    case Form::separable:
+        return "separable";
+    }
+    return "";
+}
+
+struct ExponentialRKData;            // src/methods/exponential_tableaux.hpp
+struct PartitionedExponentialRKData; // src/methods/exponential_tableaux.hpp
+
+// The typed coefficient sets a method row can hold; each names the family engine that steps it
+// (src/harness/registry.hpp chooses the kernel by std::visit on the type, see Kernel::Data).
+// An RK tableau on the plain form (explicit-rk for an explicit tableau, implicit-rk otherwise).
+struct RungeKuttaTableau {
+    const ButcherTableau* tableau;
 };
+// An RK tableau under the integrating factor B(2.5), conformal form (ifrk).
+struct IntegratingFactorTableau {
+    const ButcherTableau* tableau;
+};
+// A partitioned RK pair on the separable form: q tableau and p tableau (partitioned-rk).
+struct PartitionedTableau {
+    const ButcherTableau* q;
+    const ButcherTableau* p;
+};
+// Exponential RK coefficient functions of the damping argument, B(2.7) (exponential-rk).
+struct ExponentialCoefficients {
+    const ExponentialRKData* data;
+};
+// Partitioned exponential RK coefficient functions, B(2.14) (partitioned-exponential-rk).
+struct PartitionedExponentialCoefficients {
+    const PartitionedExponentialRKData* data;
+};
+// General linear method [A U; B V] with its starting method (general-linear).
+struct GeneralLinearCoefficients {
+    const GlmCoefficients* glm;
+};
+// A hand-written scheme: its kernel is the code (src/methods/cimp.hpp, csv1.hpp, csv2.hpp).
+enum class Scheme { cimp, csv1, csv2 };
+struct HandWrittenScheme {
+    Scheme scheme;
+};
+
+using MethodData = std::variant<HandWrittenScheme, RungeKuttaTableau, IntegratingFactorTableau,
+                                PartitionedTableau, ExponentialCoefficients,
+                                PartitionedExponentialCoefficients, GeneralLinearCoefficients>;
 
 struct MethodInfo {
     std::string_view id;
-    std::string_view kernel; // kernel_id of the family kernel that steps it
     int order;
     bool implicit;
-    std::string_view form; // "separable", "conformal" or "plain"
+    Form form;
     unsigned claims;
     std::string_view citation;
-    const ButcherTableau* tableau = nullptr;
-    OscillatorFormulas oscillator{};
-    // Partitioned RK (kernel "partitioned-rk"): the p tableau; `tableau` is then the q tableau.
-    const ButcherTableau* tableau_p = nullptr;
-    // General linear method (kernel "general-linear", src/methods/glm_coefficients.hpp).
-    const GlmCoefficients* glm = nullptr;
-    // Coefficient data of the exponential RK kernels (src/methods/exponential_tableaux.hpp):
-    // const ExponentialRKData* for "exponential-rk", const PartitionedExponentialRKData* for
-    // "partitioned-exponential-rk"; the kernel named by `kernel` casts it back.
-    const void* family_data = nullptr;
+    MethodData data;
 };
+
+// The coefficient set of type T of a row, or nullptr if the row holds another type.
+template <class T>
+const T* method_data(const MethodInfo& m) {
+    return std::get_if<T>(&m.data);
+}
+
+// The Butcher tableau of a row stepped on the plain form (explicit or implicit RK), else nullptr.
+inline const ButcherTableau* plain_tableau(const MethodInfo& m) {
+    const auto* rk = method_data<RungeKuttaTableau>(m);
+    return rk ? rk->tableau : nullptr;
+}
 
 const std::vector<MethodInfo>& method_catalog();
 const MethodInfo* find_method(std::string_view id);

@@ -3,6 +3,70 @@
 #include <cmath>
 
 namespace dampsym {
+namespace {
+
+// ---- F ch.3 closed forms on the oscillator (our γ) ----
+double beta2(double w, double g) {
+    return (w - g) * (w + g);
+}
+
+// F(3.10): ½trM = e^{−γh}(1 − h²β²/4)/(1 + h²β²/4).
+double cimp_half_trace(double w, double g, double h) {
+    const double x = 0.25 * h * h * beta2(w, g);
+    return std::exp(-g * h) * (1.0 - x) / (1.0 + x);
+}
+// F(3.12): ω > γ.
+bool cimp_condition(double w, double g, double) {
+    return w > g;
+}
+double cimp_h4(double w, double g) {
+    return beta2(w, g) * beta2(w, g) / 12.0;
+}
+
+// F(3.15): ½trM = e^{−γh}(1 − h²ω²/2) cosh(γh).
+double csv1_half_trace(double w, double g, double h) {
+    return std::exp(-g * h) * (1.0 - 0.5 * h * h * w * w) * std::cosh(g * h);
+}
+// F(3.17): 1 − sech(γh) < h²ω²/2 < 1 + sech(γh).
+bool csv1_condition(double w, double g, double h) {
+    const double x = 0.5 * h * h * w * w;
+    const double sech = 1.0 / std::cosh(g * h);
+    return 1.0 - sech < x && x < 1.0 + sech;
+}
+double csv1_h4(double w, double g) {
+    return w * w * (w * w + 4.0 * g * g) / 24.0;
+}
+
+// F(3.20): ½trM = e^{−γh}[(4+γ²h²)/(4−γ²h²) − 2h²ω² cosh(γh/2)/(4−γ²h²)].
+double csv2_half_trace(double w, double g, double h) {
+    const double gh2 = g * g * h * h;
+    return std::exp(-g * h) *
+           ((4.0 + gh2) / (4.0 - gh2) - 2.0 * h * h * w * w * std::cosh(0.5 * g * h) / (4.0 - gh2));
+}
+// F(3.22): γ² sech(γh/2) < ω² < 4 sech(γh/2)/h², derived by F multiplying |½trM| < e^{−γh} by
+// 4 − γ²h², i.e. assuming γh < 2. For γh > 2 that factor is negative and the same condition on
+// F(3.20) reverses to 4 sech(γh/2)/h² < ω² < γ² sech(γh/2); at γh = 2 the scheme is undefined.
+bool csv2_condition(double w, double g, double h) {
+    const double sech = 1.0 / std::cosh(0.5 * g * h);
+    const double lo = g * g * sech, hi = 4.0 * sech / (h * h);
+    if (g * h < 2.0) return lo < w * w && w * w < hi;
+    if (g * h > 2.0) return hi < w * w && w * w < lo;
+    return false;
+}
+double csv2_h4(double w, double g) {
+    return (2.0 * w * w * w * w + 5.0 * g * g * w * w - 4.0 * g * g * g * g) / 48.0;
+}
+
+} // namespace
+
+OscillatorFormulas oscillator_formulas(std::string_view method_id) {
+    if (method_id == "cimp") return {cimp_half_trace, cimp_condition, cimp_h4, "F(3.10), F(3.12)"};
+    if (method_id == "csv1" || method_id == "csv1-perk")
+        return {csv1_half_trace, csv1_condition, csv1_h4, "F(3.15), F(3.17)"};
+    if (method_id == "csv2" || method_id == "csv2-perk")
+        return {csv2_half_trace, csv2_condition, csv2_h4, "F(3.20), F(3.22)"};
+    return {};
+}
 
 OneStepAnalysis analyse_one_step(const Mat& M, double gamma, double h) {
     OneStepAnalysis a;

@@ -10,6 +10,7 @@
 
 #include <complex>
 #include <limits>
+#include <string_view>
 
 namespace dampsym {
 
@@ -23,6 +24,24 @@ struct OneStepAnalysis {
 };
 
 OneStepAnalysis analyse_one_step(const Mat& M, double gamma, double h);
+
+// Closed forms of F ch. 3 for the one-step matrix M of a method on the oscillator, when known
+// (problem-specific data of this diagnostic, not of the method rows).
+struct OscillatorFormulas {
+    // ½ tr M as a function of (ω, γ, h): F(3.10), (3.15), (3.20).
+    double (*half_trace)(double omega, double gamma, double h) = nullptr;
+    // F's "stability" condition |½ tr M| < e^{-γh} in closed form: F(3.12), (3.17), (3.22).
+    bool (*F_condition)(double omega, double gamma, double h) = nullptr;
+    // Leading coefficient c of ½tr M − e^{-γh}cos(βh) = c h⁴ + O(h⁵), up to sign (SPEC §5 gives
+    // them up to sign; F's (3.13), (3.18), (3.23) are typos). Checks compare magnitudes.
+    double (*h4_coefficient)(double omega, double gamma) = nullptr;
+    const char* source = "";
+};
+
+// The closed forms of the method with this id: cimp F(3.10), (3.12); csv1 and csv1-perk (the same
+// scheme, B(2.20)) F(3.15), (3.17); csv2 and csv2-perk (B(2.21)) F(3.20), (3.22). Empty (null
+// functions) for every other method.
+OscillatorFormulas oscillator_formulas(std::string_view method_id);
 
 // Stability function of an RK method, R(z) = 1 + z bᵀ(I − zA)⁻¹1 (explicit or implicit tableau).
 std::complex<double> rk_stability_function(const ButcherTableau& t, std::complex<double> z);

@@ -23,6 +23,25 @@ const ProblemInfo* find_problem(std::string_view id) {
     return nullptr;
 }
 
+std::string_view kernel_name(const MethodInfo& info) {
+    std::string_view name;
+    std::visit(
+        [&]<class D>(const D& data) {
+            [&]<template <class> class... Ks>(KernelList<Ks...>) {
+                (
+                    [&] {
+                        // Data, accepts and kernel_id do not depend on the problem type.
+                        using K = Ks<Oscillator>;
+                        if constexpr (std::is_same_v<typename K::Data, D>)
+                            if (name.empty() && K::accepts(data)) name = K::kernel_id;
+                    }(),
+                    ...);
+            }(Kernels{});
+        },
+        info.data);
+    return name;
+}
+
 bool method_applies(std::string_view method_id, std::string_view problem_id) {
     const MethodInfo* m = find_method(method_id);
     if (!m) return false;

@@ -1,5 +1,6 @@
 // The two registries: the problem types and the method kernels. Adding a problem = one header in
-// src/problems/ plus one entry in ProblemList; adding a family kernel = one header plus one entry
+// src/problems/ plus one entry in ProblemList; adding a family kernel = one adapter header (its
+// Data type, a MethodData alternative in core/method.hpp, and its engine or code) plus one entry
 // in KernelList; adding a method of an existing family = one row in src/methods/catalog.cpp.
 // Nothing in the runner changes.
 #pragma once
@@ -30,6 +31,8 @@
 
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace dampsym {
@@ -79,27 +82,38 @@ bool with_problem_type(std::string_view id, F&& f) {
 
 enum class KernelMatch { applied, not_applicable, unknown_kernel };
 
-// Calls f.template operator()<K<P>>() for the kernel that steps `info` on problem type P.
+// Calls f.template operator()<K<P>>() for the kernel that steps `info` on problem type P: the type
+// of the row's coefficient set (std::visit on MethodInfo::data) selects the kernels whose Data is
+// that type, and the first of them that accepts the data steps it.
 template <class P, class F>
 KernelMatch with_kernel(const MethodInfo& info, F&& f) {
-    return [&]<template <class> class... Ks>(KernelList<Ks...>) {
-        KernelMatch result = KernelMatch::unknown_kernel;
-        (
-            [&] {
-                using K = Ks<P>;
-                if (result == KernelMatch::unknown_kernel && K::kernel_id == info.kernel) {
-                    if constexpr (K::template applies<P>) {
-                        f.template operator()<K>();
-                        result = KernelMatch::applied;
-                    } else {
-                        result = KernelMatch::not_applicable;
-                    }
-                }
-            }(),
-            ...);
-        return result;
-    }(Kernels{});
+    return std::visit(
+        [&]<class D>(const D& data) {
+            return [&]<template <class> class... Ks>(KernelList<Ks...>) {
+                KernelMatch result = KernelMatch::unknown_kernel;
+                (
+                    [&] {
+                        using K = Ks<P>;
+                        if constexpr (std::is_same_v<typename K::Data, D>) {
+                            if (result == KernelMatch::unknown_kernel && K::accepts(data)) {
+                                if constexpr (K::template applies<P>) {
+                                    f.template operator()<K>();
+                                    result = KernelMatch::applied;
+                                } else {
+                                    result = KernelMatch::not_applicable;
+                                }
+                            }
+                        }
+                    }(),
+                    ...);
+                return result;
+            }(Kernels{});
+        },
+        info.data);
 }
+
+// The kernel_id of the kernel that steps `info` (for listings and reports; "" if none).
+std::string_view kernel_name(const MethodInfo& info);
 
 // Whether `method` can run on problem `problem_id` (false if not applicable).
 bool method_applies(std::string_view method_id, std::string_view problem_id);

@@ -647,11 +647,11 @@ private:
                     {"F_condition", a.F_condition ? 1 : 0},
                     {"power_bounded", a.power_bounded ? 1 : 0},
                     {"matrix", {{M(0, 0), M(0, 1)}, {M(1, 0), M(1, 1)}}}};
-        if (info.oscillator.half_trace) {
-            const double f = info.oscillator.half_trace(problem_.omega, g, h);
+        if (oscillator_formulas(info.id).half_trace) {
+            const double f = oscillator_formulas(info.id).half_trace(problem_.omega, g, h);
             out["half_trace_formula"] = f;
             out["half_trace_formula_rel_err"] = std::abs(a.half_trace - f) / std::abs(f);
-            out["formula_source"] = info.oscillator.source;
+            out["formula_source"] = oscillator_formulas(info.id).source;
         }
         return out;
     }
@@ -670,9 +670,7 @@ private:
 
     // Analytic power-boundedness from the stability function R(z), for RK methods on the full
     // vector field (M = R(hA) on the linear oscillator).
-    static bool has_power_formula(const MethodInfo& info) {
-        return info.tableau && (info.kernel == "explicit-rk" || info.kernel == "implicit-rk");
-    }
+    static bool has_power_formula(const MethodInfo& info) { return plain_tableau(info) != nullptr; }
 
     void sweep_tasks(std::size_t m, std::vector<std::function<void()>>& tasks) {
         if constexpr (P::is_linear) {
@@ -698,7 +696,7 @@ private:
     SweepRow sweep_row(std::size_t m, std::size_t r) const {
         const MethodInfo& info = method(m);
         const double omega = c_.sweep->omega, g = sweep_gammas_[r];
-        const bool has_formula = info.oscillator.F_condition != nullptr;
+        const bool has_formula = oscillator_formulas(info.id).F_condition != nullptr;
         const bool has_pb_formula = has_power_formula(info);
         const auto nh = static_cast<std::int64_t>(sweep_hs_.size());
         SweepRow row;
@@ -724,12 +722,12 @@ private:
                 ++row.pb_viol;
             }
             if (has_formula) {
-                const bool fc = info.oscillator.F_condition(omega, g, h);
+                const bool fc = oscillator_formulas(info.id).F_condition(omega, g, h);
                 if (!fc) row.first_formula = std::min(row.first_formula, i);
                 if (fc != a.F_condition) ++row.mismatch;
             }
             if (has_pb_formula) {
-                const bool pb = rk_power_analysis(*info.tableau, omega, g, h).power_bounded;
+                const bool pb = rk_power_analysis(*plain_tableau(info), omega, g, h).power_bounded;
                 if (!pb) row.first_pb_formula = std::min(row.first_pb_formula, i);
                 if (pb != a.power_bounded) ++row.pb_mismatch;
             }
@@ -740,7 +738,7 @@ private:
     // The method's sweep from its rows (called by finish(), after every row task has run).
     json sweep_json(std::size_t m) const {
         const MethodInfo& info = method(m);
-        const bool has_formula = info.oscillator.F_condition != nullptr;
+        const bool has_formula = oscillator_formulas(info.id).F_condition != nullptr;
         const bool has_pb_formula = has_power_formula(info);
         const auto nh = static_cast<std::int64_t>(sweep_hs_.size());
         auto h_at = [&](std::int64_t i) {
@@ -787,7 +785,7 @@ private:
         if (has_formula) {
             out["max_boundary_mismatch_cells"] = max_cells;
             out["mismatch_points"] = mismatch_points;
-            out["formula_source"] = info.oscillator.source;
+            out["formula_source"] = oscillator_formulas(info.id).source;
         }
         if (has_pb_formula) {
             out["max_power_boundary_mismatch_cells"] = max_pb_cells;
@@ -842,8 +840,8 @@ private:
             };
             const double c = std::abs(2.0 * coeff(0.01) - coeff(0.02));
             out = {{"h4_coeff", c}};
-            if (info.oscillator.h4_coefficient) {
-                const double e = std::abs(info.oscillator.h4_coefficient(w, g));
+            if (oscillator_formulas(info.id).h4_coefficient) {
+                const double e = std::abs(oscillator_formulas(info.id).h4_coefficient(w, g));
                 out["h4_coeff_expected"] = e;
                 out["h4_coeff_rel_err"] = std::abs(c - e) / e;
             }

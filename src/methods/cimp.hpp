@@ -3,8 +3,9 @@
 // With y₀ = e^{−γh/2} z₀ and the midpoint m = (e^{γh/2} z₁ + y₀)/2 this is
 //   m = y₀ + (h/2) N(m, t + h/2),    z₁ = e^{−γh/2} (2m − y₀),
 // and with time-dependent γ the two factors become e^{−(Γ(t+h/2)−Γ(t))}, e^{−(Γ(t+h)−Γ(t+h/2))}.
-// The midpoint equation is solved by Newton's method with the problem's analytic Jacobian of N
-// until the update reaches round-off; one N and one Jacobian evaluation per iteration.
+// The midpoint equation is solved by the stage-Newton solver (methods/newton.hpp, full policy) with
+// the problem's analytic Jacobian of N until the update reaches round-off; one N and one Jacobian
+// evaluation per iteration.
 //
 // step_jacobian() also returns Ψ = ∂z₁/∂z₀ of this discrete map, by the implicit-function theorem
 // at the converged midpoint (never by differentiating the Newton iterations): with a = e^{−ΔΓ₁},
@@ -27,15 +28,15 @@ template <class P>
 class Cimp {
 public:
     static constexpr std::string_view kernel_id = "cimp";
+    using Data = HandWrittenScheme;
+    static bool accepts(const Data& d) { return d.scheme == Scheme::cimp; }
     template <class Q>
     static constexpr bool applies = Q::has_conformal; // needs the conformal form N and its Jacobian
-    static constexpr int max_iterations = 50;
-
     static constexpr bool has_step_jacobian = true;
 
     Cimp(const P& problem, const MethodInfo&, double h, Counters& counters)
-        : prob_(problem), h_(h), c_(counters), d_(problem.dim()), y0_(d_), m_(d_), r_(d_), dm_(d_),
-          J_(d_, d_), lu_(d_) {}
+        : prob_(problem), h_(h), c_(counters), d_(problem.dim()), y0_(d_), n_(d_), J_(d_, d_),
+          newton_(d_) {}
 
     // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
     [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
@@ -54,43 +55,31 @@ private:
         const double tm = t + 0.5 * h_;
         const double a = std::exp(-prob_.dGamma(t, 0.5 * h_));
         y0_ = a * z;
-        m_ = y0_;
-        double previous = std::numeric_limits<double>::infinity();
-        for (int it = 1; it <= max_iterations; ++it) {
-            prob_.N(tm, m_, r_);
-            prob_.N_jacobian(tm, m_, J_);
+        Vec& m = newton_.X; // the midpoint
+        m = y0_;
+        // Full Newton on F(m) = m − y₀ − (h/2) N(m, t + h/2), F'(m) = I − (h/2) N'(m).
+        const int iterations = newton_.solve(NewtonPolicy::full, c_, [&](bool) {
+            prob_.N(tm, m, n_);
+            prob_.N_jacobian(tm, m, J_);
             c_.rhs_evals += 1;
             c_.jac_evals += 1;
-            c_.newton_iters += 1;
-            r_ = m_ - y0_ - (0.5 * h_) * r_;              // residual F(m)
-            J_ = Mat::Identity(d_, d_) - (0.5 * h_) * J_; // F'(m)
-            lu_.compute(J_);
-            dm_ = lu_.solve(r_);
-            m_ -= dm_;
-            const double step_norm = dm_.cwiseAbs().maxCoeff();
-            const double scale = std::max(m_.cwiseAbs().maxCoeff(), 1e-300);
-            if (!(step_norm == step_norm)) break; // NaN: solve failed
-            // Converged to round-off: the update is at the level of a few ulps, or it stopped
-            // decreasing once it was already tiny (round-off floor of the residual).
-            if (newton_converged(step_norm, scale, previous)) {
-                c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, it);
-                const double b = std::exp(-prob_.dGamma(tm, 0.5 * h_));
-                z = b * (2.0 * m_ - y0_);
-                if constexpr (WithJacobian) jacobian_at_solution(tm, a * b, *Psi);
-                return StepStatus::ok;
-            }
-            previous = step_norm;
-        }
-        return StepStatus::solve_failed;
+            newton_.R = m - y0_ - (0.5 * h_) * n_;
+            newton_.S = Mat::Identity(d_, d_) - (0.5 * h_) * J_;
+        });
+        if (iterations == 0) return StepStatus::solve_failed;
+        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, iterations);
+        const double b = std::exp(-prob_.dGamma(tm, 0.5 * h_));
+        z = b * (2.0 * m - y0_);
+        if constexpr (WithJacobian) jacobian_at_solution(tm, a * b, *Psi);
+        return StepStatus::ok;
     }
 
-    // Ψ = ab [2 (I − (h/2)N'(m))⁻¹ − I] at the converged midpoint m_ (implicit-function theorem).
+    // Ψ = ab [2 (I − (h/2)N'(m))⁻¹ − I] at the converged midpoint (implicit-function theorem).
     void jacobian_at_solution(double tm, double ab, Mat& Psi) {
-        prob_.N_jacobian(tm, m_, J_);
+        prob_.N_jacobian(tm, newton_.X, J_);
         c_.jac_evals += 1;
-        J_ = Mat::Identity(d_, d_) - (0.5 * h_) * J_;
-        lu_.compute(J_);
-        Psi = lu_.solve(Mat::Identity(d_, d_));
+        newton_.S = Mat::Identity(d_, d_) - (0.5 * h_) * J_;
+        newton_.factor_and_solve(Mat::Identity(d_, d_), Psi);
         Psi *= 2.0 * ab;
         Psi.diagonal().array() -= ab;
     }
@@ -99,9 +88,9 @@ private:
     double h_;
     Counters& c_;
     int d_;
-    Vec y0_, m_, r_, dm_;
-    Mat J_;
-    Eigen::PartialPivLU<Mat> lu_;
+    Vec y0_, n_; // e^{−ΔΓ₁} z₀ and N at the midpoint
+    Mat J_;      // N' at the midpoint
+    StageNewton newton_;
 };
 
 } // namespace dampsym

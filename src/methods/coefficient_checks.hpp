@@ -27,14 +27,15 @@
 //   u and v are found by least squares (complete orthogonal decomposition) and the residual of
 //   the equations is what is checked.
 //
-// method_checks(info) chooses the checks of the method's family from its kernel id:
-//   explicit-rk, implicit-rk: RK checks; symplecticity expected iff claim_symplectic_if_undamped;
-//   ifrk: the same on the underlying tableau; symplecticity expected iff
+// method_checks(info) chooses the checks of the method's family from the type of its coefficient
+// set (std::visit on MethodInfo::data):
+//   RungeKuttaTableau: RK checks; symplecticity expected iff claim_symplectic_if_undamped;
+//   IntegratingFactorTableau: the same on the underlying tableau; symplecticity expected iff
 //         claim_conformal_symplectic (B Thm 2.6: the IFRK method is conformal symplectic when its
 //         underlying RK method is symplectic);
-//   partitioned-rk: PRK checks; general-linear: GLM checks, G-symplecticity expected iff
-//         claim_g_symplectic;
-//   any other kernel (hand-written cimp, csv1, csv2, exponential integrators): no checks.
+//   PartitionedTableau: PRK checks; GeneralLinearCoefficients: GLM checks, G-symplecticity
+//         expected iff claim_g_symplectic;
+//   any other (hand-written cimp, csv1, csv2, exponential coefficient functions): no checks.
 // Order conditions are expected to hold through the declared order and to fail at the next order
 // (not checked for order ≥ 6, the largest tree order generated for RK).
 #pragma once

@@ -25,6 +25,8 @@ template <class P>
 class Csv1 {
 public:
     static constexpr std::string_view kernel_id = "csv1";
+    using Data = HandWrittenScheme;
+    static bool accepts(const Data& d) { return d.scheme == Scheme::csv1; }
     template <class Q>
     static constexpr bool applies = Q::has_separable;
 

@@ -27,6 +27,8 @@ template <class P>
 class Csv2 {
 public:
     static constexpr std::string_view kernel_id = "csv2";
+    using Data = HandWrittenScheme;
+    static bool accepts(const Data& d) { return d.scheme == Scheme::csv2; }
     template <class Q>
     static constexpr bool applies = Q::has_separable;
 

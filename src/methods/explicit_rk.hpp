@@ -17,15 +17,18 @@ template <class P>
 class ExplicitRK {
 public:
     static constexpr std::string_view kernel_id = "explicit-rk";
+    using Data = RungeKuttaTableau;
+    static bool accepts(const Data& d) { return is_explicit_tableau(*d.tableau); }
     template <class Q>
     static constexpr bool applies = true; // every problem offers the plain form
 
     static constexpr bool has_step_jacobian = true;
 
     ExplicitRK(const P& problem, const MethodInfo& info, double h, Counters& counters)
-        : prob_(problem), t_(*info.tableau), h_(h), c_(counters), K_(problem.dim(), t_.stages),
-          y_(problem.dim()), k_(problem.dim()), dK_(problem.dim(), problem.dim() * t_.stages),
-          dY_(problem.dim(), problem.dim()), Jf_(problem.dim(), problem.dim()) {}
+        : prob_(problem), t_(*std::get<Data>(info.data).tableau), h_(h), c_(counters),
+          K_(problem.dim(), t_.stages), y_(problem.dim()), k_(problem.dim()),
+          dK_(problem.dim(), problem.dim() * t_.stages), dY_(problem.dim(), problem.dim()),
+          Jf_(problem.dim(), problem.dim()) {}
 
     // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
     [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {

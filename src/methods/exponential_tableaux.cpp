@@ -2,6 +2,7 @@
 // exponential_tableaux.hpp.
 #include "methods/exponential_tableaux.hpp"
 
+#include "methods/integrating_factor.hpp"
 #include "methods/tableaux.hpp"
 
 #include <cmath>
@@ -49,20 +50,22 @@ void etdrk2_coefficients(const ExponentialRKData&, double x, ExponentialTableau&
     t.phi0 = std::exp(-x);
 }
 
-// B(2.5) with constant γ: a_ij = α_ij e^{−(c_i−c_j)x}, φ_i = e^{−c_i x}, b_i = β_i e^{−(1−c_i)x}.
+// B(2.5) with constant γ: a_ij = α_ij e^{−(c_i−c_j)x}, φ_i = e^{−c_i x}, b_i = β_i e^{−(1−c_i)x},
+// φ_0 = e^{−x}: the one integrating-factor formula (integrating_factor.hpp) with x(a, b) = (b −
+// a)x.
 void integrating_factor_coefficients(const ExponentialRKData& d, double x, ExponentialTableau& t) {
     const ButcherTableau& u = *d.underlying;
+    IntegratingFactors f;
+    integrating_factors(
+        u, [x](double a, double b) { return (b - a) * x; }, f);
     for (int i = 0; i < u.stages; ++i) {
-        const double ci = u.c[static_cast<std::size_t>(i)];
-        t.c[i] = ci;
-        t.phi[i] = std::exp(-ci * x);
-        t.b[i] = u.b[static_cast<std::size_t>(i)] * std::exp(-(1.0 - ci) * x);
-        for (int j = 0; j < u.stages; ++j) {
-            const double cj = u.c[static_cast<std::size_t>(j)];
-            t.A(i, j) = u.A(i, j) == 0.0 ? 0.0 : u.A(i, j) * std::exp(-(ci - cj) * x);
-        }
+        t.c[i] = u.c[static_cast<std::size_t>(i)];
+        t.phi[i] = f.phi[i];
+        t.b[i] = u.b[static_cast<std::size_t>(i)] * f.F[i];
+        for (int j = 0; j < u.stages; ++j)
+            t.A(i, j) = u.A(i, j) == 0.0 ? 0.0 : u.A(i, j) * f.E(i, j);
     }
-    t.phi0 = std::exp(-x);
+    t.phi0 = f.phi0;
 }
 
 // ---- PERK, all in B's x_B = γ_B h ----

@@ -1,7 +1,8 @@
 // Coefficient data of the exponential Runge–Kutta families of B §2.1: coefficient FUNCTIONS of the
 // damping argument, evaluated once per (γ, h) by the generic kernels (exponential_rk.hpp,
 // partitioned_exponential_rk.hpp) and by the coefficient-level conditions
-// (exponential_conditions.hpp). Constant γ only: the coefficients are functions of γh.
+// (exponential_conditions.hpp): functions of the damping argument x (γh, or the step's
+// x_n = Γ(t_n + h) − Γ(t_n) for a time-dependent γ, see exponential_rk.hpp).
 //
 // ERK, B(2.7) with tableau B(2.10), on the conformal form z' = N(z, t) − γz (SPEC §1, B(1.1)):
 //   Z_i     = φ_i(x) z_n + h Σ_j a_ij(x) N(Z_j, t_n + c_j h),

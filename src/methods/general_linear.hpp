@@ -17,13 +17,15 @@
 //   Y_i − h a_ii f(t_i, Y_i) = W_i := (U y)_i + h Σ_{j<i} a_ij F_j
 // by Newton's method with the analytic Jacobian rhs_jacobian (I − h a_ii ∂f, one LU per
 // iteration), from Y_i = W_i; an explicit stage (a_ii = 0) is one evaluation. A full A is solved by
-// Newton's method on the whole (s·d)×(s·d) system (blocks δ_ij I − h a_ij ∂f_j). Each iteration
-// evaluates f and ∂f at the current iterate; convergence is the round-off test of implicit_rk.hpp
-// (update within a few ulps of the scale, or stalled below 1e-10 of the scale). The stage
-// derivatives are then taken from the stage equations, without another evaluation:
+// Newton's method on the whole (s·d)×(s·d) system (blocks δ_ij I − h a_ij ∂f_j), simplified for
+// s ≥ 2 as in the RK engine (the matrix at the predictor). The solver is the one stage-Newton
+// solver of methods/newton.hpp (update within a few ulps of the scale, or stalled below 1e-10 of
+// the scale). The stage derivatives are then taken from the stage equations, without another
+// evaluation:
 //   F_i = (Y_i − W_i)/(h a_ii)   (triangular),   h F = A⁻¹ (Y − U y)   (full, A invertible),
-// as implicit_rk.hpp does; a singular full A evaluates f at the converged stages instead.
-// No convergence within 50 iterations, or a NaN, returns StepStatus::solve_failed and leaves z
+// as the RK engine (rk_engine.hpp) does; a singular full A evaluates f at the converged stages
+// instead.
+// No convergence within 50 iterations, or a NaN/inf, returns StepStatus::solve_failed and leaves z
 // and the stored values unchanged (nothing throws while stepping).
 //
 // Cost counters: rhs_evals and jac_evals count evaluations of f and ∂f, newton_iters every Newton
@@ -50,14 +52,15 @@ template <class P>
 class GeneralLinear {
 public:
     static constexpr std::string_view kernel_id = "general-linear";
+    using Data = GeneralLinearCoefficients;
+    static bool accepts(const Data&) { return true; }
     template <class Q>
     static constexpr bool applies = true; // every problem offers the plain form and its Jacobian
-    static constexpr int max_iterations = 50;
 
     GeneralLinear(const P& problem, const MethodInfo& info, double h, Counters& counters)
         : prob_(problem), m_(checked(info)), d_(problem.dim()), h_(h), c_(counters), y_(d_, m_.r),
-          yin_(d_, m_.r), yout_(d_, m_.r), f_(d_), w_(d_), dx_(d_), J_(d_, d_), S_(d_, d_),
-          lu_(d_) {
+          yin_(d_, m_.r), yout_(d_, m_.r), f_(d_), w_(d_), J_(d_, d_), stage_newton_(d_),
+          coupled_main_(main_size(m_, d_)), coupled_start_(start_size(m_, d_)) {
         const int smax = std::max(m_.s, m_.s0);
         Y_.resize(d_, smax);
         F_.resize(d_, smax);
@@ -65,14 +68,8 @@ public:
         main_ = Plan::make(m_.A);
         start_ = Plan::make(m_.A0);
         if (!main_.triangular || !start_.triangular) { // buffers of the coupled Newton solve
-            const Eigen::Index n = static_cast<Eigen::Index>(smax) * d_;
-            X_.resize(n);
-            R_.resize(n);
-            dX_.resize(n);
-            Sc_.resize(n, n);
-            luc_ = Eigen::PartialPivLU<Mat>(n);
             Fs_.resize(d_, smax);
-            Js_.resize(d_, n);
+            Js_.resize(d_, static_cast<Eigen::Index>(smax) * d_);
         }
     }
 
@@ -110,9 +107,10 @@ public:
 
 private:
     static const GlmCoefficients& checked(const MethodInfo& info) {
-        if (info.glm == nullptr)
+        const GlmCoefficients* glm = std::get<Data>(info.data).glm;
+        if (glm == nullptr)
             throw std::invalid_argument("general-linear: method has no GLM coefficients");
-        const GlmCoefficients& g = *info.glm;
+        const GlmCoefficients& g = *glm;
         const bool ok = g.s >= 1 && g.r >= 1 && g.A.rows() == g.s && g.A.cols() == g.s &&
                         g.U.rows() == g.s && g.U.cols() == g.r && g.B.rows() == g.r &&
                         g.B.cols() == g.s && g.V.rows() == g.r && g.V.cols() == g.r &&
@@ -121,6 +119,14 @@ private:
                         g.B0.cols() == g.s0 && g.V0.size() == g.r && g.c0.size() == g.s0;
         if (!ok) throw std::invalid_argument("general-linear: inconsistent GLM coefficient sizes");
         return g;
+    }
+
+    // Unknowns of the coupled Newton solve of the main and the starting stages (0 if triangular).
+    static Eigen::Index main_size(const GlmCoefficients& g, int d) {
+        return Plan::make(g.A).triangular ? 0 : static_cast<Eigen::Index>(g.s) * d;
+    }
+    static Eigen::Index start_size(const GlmCoefficients& g, int d) {
+        return Plan::make(g.A0).triangular ? 0 : static_cast<Eigen::Index>(g.s0) * d;
     }
 
     // How the stages of one tableau A are solved (decided once from the coefficients).
@@ -168,83 +174,70 @@ private:
 
     // Newton for x − ha f(t_i, x) = w_, from x = w_; result in x_.
     bool newton_stage(double ti, double ha, int& iters) {
-        x_ = w_;
-        double previous = std::numeric_limits<double>::infinity();
-        for (int it = 1; it <= max_iterations; ++it) {
-            prob_.rhs(ti, x_, f_);
-            prob_.rhs_jacobian(ti, x_, J_);
+        Vec& x = stage_newton_.X;
+        x = w_;
+        const int it = stage_newton_.solve(NewtonPolicy::full, c_, [&](bool) {
+            prob_.rhs(ti, x, f_);
+            prob_.rhs_jacobian(ti, x, J_);
             c_.rhs_evals += 1;
             c_.jac_evals += 1;
-            c_.newton_iters += 1;
-            ++iters;
-            S_ = Mat::Identity(d_, d_) - ha * J_;
-            lu_.compute(S_);
-            dx_ = lu_.solve(x_ - w_ - ha * f_);
-            x_ -= dx_;
-            const double step_norm = dx_.cwiseAbs().maxCoeff();
-            const double scale = std::max(x_.cwiseAbs().maxCoeff(), 1e-300);
-            if (!(step_norm == step_norm) || !std::isfinite(scale)) return false; // NaN / inf
-            if (newton_converged(step_norm, scale, previous)) return true;
-            previous = step_norm;
-        }
-        return false;
+            stage_newton_.S = Mat::Identity(d_, d_) - ha * J_;
+            stage_newton_.R = x - w_ - ha * f_;
+        });
+        if (it == 0) return false;
+        iters += it;
+        x_ = x;
+        return true;
     }
 
     // Newton on all stages at once (A not lower triangular): R_i = Y_i − W_i − h Σ_j a_ij f_j.
     bool newton_coupled(double t, const Mat& A, const Vec& c, const Plan& plan, int s, int& iters) {
-        const Eigen::Index n = static_cast<Eigen::Index>(s) * d_;
-        auto X = X_.head(n);
-        auto R = R_.head(n);
-        auto dX = dX_.head(n);
-        auto S = Sc_.topLeftCorner(n, n);
+        StageNewton& nw = &plan == &main_ ? coupled_main_ : coupled_start_;
+        Vec& X = nw.X;
         for (int i = 0; i < s; ++i) X.segment(i * d_, d_) = W_.col(i);
-        double previous = std::numeric_limits<double>::infinity();
-        for (int it = 1; it <= max_iterations; ++it) {
+        // The policy of the RK engine for the same coupled system: full Newton for one stage,
+        // simplified (matrix at the predictor) for several.
+        const NewtonPolicy policy = s >= 2 ? NewtonPolicy::simplified : NewtonPolicy::full;
+        const int it = nw.solve(policy, c_, [&](bool refresh) {
             for (int j = 0; j < s; ++j) {
                 const double tj = t + c[j] * h_;
                 x_ = X.segment(j * d_, d_);
                 prob_.rhs(tj, x_, f_);
-                prob_.rhs_jacobian(tj, x_, J_);
                 Fs_.col(j) = f_;
-                Js_.middleCols(j * d_, d_) = J_;
+                if (refresh) {
+                    prob_.rhs_jacobian(tj, x_, J_);
+                    Js_.middleCols(j * d_, d_) = J_;
+                }
             }
             c_.rhs_evals += s;
-            c_.jac_evals += s;
-            c_.newton_iters += 1;
-            ++iters;
+            if (refresh) c_.jac_evals += s;
             for (int i = 0; i < s; ++i) {
-                auto Ri = R.segment(i * d_, d_);
+                auto Ri = nw.R.segment(i * d_, d_);
                 Ri = X.segment(i * d_, d_) - W_.col(i);
                 for (int j = 0; j < s; ++j) {
                     if (A(i, j) != 0.0) Ri -= (h_ * A(i, j)) * Fs_.col(j);
-                    S.block(i * d_, j * d_, d_, d_) = -(h_ * A(i, j)) * Js_.middleCols(j * d_, d_);
+                    if (refresh)
+                        nw.S.block(i * d_, j * d_, d_, d_) =
+                            -(h_ * A(i, j)) * Js_.middleCols(j * d_, d_);
                 }
-                S.block(i * d_, i * d_, d_, d_).diagonal().array() += 1.0;
+                if (refresh) nw.S.block(i * d_, i * d_, d_, d_).diagonal().array() += 1.0;
             }
-            luc_.compute(S);
-            dX = luc_.solve(R);
-            X -= dX;
-            const double step_norm = dX.cwiseAbs().maxCoeff();
-            const double scale = std::max(X.cwiseAbs().maxCoeff(), 1e-300);
-            if (!(step_norm == step_norm) || !std::isfinite(scale)) return false;
-            if (newton_converged(step_norm, scale, previous)) {
-                for (int i = 0; i < s; ++i) Y_.col(i) = X.segment(i * d_, d_);
-                if (plan.invertible) { // h F = (Y − W) A⁻ᵀ column-wise, i.e. hF = A⁻¹(Y − U y)
-                    W_.leftCols(s) = Y_.leftCols(s) - W_.leftCols(s);
-                    F_.leftCols(s).noalias() = (1.0 / h_) * (W_.leftCols(s) * plan.A_inv_T);
-                } else {
-                    for (int i = 0; i < s; ++i) {
-                        x_ = Y_.col(i);
-                        prob_.rhs(t + c[i] * h_, x_, f_);
-                        F_.col(i) = f_;
-                    }
-                    c_.rhs_evals += s;
-                }
-                return true;
+        });
+        if (it == 0) return false;
+        iters += it;
+        for (int i = 0; i < s; ++i) Y_.col(i) = X.segment(i * d_, d_);
+        if (plan.invertible) { // h F = (Y − W) A⁻ᵀ column-wise, i.e. hF = A⁻¹(Y − U y)
+            W_.leftCols(s) = Y_.leftCols(s) - W_.leftCols(s);
+            F_.leftCols(s).noalias() = (1.0 / h_) * (W_.leftCols(s) * plan.A_inv_T);
+        } else {
+            for (int i = 0; i < s; ++i) {
+                x_ = Y_.col(i);
+                prob_.rhs(t + c[i] * h_, x_, f_);
+                F_.col(i) = f_;
             }
-            previous = step_norm;
+            c_.rhs_evals += s;
         }
-        return false;
+        return true;
     }
 
     const P& prob_;
@@ -256,12 +249,11 @@ private:
     Plan main_, start_;
     Mat y_, yin_, yout_; // d × r: the values after the last step, this step's input and output
     Mat Y_, F_, W_;      // d × s: stages, stage derivatives, U y (+ known explicit part)
-    Vec f_, w_, dx_, x_;
-    Mat J_, S_;
-    Eigen::PartialPivLU<Mat> lu_;
-    Vec X_, R_, dX_;   // coupled Newton (full A only): all stages, residual, update
-    Mat Sc_, Fs_, Js_; // its matrix, f and ∂f at the stages
-    Eigen::PartialPivLU<Mat> luc_;
+    Vec f_, w_, x_;
+    Mat J_;
+    StageNewton stage_newton_;                 // one stage of a triangular A (d unknowns)
+    StageNewton coupled_main_, coupled_start_; // all stages of a full A (s·d, s₀·d unknowns)
+    Mat Fs_, Js_;                              // f and ∂f at the stages (coupled solve)
 };
 
 } // namespace dampsym

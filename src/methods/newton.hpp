@@ -1,9 +1,24 @@
-// The one convergence test of every Newton solve in the method kernels (cimp, implicit RK, IFRK,
-// exponential RK, partitioned RK, general linear): the iteration has converged to round-off when
-// the update is a few ulps of the iterate's scale, or when it stopped decreasing once it was
-// already tiny (the round-off floor of the residual).
+// The one stage-Newton solver of the method kernels (cimp, the RK engine behind implicit RK, IFRK
+// and exponential RK, the partitioned engine behind PRK and PERK, general linear methods).
+//
+// It solves R(X) = 0 for the stacked stage values X by Newton's method, X ← X − S⁻¹R(X), with the
+// caller's residual R and Newton matrix S = ∂R/∂X (analytic Jacobians, never finite differences):
+//   full policy        S formed and factorised (LU, partial pivoting) at every iteration;
+//   simplified policy  S formed once, at the predictor (first iteration), and kept for the later
+//                      iterations of the solve (HW II §IV.8): the iteration still converges to
+//                      round-off, linearly with a rate O(h·‖X − X₀‖·‖∂²g‖).
+// Convergence test (newton_converged): the update is within a few ulps of the iterate's scale,
+// or it stopped decreasing once it was already tiny (the round-off floor of the residual).
+// A NaN update or a non-finite iterate ends the solve as failed, as does no convergence within
+// max_iterations; the caller then returns StepStatus::solve_failed and leaves its state unchanged.
+// Counters: newton_iters counts every iteration; the caller counts its own evaluations and the
+// iterations of a step (max_newton_iters_per_step), since a step may hold several solves.
 #pragma once
 
+#include "core/types.hpp"
+
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace dampsym {
@@ -13,5 +28,51 @@ inline bool newton_converged(double step_norm, double scale, double previous_ste
     return step_norm <= 4.0 * eps * scale ||
            (step_norm <= 1e-10 * scale && step_norm >= 0.5 * previous_step_norm);
 }
+
+enum class NewtonPolicy { full, simplified };
+
+class StageNewton {
+public:
+    static constexpr int max_iterations = 50;
+
+    explicit StageNewton(Eigen::Index n) : X(n), R(n), dX(n), S(n, n), lu_(n) {}
+
+    Vec X;  // the iterate: set to the predictor before solve(), the solution after it
+    Vec R;  // residual R(X), written by the caller's eval
+    Vec dX; // the last update
+    Mat S;  // Newton matrix ∂R/∂X, written by the caller's eval when asked to
+
+    // eval(refresh) writes R at the current X and, when refresh is true, S at the current X.
+    // Returns the number of iterations on convergence, 0 on failure.
+    template <class Eval>
+    int solve(NewtonPolicy policy, Counters& counters, Eval&& eval) {
+        double previous = std::numeric_limits<double>::infinity();
+        for (int it = 1; it <= max_iterations; ++it) {
+            const bool refresh = policy == NewtonPolicy::full || it == 1;
+            eval(refresh);
+            counters.newton_iters += 1;
+            if (refresh) lu_.compute(S);
+            dX = lu_.solve(R);
+            X -= dX;
+            const double step_norm = dX.cwiseAbs().maxCoeff();
+            const double scale = std::max(X.cwiseAbs().maxCoeff(), 1e-300);
+            if (!(step_norm == step_norm) || !std::isfinite(scale)) return 0; // NaN / inf
+            if (newton_converged(step_norm, scale, previous)) return it;
+            previous = step_norm;
+        }
+        return 0;
+    }
+
+    // Factorises S as it stands (e.g. the Newton matrix at the converged stages, for the
+    // implicit-function theorem of a step Jacobian) and solves S X = rhs.
+    template <class Rhs, class Out>
+    void factor_and_solve(const Rhs& rhs, Out& out) {
+        lu_.compute(S);
+        out = lu_.solve(rhs);
+    }
+
+private:
+    Eigen::PartialPivLU<Mat> lu_;
+};
 
 } // namespace dampsym
