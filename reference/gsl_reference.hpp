@@ -1,4 +1,4 @@
-// Numerical references on GSL odeiv2 (SPEC §4).
+// Numerical references on GSL odeiv2 (conventions §4).
 //
 // solve_reference() integrates y' = rhs(t, y) from t0 and samples the state at the requested
 // output times by successive gsl_odeiv2_driver_apply calls, each advancing t exactly to the next

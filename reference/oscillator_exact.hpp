@@ -1,4 +1,4 @@
-// Exact solution of the damped oscillator q'' + 2γq' + ω²q = 0 (F(2.5), SPEC §2), p = q'.
+// Exact solution of the damped oscillator q'' + 2γq' + ω²q = 0 (F(2.5), conventions §2), p = q'.
 //
 //   q(t) = e^{-γt} [ q0 C(t) + (p0 + γ q0) S(t) ]
 //   p(t) = e^{-γt} [ p0 C(t) − (γ p0 + ω² q0) S(t) ]

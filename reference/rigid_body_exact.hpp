@@ -1,4 +1,4 @@
-// Exact solution of the perturbed rigid body B(1.7) (SPEC §2, B §3.4):
+// Exact solution of the perturbed rigid body B(1.7) (conventions §2, B §3.4):
 //
 //   z' = z × (I⁻¹ z) − γ(t) z,   γ(t) = ½ε cos 2t,   Γ(t) = ¼ε sin 2t,   z(0) = z0
 // (written here for a start at t = 0; rigid_body_exact below starts at any t0).

@@ -1,5 +1,5 @@
 // Exact step Jacobians (step_jacobian of cimp, csv1, csv2 and the explicit RK kernel) and the
-// conformal-symplecticness defect E_n = ‖ΨᵀJ⁻¹Ψ − e^{−2ΔΓ}J⁻¹‖_F (SPEC §5, B(2.42), B(3.2)).
+// conformal-symplecticness defect E_n = ‖ΨᵀJ⁻¹Ψ − e^{−2ΔΓ}J⁻¹‖_F (conventions §5, B(2.42), B(3.2)).
 //  - step_jacobian advances z bitwise like step();
 //  - Ψ agrees with central differences of the step map (the differences live only here: the
 //    diagnostic never uses them);

@@ -1,4 +1,4 @@
-// The GSL odeiv2 reference driver (reference/gsl_reference.hpp, SPEC §4): accuracy against closed
+// The GSL odeiv2 reference driver (reference/gsl_reference.hpp, conventions §4): accuracy against closed
 // forms, the certification estimate, sampling at t0, and failures reported as ok = false.
 #include "reference/gsl_reference.hpp"
 
@@ -149,7 +149,7 @@ TEST_CASE("gsl reference: the certified estimate tracks the true rkf45 error") {
         REQUIRE(std::isfinite(est));
         REQUIRE(est > 0.0);
         // The rk8pd certifier is ~100x more accurate than rkf45 here, so the estimate is
-        // essentially the rkf45 error itself: measured est/err in [0.999, 1.005]. SPEC §4 only
+        // essentially the rkf45 error itself: measured est/err in [0.999, 1.005]. conventions §4 only
         // needs a factor ~100; we check the tighter band [0.5, 2] that the measurement supports.
         CHECK(est >= 0.5 * err);
         CHECK(est <= 2.0 * err);

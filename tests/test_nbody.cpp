@@ -123,7 +123,7 @@ double min_distance(const Vec& q, int d) {
     return r;
 }
 
-// Certified GSL solve (SPEC §4) of the plain form z' = f(t, z) of a problem.
+// Certified GSL solve (conventions §4) of the plain form z' = f(t, z) of a problem.
 template <class P>
 dampsym::ReferenceSolution solve(const P& prob, const std::vector<double>& times, double epsrel,
                                  double epsabs, const char* stepper = "rk8pd") {

@@ -1,4 +1,4 @@
-// The report contract of SPEC §7: report.json fields, full-precision final states (checked bit
+// The report contract of conventions §7: report.json fields, full-precision final states (checked bit
 // for bit against an independent re-integration with the same kernel), check records, the summary,
 // and report.md listing failing cases first.
 // GCC 12 reports false -Wuse-after-free / -Wstringop-overread positives inside Eigen's aligned
@@ -96,7 +96,7 @@ std::vector<std::vector<double>> final_states_in_text(const std::string& text) {
 
 } // namespace
 
-TEST_CASE("report.json carries the SPEC §7 fields at full precision", "[report]") {
+TEST_CASE("report.json carries the conventions §7 fields at full precision", "[report]") {
     TempDir cases, out;
     copy_data("cases/cli-pass.json", cases.path());
     copy_data("cases/cli-wrong-order.json", cases.path());
@@ -272,7 +272,7 @@ TEST_CASE("report.md lists a failing case before passing ones", "[report]") {
 }
 
 TEST_CASE("report: a diverged run's final_state is the state at its final_time", "[report]") {
-    // SPEC §7: "final_state is the state at final_time". For a run stopped by divergence the
+    // conventions §7: "final_state is the state at final_time". For a run stopped by divergence the
     // report gives steps (completed steps), final_time = t0 + steps·dt and failed_at_step.
     TempDir cases, out;
     copy_data("cases/cli-diverged.json", cases.path());

@@ -1,10 +1,10 @@
 """Independent mathematics for the dampsym cross-check (numpy + scipy only).
 
-Everything here is written from /work/shared/SPEC.md and the source papers
+Everything here is written from docs/conventions.md and the source papers
 (F = Floyd 2014 thesis, B = Bhatt 2016).  Nothing is taken from the C++ code
 base: no shared code, no shared coefficients, no shared intermediate numbers.
 
-Convention (SPEC §1, "our gamma"):  q' = dT/dp,  p' = -dV/dq - 2*gamma*p, T = p^2/2.
+Convention (conventions §1, "our gamma"):  q' = dT/dp,  p' = -dV/dq - 2*gamma*p, T = p^2/2.
 Equivalently z' = N(z) - gamma*z with N = J^{-1} grad H_gamma, H_gamma = T + V + gamma*q*p
 (F(1.4), B(3.3)).  Only one-degree-of-freedom problems with constant gamma are
 implemented (oscillator, pendulum), so states are plain Python floats (q, p):
@@ -27,7 +27,7 @@ class SolveFailed(Exception):
 
 
 # ----------------------------------------------------------------------------------------
-# Problems (SPEC §2).  Each gives V'(q), V''(q) and the constant gamma.
+# Problems (conventions §2).  Each gives V'(q), V''(q) and the constant gamma.
 # ----------------------------------------------------------------------------------------
 class Oscillator:
     """q'' + 2 gamma q' + omega^2 q = 0 (F(2.5)); V = omega^2 q^2 / 2."""
@@ -80,7 +80,7 @@ class Oscillator:
 
 
 class Pendulum:
-    """q'' + 2 gamma q' + sin q = 0 (F(4.5) with the typo 2*gamma*q fixed, SPEC §6); V = -cos q."""
+    """q'' + 2 gamma q' + sin q = 0 (F(4.5) with the typo 2*gamma*q fixed, conventions §6); V = -cos q."""
     name = "pendulum"
     param_names = ("gamma", "q0", "p0")
 
@@ -91,7 +91,7 @@ class Pendulum:
         self._cache = {}
 
     def reference(self, t):
-        """Numerical reference at time t after the initial one (SPEC §4, certified).
+        """Numerical reference at time t after the initial one (conventions §4, certified).
 
         DOP853 with rtol 1e-13, atol 1e-15, recomputed with a ten times tighter tolerance;
         the difference is returned as the reference's own error estimate.  scipy refuses
@@ -128,7 +128,7 @@ IMPLICIT = {"cimp"}
 
 
 def _full_field(prob):
-    """Full vector field f(q, p) = (p, -V'(q) - 2 gamma p) (SPEC §1, F(1.1))."""
+    """Full vector field f(q, p) = (p, -V'(q) - 2 gamma p) (conventions §1, F(1.1))."""
     dV, g2 = prob.dV, 2.0 * prob.gamma
     return lambda q, p: (p, -dV(q) - g2 * p)
 
@@ -200,7 +200,7 @@ def _csv2(prob, h):
          (1 + g h/2) p_half = e^{-g h/2} p - (h/2) V'(q)
          (1 - g h/2) q1     = e^{-g h/2} [ (1 + g h/2) e^{-g h/2} q + h p_half ]
          p1                 = e^{-g h/2} [ (1 - g h/2) p_half - (h/2) V'(q1) ]
-       It needs g h < 2 (SPEC §5)."""
+       It needs g h < 2 (conventions §5)."""
     g, dV = prob.gamma, prob.dV
     a, b, e = 1.0 + 0.5 * g * h, 1.0 - 0.5 * g * h, math.exp(-0.5 * g * h)
     if b <= 0.0:
@@ -302,7 +302,7 @@ def integrate(method, prob, h, nsteps, keep=False, blowup=None):
 
 
 # ----------------------------------------------------------------------------------------
-# Order fit (SPEC §5 "order") with the asymptotic-window rule.
+# Order fit (conventions §5 "order") with the asymptotic-window rule.
 # ----------------------------------------------------------------------------------------
 def fit_order(dts, errors, floor):
     """Least-squares slope of log(error) against log(dt) over the asymptotic window.

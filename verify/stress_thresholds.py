@@ -2,7 +2,7 @@
 """Writes the stability-threshold cases of the stress suite (verify/cases/stress-threshold-*.json).
 
 A case file cannot say "dt = 0.99 h*", so this script solves each analytic threshold h* of the
-damped oscillator q'' + 2 gamma q' + omega^2 q = 0 (SPEC's gamma: the momentum decays like
+damped oscillator q'' + 2 gamma q' + omega^2 q = 0 (our gamma: the momentum decays like
 e^{-2 gamma t}) and writes dt_ladder = [0.99 h*, 1.01 h*] with 17 significant digits, plus the
 expectations the analysis gives at both step sizes:
 
@@ -49,7 +49,7 @@ def m_csv1(w, g, h):
 
 
 def m_csv2(w, g, h):
-    # F(2.16) in SPEC §3's form
+    # F(2.16) in conventions §3's form
     e = math.exp(-0.5 * g * h)
     pl, mi = 1.0 + 0.5 * g * h, 1.0 - 0.5 * g * h
 
@@ -277,7 +277,7 @@ def make_case(suffix, method, w, g, solve, how, m, side):
     which = "0.99" if inside == dts[0] else "1.01"
     other = "1.01" if which == "0.99" else "0.99"
     # F's condition: the statement of F(3.17)/(3.22) for csv1/csv2; for the others it is reported
-    # (SPEC §6: F's condition is not boundedness for a method that is not conformal symplectic).
+    # (conventions §6: F's condition is not boundedness for a method that is not conformal symplectic).
     if conformal:
         ex["F's condition holds at %s h* (inside F's region)" % which] = {
             "metric": "stability.F_condition", "methods": [method], "dt": inside, "ge": 1,
@@ -324,7 +324,7 @@ def make_case(suffix, method, w, g, solve, how, m, side):
                 ex["unbounded at %s h* although F's condition holds" % label] = {
                     "metric": "stability.F_condition", "methods": [method], "dt": dt, "ge": 1,
                     "note": "|tr M/2| < e^{-gamma h} but det M = %s != e^{-2 gamma h}: for a method that is "
-                            "not conformal symplectic F's condition is not boundedness (SPEC §6)"
+                            "not conformal symplectic F's condition is not boundedness (conventions §6)"
                             % fmt(np.linalg.det(p["M"]))}
             ex["unbounded at %s h*: M not power-bounded" % label] = {
                 "metric": "stability.power_bounded", "methods": [method], "dt": dt, "le": 0,
@@ -346,7 +346,7 @@ def make_case(suffix, method, w, g, solve, how, m, side):
     case = {
         "id": "stress-threshold-" + suffix,
         "title": "%s at 0.99 h* and 1.01 h* of %s (omega = %g, gamma = %g)" % (method, region, w, g),
-        "source": "F(3.15)-(3.22), SPEC §5; verify/stress_thresholds.py",
+        "source": "F(3.15)-(3.22), conventions §5; verify/stress_thresholds.py",
         "suites": ["stress"],
         "notes": ("h* = %.17g (%s). dt_ladder = [0.99 h*, 1.01 h*] rounded to 17 significant digits; "
                   "t_end = 101*%d*(0.99 h*) = 99*%d*(1.01 h*), output every 101 resp. 99 steps. Written by "

@@ -1,4 +1,4 @@
-// Conformal symplecticness of the discrete step map (SPEC §5 "conformal-symplectic", B(2.42),
+// Conformal symplecticness of the discrete step map (conventions §5 "conformal-symplectic", B(2.42),
 // B(3.2)). For every step n → n+1 the kernel returns Ψ = ∂z_{n+1}/∂z_n, the exact derivative of
 // the scheme itself (step_jacobian(): chain rule through explicit stages, implicit-function
 // theorem at converged implicit solves; never finite differences), and the diagnostic measures

@@ -1,4 +1,4 @@
-// Convergence order from a step ladder (SPEC §5 "order", B Fig 3.2).
+// Convergence order from a step ladder (conventions §5 "order", B Fig 3.2).
 //
 // Rule: (1) points whose error is not finite or not above `floor` (round-off or reference floor)
 // are dropped; (2) among the remaining points, sorted by h, the asymptotic window is the longest

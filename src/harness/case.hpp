@@ -1,5 +1,5 @@
 // A case ("scene"): one problem instance, methods, a step or step ladder, the diagnostics it asks
-// for and the checks it expects. Cases are JSON files in verify/cases/ (SPEC §7); this is their
+// for and the checks it expects. Cases are JSON files in verify/cases/ (conventions §7); this is their
 // parsed and validated form. Every validation error names the file and the key (exit status 2).
 #pragma once
 
@@ -61,7 +61,7 @@ struct SweepSpec {
     Range3 h{0.1, 0.1, 1.0};
 };
 
-// Numerical reference settings (SPEC §4); ignored for problems with an exact solution.
+// Numerical reference settings (conventions §4); ignored for problems with an exact solution.
 struct ReferenceSpec {
     std::string stepper = "rkf45";
     double epsrel = 1e-13;

@@ -83,7 +83,7 @@ bool case_needs_grid(const CaseSpec& c, std::int64_t points);
 // `grid`, else t_end only.
 std::vector<double> reference_times(const CaseSpec& c, std::int64_t points, bool grid);
 
-// The certified-reference request for a case (SPEC §4): y' = problem.rhs from the problem's
+// The certified-reference request for a case (conventions §4): y' = problem.rhs from the problem's
 // initial state, sampled at `times`, with the case's stepper and tolerances. The rhs owns its
 // buffers, so an evaluation allocates nothing (one integration calls it ~10⁵ times, from one
 // thread; copies of the request have their own buffers).

@@ -1,4 +1,4 @@
-// Runs validated cases and assembles report JSON (SPEC §7). Work is split into independent tasks
+// Runs validated cases and assembles report JSON (conventions §7). Work is split into independent tasks
 // (one per method × step size, one per method-level sweep) run on --jobs threads; results are
 // stored by index and assembled in a fixed order, so the numbers do not depend on --jobs.
 #pragma once

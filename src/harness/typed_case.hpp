@@ -53,7 +53,7 @@ public:
         }
     }
 
-    // Certified GSL reference (SPEC §4) on the output grid, shared through the cache.
+    // Certified GSL reference (conventions §4) on the output grid, shared through the cache.
     void numerical_reference() {
         auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
             const ReferenceRequest req = reference_request(problem_, c_, ref_times_);
@@ -440,7 +440,7 @@ private:
 
     // d(t) of the method; with a reference on the output grid also d(t) of the reference (same
     // maxima locator on the reference samples) and the differences, maximum by maximum.
-    // E_n of SPEC §5 from the exact step Jacobian, in a separate pass with its own stepper and
+    // E_n of conventions §5 from the exact step Jacobian, in a separate pass with its own stepper and
     // counters (the main run's cost and timing stay those of the bare step).
     template <class K>
     json conformal_symplectic_metrics(const MethodInfo& info, double h, std::int64_t n) const {
@@ -656,7 +656,7 @@ private:
         return out;
     }
 
-    // (γ, h) sweep of F's condition and power-boundedness (SPEC §5, F Figs 3.1–3.3). The sweep of
+    // (γ, h) sweep of F's condition and power-boundedness (conventions §5, F Figs 3.1–3.3). The sweep of
     // one method is split into independent tasks of sweep_rows_per_task γ rows; each writes only
     // its own pre-sized row slots and finish() assembles the rows in grid order (sweep_json), so
     // the report does not depend on --jobs or on the order in which tasks run.
@@ -796,7 +796,7 @@ private:
     }
 
     // The run record's own fields as metrics "run.<field>" (any status: a check may expect a
-    // divergence, or an exact step or evaluation count; SPEC §7 report fields).
+    // divergence, or an exact step or evaluation count; conventions §7 report fields).
     static json run_record_metrics(const json& run) {
         json r = json::object();
         for (const char* k :
@@ -823,7 +823,7 @@ private:
     std::vector<std::vector<SweepRow>> sweep_rows_; // [method][γ row], pre-sized in sweep_tasks
 
     // Leading coefficient of ½trM − e^{−γh}cos(βh) = c h⁴ + O(h⁵), by Richardson extrapolation of
-    // the measured (½trM − exact)/h⁴ at h = 0.02 and 0.01 (SPEC §5).
+    // the measured (½trM − exact)/h⁴ at h = 0.02 and 0.01 (conventions §5).
     void trace_taylor(std::size_t m) {
         const MethodInfo& info = method(m);
         json& out = method_metrics_[m]["trace-taylor"];
@@ -872,7 +872,7 @@ json TypedCase<P>::finish() {
     for (const char* diag : {"order", "local-order"}) {
         if (!c_.wants(diag)) continue;
         const bool global = std::string(diag) == "order";
-        // Round-off floor, and SPEC §4: no fit uses an error within 100× the reference's estimate.
+        // Round-off floor, and conventions §4: no fit uses an error within 100× the reference's estimate.
         const double roundoff =
             1000.0 * std::numeric_limits<double>::epsilon() *
             (reference_ok_ && global ? std::max(1.0, ref_.col(ref_.cols() - 1).norm()) : 1.0);

@@ -1,4 +1,4 @@
-// The method catalog: one row per method (SPEC §3): id, order, implicit, form, claims, citation
+// The method catalog: one row per method (conventions §3): id, order, implicit, form, claims, citation
 // and one typed coefficient set (core/method.hpp), which selects the family engine that steps it.
 // Coefficients are exact fractions. Adding a method of an existing family = one row here (plus its
 // tableau); the runner, the CLI and the reports pick it up from this list, and

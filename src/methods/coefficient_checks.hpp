@@ -1,5 +1,5 @@
 // Coefficient-level checks: structure and order conditions verified on a method's coefficients
-// alone, without running any problem (SPEC §3, GeometricIntegrators-style).
+// alone, without running any problem (conventions §3, GeometricIntegrators-style).
 //
 // Runge–Kutta (A, b, c):
 //  - symplecticity  b_i a_ij + b_j a_ji − b_i b_j = 0 for all i, j (B(1.18), BS "symplectic RK");

@@ -1,5 +1,5 @@
 // Coefficient-level structure conditions of the exponential RK families (no problem needed),
-// evaluated at a given γh (our γ, SPEC §1) on the data of src/methods/exponential_tableaux.hpp.
+// evaluated at a given γh (our γ, conventions §1) on the data of src/methods/exponential_tableaux.hpp.
 //
 // ERK, B Thm 2.6 / Thm 2.11: an ERK method B(2.7) maps dz∧J dz to φ_0² dz∧J dz (and a quadratic
 // invariant zᵀWz to φ_0² zᵀWz) when, for all i, j,
@@ -9,7 +9,7 @@
 // PERK, B Thm 2.4 / Thm 2.10: a PERK method B(2.14) maps dq∧dp to φ̂_0 φ̃_0 dq∧dp when, for all i, j,
 //   b̂_i φ̃_0/φ̃_i = b̃_i φ̂_0/φ̂_i,   b̂_i ã_ij φ̃_0/φ̃_i + b̃_j â_ji φ̂_0/φ̂_j − b̂_i b̃_j = 0,     B(2.23)
 // and is conformal symplectic when moreover φ̂_0 φ̃_0 = e^{−∫(γ^1+γ^2)} = e^{−γ_B h}, which in our γ
-// (γ_B = 2γ, SPEC §1; the conversion is done by perk_coefficients) is e^{−2γh}.
+// (γ_B = 2γ, conventions §1; the conversion is done by perk_coefficients) is e^{−2γh}.
 //
 // The conditions are sufficient, not necessary: B (after Thm 2.11) notes that cse-etd B(2.19) and
 // csv2 B(2.21) violate B(2.23) and are nevertheless conformal symplectic (their step maps are

@@ -1,5 +1,5 @@
 // Generic exponential Runge–Kutta kernel (ERK), B(2.7), on the conformal form
-// z' = N(z, t) − γz (SPEC §1, B(1.1)), for coefficient data that are functions of x = γh
+// z' = N(z, t) − γz (conventions §1, B(1.1)), for coefficient data that are functions of x = γh
 // (src/methods/exponential_tableaux.hpp, held by the row's ExponentialCoefficients):
 //   Z_i     = φ_i(x) z_n + h Σ_j a_ij(x) N(Z_j, t_n + c_j h),   i = 1..s,
 //   z_{n+1} = φ_0(x) z_n + h Σ_i b_i(x) N(Z_i, t_n + c_i h),                          B(2.7)
@@ -8,7 +8,7 @@
 // b_i = β_i e^{−(1−c_i)x}, φ_0 = e^{−x}) and exponential time differencing B(2.6), e.g. etdrk2
 // B(2.13): c = ½, a = (e^{x/2} − e^{−x/2})/(2x) = sinh(x/2)/x, φ_1 = e^{−x/2}, b = (1 − e^{−x})/x,
 // φ_0 = e^{−x}. x = γh is OUR γ: B(1.1), (2.5), (2.13) use the conformal-form γ, which is the
-// γ of SPEC §1 (only B(2.17)–(2.22), (2.34) use twice ours; see partitioned_exponential_rk.hpp).
+// γ of conventions §1 (only B(2.17)–(2.22), (2.34) use twice ours; see partitioned_exponential_rk.hpp).
 //
 // Damping argument. With constant γ the coefficients are evaluated once, in the constructor, at
 // x = problem.dGamma(0, h) = γh. With time-dependent γ (hill, rigid-body) they are re-evaluated at

@@ -1,5 +1,5 @@
 // Integrating-factor Runge–Kutta methods (IFRK), B(2.5), built from any RK tableau (α, β, c),
-// explicit or implicit, on the conformal form z' = N(z, t) − γ(t) z (SPEC §1, B(1.1)):
+// explicit or implicit, on the conformal form z' = N(z, t) − γ(t) z (conventions §1, B(1.1)):
 //   x_n(τ) = ∫₀^τ γ(s + t_n) ds = Γ(t_n + τ) − Γ(t_n)                                   B(2.4)
 //   Z_i     = e^{−x_n(c_i h)} z_n + h Σ_j α_ij e^{x_n(c_j h) − x_n(c_i h)} N(Z_j, t_n + c_j h),
 //   z_{n+1} = e^{−x_n(h)} z_n + h Σ_i β_i e^{−x_n(h) + x_n(c_i h)} N(Z_i, t_n + c_i h).  B(2.5)

@@ -1,5 +1,5 @@
 // Generic partitioned Runge–Kutta kernel (HLW II.2) for separable problems, on the full damped
-// vector field in the Rayleigh form of SPEC §1:
+// vector field in the Rayleigh form of conventions §1:
 //   q' = g(p) = ∇T(p),   p' = F(t, q) − 2γ(t) p,
 // with a tableau (A, b, c) for q and (Â, b̂, ĉ) for p (the row's PartitionedTableau):
 //   Q_i = q + h Σ_j a_ij g(P_j),

@@ -2,7 +2,7 @@
 // the N-body Hamiltonian HLW(3.1) with the Lennard-Jones pair potential HLW(3.2)
 //   V_ij(r) = 4ε[(σ/r)^12 − (σ/r)^6],   ε = 119.8 k_B [J],  σ = 0.341 [nm],
 // m_i = m = 66.34·10^−27 [kg], k_B = 1.380658·10^−23 [J/K], initial values of HLW Table 3.1
-// (positions in nm, velocities in nm/ns; p_i = m q̇_i(0)), damped as in SPEC §1
+// (positions in nm, velocities in nm/ns; p_i = m q̇_i(0)), damped as in conventions §1
 // (p_i' = −∇_{q_i}V − 2γp_i; default γ = 0, HLW's conservative problem).
 // Units exactly as HLW: masses in kg, distances in nm, times in ns; energies then come out in
 // kg·nm²/ns² = J, velocities in nm/ns = m/s, and γ is per ns. HLW integrate over 0.2 ns with steps

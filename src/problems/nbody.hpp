@@ -1,5 +1,5 @@
 // Damped N-body problem with pair potentials (B Ex. 1.3, B(1.5)–(1.6), B(3.9); HLW(2.10), HLW(3.1);
-// F §2.1.2), in SPEC §1's convention:
+// F §2.1.2), in conventions §1's convention:
 //   q_i' = ∇_{p_i} T = p_i / m_i,   p_i' = −∇_{q_i} V(q) − 2γ p_i,   i = 1..N,
 //   H = T + V,  T(p) = Σ_i |p_i|²/(2 m_i),  V(q) = Σ_{i<j} φ_ij(|q_i − q_j|)   (B(3.9), HLW(3.1)),
 // with q_i, p_i ∈ R^d, d = 2 or 3. Pair potentials:

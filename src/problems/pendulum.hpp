@@ -1,5 +1,5 @@
 // Damped nonlinear pendulum q'' + 2γq' + sin q = 0 (F(4.5) with its typo 2γq corrected to 2γq',
-// SPEC §6; B §3.2.1). T = p²/2, V = −cos q; energy ½p² − cos q with the balance
+// conventions §6; B §3.2.1). T = p²/2, V = −cos q; energy ½p² − cos q with the balance
 // d/dt(½p² − cos q) = −2γp² (B(3.4)). No closed form: numerical (certified GSL) reference.
 #pragma once
 
