@@ -675,7 +675,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
                 if (method_applies(mi.id, c.problem_id))
                     list += (list.empty() ? "" : ", ") + std::string(mi.id);
             fail(file, key,
-                 "method '" + m + "' (" + std::string(find_method(m)->form) +
+                 "method '" + m + "' (" + std::string(form_name(find_method(m)->form)) +
                      " form) does not apply to problem '" + c.problem_id +
                      "' (applicable: " + list + ")");
         }
