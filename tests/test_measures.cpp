@@ -62,15 +62,12 @@ json two_point_case() {
               {"state_mean", {{"component", "state"}, {"over", "mean"}}},
               {"H_final", {{"quantity", "energy-error"}, {"over", "final"}}}}},
             {"expect",
-             {{"rk3 beats csv1 in q", {{"metric", "measure.q_mean"},
-                                       {"ratio", {"rk3", "csv1"}},
-                                       {"lt", 1.0}}},
-              {"spread of the final q error", {{"metric", "measure.q_final"},
-                                               {"spread", "all"},
-                                               {"ge", 1.0}}},
-              {"deliberately wrong: csv1 beats rk3", {{"metric", "measure.q_mean"},
-                                                      {"ratio", {"rk3", "csv1"}},
-                                                      {"gt", 1.0}}}}}};
+             {{"rk3 beats csv1 in q",
+               {{"metric", "measure.q_mean"}, {"ratio", {"rk3", "csv1"}}, {"lt", 1.0}}},
+              {"spread of the final q error",
+               {{"metric", "measure.q_final"}, {"spread", "all"}, {"ge", 1.0}}},
+              {"deliberately wrong: csv1 beats rk3",
+               {{"metric", "measure.q_mean"}, {"ratio", {"rk3", "csv1"}}, {"gt", 1.0}}}}}};
 }
 
 } // namespace
@@ -102,7 +99,8 @@ TEST_CASE("measures: component, norm and statistic as stated, recomputed from th
     const double dq1 = std::abs(r1["final_state"][0].get<double>() - u1[0]);
     const double dq2 = std::abs(q2 - u2[0]);
     CHECK_THAT(m["q_mean"].get<double>(), WithinRel(0.5 * (dq1 + dq2), 1e-12));
-    CHECK_THAT(m["z0_rms"].get<double>(), WithinRel(std::sqrt(0.5 * (dq1 * dq1 + dq2 * dq2)), 1e-12));
+    CHECK_THAT(m["z0_rms"].get<double>(),
+               WithinRel(std::sqrt(0.5 * (dq1 * dq1 + dq2 * dq2)), 1e-12));
     const double rp1 = std::abs(r1["final_state"][1].get<double>() - u1[1]) / std::abs(u1[1]);
     const double rp2 = std::abs(p2 - u2[1]) / std::abs(u2[1]);
     CHECK_THAT(m["p_max_rel"].get<double>(), WithinRel(std::max(rp1, rp2), 1e-12));
@@ -172,16 +170,18 @@ TEST_CASE("measures: across_dt gives the log-log slope over the ladder", "[measu
         {"dt_ladder", {0.1, 0.05, 0.025}},
         {"diagnostics", {"error"}},
         {"expect",
-         {{"csv1 second order", {{"metric", "error.final_abs"},
-                                 {"methods", {"csv1"}},
-                                 {"across_dt", "loglog-slope"},
-                                 {"near", 2.0},
-                                 {"tol", 0.05}}},
-          {"rk3/csv1 falls like h", {{"metric", "error.final_abs"},
-                                     {"ratio", {"rk3", "csv1"}},
-                                     {"across_dt", "loglog-slope"},
-                                     {"near", 1.0},
-                                     {"tol", 0.1}}}}}};
+         {{"csv1 second order",
+           {{"metric", "error.final_abs"},
+            {"methods", {"csv1"}},
+            {"across_dt", "loglog-slope"},
+            {"near", 2.0},
+            {"tol", 0.05}}},
+          {"rk3/csv1 falls like h",
+           {{"metric", "error.final_abs"},
+            {"ratio", {"rk3", "csv1"}},
+            {"across_dt", "loglog-slope"},
+            {"near", 1.0},
+            {"tol", 0.1}}}}}};
     const json c = run_case(spec);
     REQUIRE(c["checks"].size() == 2);
     for (const auto& ck : c["checks"]) {
@@ -217,7 +217,8 @@ TEST_CASE("measures: bad measures and comparisons, and silent cases, are input e
         {"/measures/q_mean/norm", "l1", "measures.q_mean.norm"},
         {"/measures/q_mean/quantity", "energy", "measures.q_mean.quantity"},
         {"/measures/q.mean", json{{"over", "max"}}, "measures.q.mean"},
-        {"/expect/rk3 beats csv1 in q/ratio", json::array({"rk3"}), "expect.rk3 beats csv1 in q.ratio"},
+        {"/expect/rk3 beats csv1 in q/ratio", json::array({"rk3"}),
+         "expect.rk3 beats csv1 in q.ratio"},
         {"/expect/rk3 beats csv1 in q/across_dt", "slope", "expect.rk3 beats csv1 in q.across_dt"},
         {"/expect/rk3 beats csv1 in q/metric", "measure.nope", "expect.rk3 beats csv1 in q.metric"},
         {"/no_checks_because", "why not", "no_checks_because"},

@@ -136,7 +136,9 @@ void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& d
     int forms = 0;
     for (const char* k : {"methods", "ratio", "spread"}) forms += cj.contains(k) ? 1 : 0;
     if (forms != 1) fail(file, base + ".methods", "give exactly one of methods, ratio, spread");
-    const char* key = cj.contains("methods") ? "methods" : cj.contains("ratio") ? "ratio" : "spread";
+    const char* key = cj.contains("methods") ? "methods"
+                      : cj.contains("ratio") ? "ratio"
+                                             : "spread";
     cs.form = cj.contains("methods") ? CheckForm::per_method
               : cj.contains("ratio") ? CheckForm::ratio
                                      : CheckForm::spread;
@@ -174,14 +176,13 @@ void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& d
     if ((cs.form != CheckForm::per_method || cs.across_dt_slope) &&
         (diagnostic_is_method_level(diag) || diag == "run"))
         fail(file, base + ".metric",
-             "ratio, spread and across_dt compare per-run metrics; '" + diag +
-                 "' is not one");
+             "ratio, spread and across_dt compare per-run metrics; '" + diag + "' is not one");
 }
 
 // "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } } (README).
-void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file,
-                    CaseSpec& c) {
-    if (!mj.is_object() || mj.empty()) fail(file, "measures", "must be an object of named measures");
+void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file, CaseSpec& c) {
+    if (!mj.is_object() || mj.empty())
+        fail(file, "measures", "must be an object of named measures");
     if (!c.wants("error"))
         fail(file, "measures", "measures are computed by the \"error\" diagnostic; request it");
     int dim = 0, dof = -1; // dof: degrees of freedom of a canonical z = [q; p], else -1
@@ -196,9 +197,9 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
         const json& e = it.value();
         MeasureSpec m;
         m.name = it.key();
-        if (m.name.empty() || m.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz"
-                                                       "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
-                                  std::string::npos)
+        if (m.name.empty() ||
+            m.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz"
+                                     "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") != std::string::npos)
             fail(file, base, "a measure name uses letters, digits, '_' and '-' only");
         if (!e.is_object()) fail(file, base, "must be an object");
         only_keys(e, {"quantity", "component", "norm", "over", "from"}, file, base + ".");
@@ -211,8 +212,7 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
         }
         if (m.quantity == MeasureQuantity::energy_error) {
             if (!prob.has_energy)
-                fail(file, base + ".quantity",
-                     "problem '" + c.problem_id + "' declares no energy");
+                fail(file, base + ".quantity", "problem '" + c.problem_id + "' declares no energy");
             if (e.contains("component"))
                 fail(file, base + ".component", "the energy error has no component");
             m.component = "energy";
@@ -246,7 +246,8 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
                         if (idx < 0 || used != s.size() - 3)
                             fail(file, base + ".component",
                                  "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or "
-                                 "\"z[i]\", got \"" + s + "\"");
+                                 "\"z[i]\", got \"" +
+                                     s + "\"");
                         if (idx >= block)
                             fail(file, base + ".component",
                                  "index " + std::to_string(idx) + " out of range (" +
@@ -257,7 +258,8 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
                 } else if (s != "state") {
                     fail(file, base + ".component",
                          "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or \"z[i]\", "
-                         "got \"" + s + "\"");
+                         "got \"" +
+                             s + "\"");
                 }
             }
         }
@@ -281,12 +283,12 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
                 m.over = st;
                 found = true;
             }
-        if (!found)
-            fail(file, base + ".over", "must be one of final, max, mean, rms, growth");
+        if (!found) fail(file, base + ".over", "must be one of final, max, mean, rms, growth");
         if (m.over != MeasureStat::final_value && points < 2)
             fail(file, base + ".over",
-                 "'" + over + "' needs an output grid: give \"output_dt\" (or a ladder whose "
-                 "step sizes divide each other)");
+                 "'" + over +
+                     "' needs an output grid: give \"output_dt\" (or a ladder whose "
+                     "step sizes divide each other)");
         const double span = c.t_end - c.t0;
         m.growth_from = c.t0 + 0.1 * span;
         if (e.contains("from")) {
@@ -629,8 +631,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
             const json& cj = it.value();
             if (!cj.is_object()) fail(file, base, "must be an object");
             only_keys(cj,
-                      {"metric", "methods", "ratio", "spread", "across_dt", "refutes", "near",
-                       "le", "ge", "lt", "gt", "tol", "abs", "negative_control", "dt", "note"},
+                      {"metric", "methods", "ratio", "spread", "across_dt", "refutes", "near", "le",
+                       "ge", "lt", "gt", "tol", "abs", "negative_control", "dt", "note"},
                       file, base + ".");
             CheckSpec cs;
             cs.name = it.key();
@@ -680,7 +682,8 @@ CaseSpec parse_case(const json& input, const std::string& file,
                 cs.negative_control =
                     boolean(cj["negative_control"], file, base + ".negative_control");
             if (cj.contains("note")) cs.note = string_of(cj["note"], file, base + ".note");
-            if (cj.contains("refutes")) cs.refutes = boolean(cj["refutes"], file, base + ".refutes");
+            if (cj.contains("refutes"))
+                cs.refutes = boolean(cj["refutes"], file, base + ".refutes");
             if (cj.contains("dt")) {
                 if (cs.across_dt_slope)
                     fail(file, base + ".dt", "\"across_dt\" uses every step size; no dt");

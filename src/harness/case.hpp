@@ -27,7 +27,7 @@ enum class CheckForm { per_method, ratio, spread };
 
 struct CheckSpec {
     std::string name;
-    std::string metric; // "<diagnostic>.<path>"
+    std::string metric;               // "<diagnostic>.<path>"
     std::vector<std::string> methods; // per_method: each; ratio: {A, B}; spread: the set
     CheckForm form = CheckForm::per_method;
     // "across_dt": "loglog-slope": the values at the ladder's step sizes are reduced to the
@@ -55,7 +55,7 @@ enum class MeasureStat {
     max,         // max over the output grid t_1..t_end
     mean,        // mean over the output grid t_1..t_end
     rms,         // root mean square over the output grid t_1..t_end
-    growth       // slope of log(running max) against log(t − t0) over the output grid (t ≥ from)
+    growth // slope of log(running max) against log(t − t0) over the output grid (t ≥ from)
 };
 struct MeasureSpec {
     std::string name;

@@ -47,8 +47,7 @@ std::string check_line(const json& ck) {
        << " | `" << ck["metric"].get<std::string>() << "` | " << num(ck["value"], 6) << " | "
        << expected << " | " << (ck.contains("message") ? ck["message"].get<std::string>() : "")
        << (ck.value("refutes", false) ? " (passing refutes the paper's claim)" : "")
-       << (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "")
-       << " |\n";
+       << (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "") << " |\n";
     return os.str();
 }
 
@@ -62,7 +61,8 @@ void measures_table(std::ostringstream& os, const json& c) {
         first = false;
     }
     os << "):\n\n| method | dt |";
-    for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it) os << " " << it.key() << " |";
+    for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it)
+        os << " " << it.key() << " |";
     os << "\n|---|---|";
     for (std::size_t i = 0; i < c["measures"].size(); ++i) os << "---|";
     os << "\n";

@@ -309,8 +309,12 @@ private:
             }
             double x = 0.0;
             switch (m.over) {
-            case MeasureStat::final_value: x = v.back(); break;
-            case MeasureStat::max: x = *std::max_element(v.begin(), v.end()); break;
+            case MeasureStat::final_value:
+                x = v.back();
+                break;
+            case MeasureStat::max:
+                x = *std::max_element(v.begin(), v.end());
+                break;
             case MeasureStat::mean:
             case MeasureStat::rms: {
                 double sum = 0.0;
@@ -770,9 +774,12 @@ private:
         const char* sep = cs.form == CheckForm::ratio ? " / " : ", ";
         for (const auto& m : members) label += (label.empty() ? "" : sep) + m;
         if (cs.form == CheckForm::spread) label = "spread(" + label + ")";
-        json ck = {{"name", cs.name},      {"metric", cs.metric},
-                   {"method", label},      {"op", op_name(cs.op)},
-                   {"expected", cs.value}, {"negative_control", cs.negative_control},
+        json ck = {{"name", cs.name},
+                   {"metric", cs.metric},
+                   {"method", label},
+                   {"op", op_name(cs.op)},
+                   {"expected", cs.value},
+                   {"negative_control", cs.negative_control},
                    {"form", cs.form == CheckForm::ratio    ? "ratio"
                             : cs.form == CheckForm::spread ? "spread"
                                                            : "per-method"},
