@@ -77,6 +77,8 @@ const BadInput bad_inputs[] = {
     {"bad-just-beyond.json", "dt", "multiple"},
     {"bad-metric.json", "expect.typo in metric.metric", "error.final_abz"},
     {"bad-diagnostic.json", "diagnostics[1]", "eror"},
+    {"bad-no-checks.json", "expect", "no_checks_because"},
+    {"bad-measure.json", "measures.theta.component", "out of range"},
 };
 
 void check_bad(const std::vector<std::string>& args, const fs::path& out, const std::string& file,

@@ -37,10 +37,21 @@ inline constexpr std::size_t max_message_value = 80; // characters of a bad valu
 
 enum class CheckOp { near, le, ge, lt, gt };
 
+// What one check compares (README "Adding a case"): each listed method's metric, the ratio of two
+// methods' metrics ("ratio": [A, B] -> metric(A) / metric(B)), or the spread of several methods'
+// metrics ("spread": max over the methods / min over the methods), at each step size.
+enum class CheckForm { per_method, ratio, spread };
+
 struct CheckSpec {
     std::string name;
-    std::string metric; // "<diagnostic>.<path>"
-    std::vector<std::string> methods;
+    std::string metric;               // "<diagnostic>.<path>"
+    std::vector<std::string> methods; // per_method: each; ratio: {A, B}; spread: the set
+    CheckForm form = CheckForm::per_method;
+    // "across_dt": "loglog-slope": the values at the ladder's step sizes are reduced to the
+    // least-squares slope of log(value) against log(dt) (e.g. "the ratio falls as h falls": > 0).
+    bool across_dt_slope = false;
+    // Passing shows that the paper's claim does not hold (docs/claims.md: "not reproduced").
+    bool refutes = false;
     CheckOp op = CheckOp::near;
     double value = 0.0;
     double tol = 0.0;     // for near
@@ -48,6 +59,29 @@ struct CheckSpec {
     bool negative_control = false;
     std::optional<double> dt; // run-level metrics: only runs at this dt
     std::string note;
+};
+
+// An error measure as a paper states it (README "Adding a case", key "measures"), reported by
+// the error diagnostic as the metric "measure.<name>" of each run.
+enum class MeasureQuantity {
+    state_error, // ‖U_n − u(t_n)‖₂ over the chosen components
+    energy_error // |H(U_n) − H(u(t_n))|
+};
+enum class MeasureStat {
+    final_value, // at t_end
+    max,         // max over the output grid t_1..t_end
+    mean,        // mean over the output grid t_1..t_end
+    rms,         // root mean square over the output grid t_1..t_end
+    growth // slope of log(running max) against log(t − t0) over the output grid (t ≥ from)
+};
+struct MeasureSpec {
+    std::string name;
+    MeasureQuantity quantity = MeasureQuantity::state_error;
+    std::string component = "state"; // "state", "q", "p", "q[i]", "p[i]", "z[i]"
+    int first = 0, count = 0;        // the components as a slice of the state z
+    bool relative = false;           // divide pointwise by the reference's |u(t_n)| (or |H|)
+    MeasureStat over = MeasureStat::max;
+    double growth_from = 0.0; // growth: fit the grid points with t ≥ this time
 };
 
 struct Range3 {
@@ -82,6 +116,8 @@ struct CaseSpec {
     std::vector<std::string> diagnostics;
     std::optional<double> output_dt;
     std::vector<CheckSpec> checks;
+    std::vector<MeasureSpec> measures;
+    std::string no_checks_because; // required (and only allowed) when the case has no check
     std::optional<SweepSpec> sweep;
     ReferenceSpec reference;
     nlohmann::json overrides = nlohmann::json::object();

@@ -48,8 +48,38 @@ std::string check_line(const json& ck) {
        << ck["method"].get<std::string>() << " | " << (ck.contains("dt") ? num(ck["dt"]) : "")
        << " | `" << ck["metric"].get<std::string>() << "` | " << num(ck["value"], 6) << " | "
        << expected << " | " << (ck.contains("message") ? ck["message"].get<std::string>() : "")
-       << " |\n";
+       << (ck.value("refutes", false) ? " (passing refutes the paper's claim)" : "")
+       << (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "") << " |\n";
     return os.str();
+}
+
+// The case's "measures" (error as the paper states it), one column per measure.
+void measures_table(std::ostringstream& os, const json& c) {
+    if (!c.contains("measures")) return;
+    os << "\nMeasures (";
+    bool first = true;
+    for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it) {
+        os << (first ? "" : "; ") << "`" << it.key() << "`: " << it.value().dump();
+        first = false;
+    }
+    os << "):\n\n| method | dt |";
+    for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it)
+        os << " " << it.key() << " |";
+    os << "\n|---|---|";
+    for (std::size_t i = 0; i < c["measures"].size(); ++i) os << "---|";
+    os << "\n";
+    for (const auto& r : c["runs"]) {
+        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " |";
+        for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it) {
+            const json& m = r["metrics"];
+            os << " "
+               << (m.contains("measure") && m["measure"].contains(it.key())
+                       ? num(m["measure"][it.key()], 6)
+                       : std::string("—"))
+               << " |";
+        }
+        os << "\n";
+    }
 }
 
 // diag: "order" (global error at t_end) or "local-order" (one-step error, slope p + 1).
@@ -384,12 +414,15 @@ std::string render_markdown(const json& report) {
         os << "(" << params << "), t ∈ [" << num(c["t0"]) << ", " << num(c["t_end"])
            << "], reference: " << c["reference"]["kind"].get<std::string>() << ".";
         if (!c["overrides"].empty()) os << " Overrides: `" << c["overrides"].dump() << "`.";
+        if (c.contains("no_checks_because"))
+            os << " No checks: " << c["no_checks_because"].get<std::string>() << ".";
         os << "\n\n| result | check | method | dt | metric | value | expected | note |\n"
               "|---|---|---|---|---|---|---|---|\n";
         for (const auto& ck : c["checks"])
             if (!ck["passed"].get<bool>()) os << check_line(ck);
         for (const auto& ck : c["checks"])
             if (ck["passed"].get<bool>()) os << check_line(ck);
+        measures_table(os, c);
         order_table(os, c, "order");
         order_table(os, c, "local-order");
         metrics_table(os, c);
@@ -420,6 +453,7 @@ std::string render_summary(const json& report) {
                       c["id"].get<std::string>().c_str(), pass + fail);
         os << line;
         if (fail) os << "  failed: " << failed;
+        if (c.contains("no_checks_because")) os << "  (no checks: stated reason in the report)";
         os << "\n";
     }
     os << render_totals(report);

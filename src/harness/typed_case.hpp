@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace dampsym::detail {
 
@@ -164,6 +165,8 @@ private:
                 {"wall_seconds", wall}};
         }
         if (ok && reference_ok_ && c_.wants("error")) metrics["error"] = error_metrics(rec, z);
+        if (ok && reference_ok_ && !c_.measures.empty())
+            metrics["measure"] = measure_metrics(rec, z);
         if (ok && reference_ok_ && c_.wants("energy")) metrics["energy"] = energy_metrics(rec);
         if (ok && c_.wants("invariants")) metrics["invariants"] = invariant_metrics(rec);
         if (ok && c_.wants("dissipation-drift")) metrics["dissipation-drift"] = drift_metrics(rec);
@@ -293,6 +296,83 @@ private:
         if (!final_undefined.empty() || !grid_undefined.empty())
             set_undefined(out, "max_rel",
                           grid_undefined.empty() ? final_undefined : grid_undefined);
+        return out;
+    }
+
+    // The case's "measures" (README "Adding a case"): the error of the chosen components, or of
+    // the energy, absolute or relative to the reference pointwise, reduced over the output grid
+    // t_1..t_end (the initial point is exact) as the paper states it.
+    json measure_metrics(const Recorder<P>& rec, const Vec& z_final) const {
+        json out = json::object();
+        for (const MeasureSpec& m : c_.measures) {
+            auto pointwise = [&](const auto& u, const auto& ref) {
+                double e = 0.0, scale = 1.0;
+                if (m.quantity == MeasureQuantity::energy_error) {
+                    if constexpr (P::has_energy) {
+                        const double exact = problem_.energy(ref);
+                        e = std::abs(problem_.energy(u) - exact);
+                        scale = std::abs(exact);
+                    }
+                } else {
+                    e = (u.segment(m.first, m.count) - ref.segment(m.first, m.count)).norm();
+                    scale = ref.segment(m.first, m.count).norm();
+                }
+                // relative to a reference that is not resolved: undefined (never a huge ratio)
+                if (m.relative && !(scale > 1e-300))
+                    return std::numeric_limits<double>::quiet_NaN();
+                return m.relative ? e / scale : e;
+            };
+            std::vector<double> t, v;
+            if (needs_grid_ && m.over != MeasureStat::final_value) {
+                const Mat& g = rec.grid();
+                for (Eigen::Index i = 1; i < g.cols(); ++i) {
+                    t.push_back(grid_time(i));
+                    v.push_back(pointwise(Vec(g.col(i)), Vec(ref_.col(i))));
+                }
+            } else {
+                t.push_back(c_.t_end);
+                v.push_back(pointwise(z_final, Vec(ref_.col(ref_.cols() - 1))));
+            }
+            double x = 0.0;
+            switch (m.over) {
+            case MeasureStat::final_value:
+                x = v.back();
+                break;
+            case MeasureStat::max:
+                x = *std::max_element(v.begin(), v.end());
+                break;
+            case MeasureStat::mean:
+            case MeasureStat::rms: {
+                double sum = 0.0;
+                for (double e : v) sum += m.over == MeasureStat::rms ? e * e : e;
+                x = sum / static_cast<double>(v.size());
+                if (m.over == MeasureStat::rms) x = std::sqrt(x);
+                break;
+            }
+            case MeasureStat::growth: {
+                // log–log slope of the running maximum against t − t0: ≈ 0 for a bounded
+                // error, 1 for linear growth (O(th)), 2 for quadratic growth (O(t²h)).
+                std::vector<double> lx, ly;
+                double running = 0.0;
+                for (std::size_t i = 0; i < v.size(); ++i) {
+                    running = std::max(running, v[i]);
+                    if (t[i] >= m.growth_from && running > 0.0) {
+                        lx.push_back(std::log(t[i] - c_.t0));
+                        ly.push_back(std::log(running));
+                    }
+                }
+                if (lx.size() < 3) continue; // not produced: a check on it fails, naming it
+                x = least_squares(lx, ly).slope;
+                break;
+            }
+            }
+            if (!std::isfinite(x)) {
+                out[m.name] = nullptr;
+                out["undefined"][m.name] = "relative to a reference of norm 0 at some point";
+                continue;
+            }
+            out[m.name] = x;
+        }
         return out;
     }
 
@@ -819,6 +899,98 @@ private:
         return u.contains(key) && u[key].is_string() ? u[key].get<std::string>() : std::string();
     }
 
+    // A check that combines runs (README "Adding a case"): the ratio metric(A) / metric(B) or the
+    // spread max/min over several methods at each step size, or (across_dt) the log–log slope of
+    // those values, or of one method's metric, against dt over the ladder. One check entry; its
+    // "inputs" list every metric value it used.
+    json comparison_check(const CheckSpec& cs, const std::string& mid,
+                          std::optional<double> only_dt) const {
+        const std::vector<std::string> members =
+            cs.form == CheckForm::per_method ? std::vector<std::string>{mid} : cs.methods;
+        std::string label;
+        const char* sep = cs.form == CheckForm::ratio ? " / " : ", ";
+        for (const auto& m : members) label += (label.empty() ? "" : sep) + m;
+        if (cs.form == CheckForm::spread) label = "spread(" + label + ")";
+        json ck = {{"name", cs.name},
+                   {"metric", cs.metric},
+                   {"method", label},
+                   {"op", op_name(cs.op)},
+                   {"expected", cs.value},
+                   {"negative_control", cs.negative_control},
+                   {"form", cs.form == CheckForm::ratio    ? "ratio"
+                            : cs.form == CheckForm::spread ? "spread"
+                                                           : "per-method"},
+                   {"methods", members}};
+        if (cs.op == CheckOp::near) ck["tolerance"] = cs.tol;
+        if (cs.use_abs) ck["abs"] = true;
+        if (cs.refutes) ck["refutes"] = true;
+        if (!cs.note.empty()) ck["note"] = cs.note;
+        if (cs.across_dt_slope) ck["across_dt"] = "loglog-slope";
+        if (only_dt) ck["dt"] = *only_dt;
+        json inputs = json::array();
+        std::vector<double> hs, values;
+        std::string missing;
+        for (std::size_t d = 0; d < c_.dts.size(); ++d) {
+            if (only_dt && *only_dt != c_.dts[d]) continue;
+            json row = {{"dt", c_.dts[d]}};
+            std::vector<double> xs;
+            for (const auto& m : members) {
+                const auto mi = static_cast<std::size_t>(
+                    std::find(c_.methods.begin(), c_.methods.end(), m) - c_.methods.begin());
+                const json& r = runs_[mi * c_.dts.size() + d];
+                const json* v = r.contains("metrics") ? lookup(r["metrics"], cs.metric) : nullptr;
+                if (r.value("status", std::string()) != "ok" || !v || !v->is_number()) {
+                    if (missing.empty())
+                        missing = m + " at dt = " + json(c_.dts[d]).dump() + ": " +
+                                  (r.value("status", std::string()) != "ok"
+                                       ? "run " + r.value("status", std::string("missing"))
+                                       : "metric not produced");
+                    row[m] = nullptr;
+                    continue;
+                }
+                xs.push_back(v->get<double>());
+                row[m] = xs.back();
+            }
+            if (xs.size() == members.size()) {
+                double x = xs[0];
+                if (cs.form == CheckForm::ratio) {
+                    x = xs[0] / xs[1];
+                } else if (cs.form == CheckForm::spread) {
+                    x = *std::max_element(xs.begin(), xs.end()) /
+                        *std::min_element(xs.begin(), xs.end());
+                }
+                row["value"] = x;
+                hs.push_back(c_.dts[d]);
+                values.push_back(x);
+            }
+            inputs.push_back(row);
+        }
+        ck["inputs"] = inputs;
+        auto fail_with = [&](const std::string& why) {
+            ck["passed"] = false;
+            ck["value"] = nullptr;
+            ck["message"] = why;
+            return ck;
+        };
+        if (!missing.empty()) return fail_with(missing);
+        double x = 0.0;
+        if (cs.across_dt_slope) {
+            std::vector<double> lx, ly;
+            for (std::size_t i = 0; i < hs.size(); ++i) {
+                if (!(values[i] > 0.0) || !std::isfinite(values[i]))
+                    return fail_with("log-log slope needs positive values");
+                lx.push_back(std::log(hs[i]));
+                ly.push_back(std::log(values[i]));
+            }
+            x = least_squares(lx, ly).slope;
+        } else {
+            x = values.front(); // one step size (only_dt)
+        }
+        ck["value"] = x;
+        ck["passed"] = std::isfinite(x) && check_passes(cs, x);
+        return ck;
+    }
+
     std::vector<double> sweep_gammas_, sweep_hs_;
     std::vector<std::vector<SweepRow>> sweep_rows_; // [method][γ row], pre-sized in sweep_tasks
 
@@ -924,6 +1096,7 @@ json TypedCase<P>::finish() {
                            {"expected", cs.value}, {"negative_control", cs.negative_control}};
                 if (cs.op == CheckOp::near) ck["tolerance"] = cs.tol;
                 if (cs.use_abs) ck["abs"] = true;
+                if (cs.refutes) ck["refutes"] = true;
                 if (!cs.note.empty()) ck["note"] = cs.note;
                 if (run) ck["dt"] = (*run)["dt"];
                 // "run.*" reads the run record itself; "stability.*" describes the one-step
@@ -965,7 +1138,15 @@ json TypedCase<P>::finish() {
                 }
                 checks.push_back(ck);
             };
-            if (method_level) {
+            if (cs.form != CheckForm::per_method || cs.across_dt_slope) {
+                if (&mid != &cs.methods.front() && cs.form != CheckForm::per_method) continue;
+                if (cs.across_dt_slope) {
+                    checks.push_back(comparison_check(cs, mid, std::nullopt));
+                } else {
+                    for (double h : c_.dts)
+                        if (!cs.dt || *cs.dt == h) checks.push_back(comparison_check(cs, mid, h));
+                }
+            } else if (method_level) {
                 evaluate(method_metrics_[mi], nullptr);
             } else {
                 for (std::size_t d = 0; d < c_.dts.size(); ++d) {
@@ -1000,6 +1181,8 @@ json TypedCase<P>::finish() {
                 {"runs", runs},
                 {"method_metrics", mm},
                 {"checks", checks}};
+    if (!c_.no_checks_because.empty()) out["no_checks_because"] = c_.no_checks_because;
+    if (!c_.measures.empty()) out["measures"] = c_.raw["measures"];
     return out;
 }
 
