@@ -264,7 +264,7 @@ std::vector<std::string> metric_names(const std::string& diagnostic,
 }
 
 // "methods" (each method), "ratio" ([A, B]: metric(A) / metric(B)) or "spread" ("all" or
-// [A, B, ...]: max / min over the methods), and "across_dt" (README "Adding a case").
+// [A, B, ...]: max / min over the methods), and "across_dt" (docs/case-keys.md).
 void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& diag,
                          const std::string& file, const std::string& base, CheckSpec& cs) {
     int forms = 0;
@@ -312,7 +312,7 @@ void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& d
              "ratio, spread and across_dt compare per-run metrics; '" + diag + "' is not one");
 }
 
-// "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } } (README).
+// "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } } (docs/case-keys.md).
 void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file, CaseSpec& c) {
     if (!mj.is_object() || mj.empty())
         fail(file, "measures", "must be an object of named measures");

@@ -37,7 +37,7 @@ inline constexpr std::size_t max_message_value = 80; // characters of a bad valu
 
 enum class CheckOp { near, le, ge, lt, gt };
 
-// What one check compares (README "Adding a case"): each listed method's metric, the ratio of two
+// What one check compares (docs/case-keys.md): each listed method's metric, the ratio of two
 // methods' metrics ("ratio": [A, B] -> metric(A) / metric(B)), or the spread of several methods'
 // metrics ("spread": max over the methods / min over the methods), at each step size.
 enum class CheckForm { per_method, ratio, spread };
@@ -61,7 +61,7 @@ struct CheckSpec {
     std::string note;
 };
 
-// An error measure as a paper states it (README "Adding a case", key "measures"), reported by
+// An error measure as a paper states it (docs/case-keys.md, key "measures"), reported by
 // the error diagnostic as the metric "measure.<name>" of each run.
 enum class MeasureQuantity {
     state_error, // ‖U_n − u(t_n)‖₂ over the chosen components

@@ -299,7 +299,7 @@ private:
         return out;
     }
 
-    // The case's "measures" (README "Adding a case"): the error of the chosen components, or of
+    // The case's "measures" (docs/case-keys.md): the error of the chosen components, or of
     // the energy, absolute or relative to the reference pointwise, reduced over the output grid
     // t_1..t_end (the initial point is exact) as the paper states it.
     json measure_metrics(const Recorder<P>& rec, const Vec& z_final) const {
@@ -899,7 +899,7 @@ private:
         return u.contains(key) && u[key].is_string() ? u[key].get<std::string>() : std::string();
     }
 
-    // A check that combines runs (README "Adding a case"): the ratio metric(A) / metric(B) or the
+    // A check that combines runs (docs/case-keys.md): the ratio metric(A) / metric(B) or the
     // spread max/min over several methods at each step size, or (across_dt) the log–log slope of
     // those values, or of one method's metric, against dt over the ladder. One check entry; its
     // "inputs" list every metric value it used.
