@@ -1,5 +1,5 @@
-// The command line (conventions §7), run in-process through dampsym::run_cli: exit statuses 0/1/2, error
-// messages that name the file and the key, no report on bad input, --set overrides, list, a
+// The command line (conventions §7), run in-process through dampsym::run_cli: exit statuses 0/1/2,
+// error messages that name the file and the key, no report on bad input, --set overrides, list, a
 // diverging run, and --jobs determinism. Case files live in tests/data/cases (valid) and
 // tests/data/bad (one defect each); every test copies what it needs into a temporary --cases dir.
 #include "cli_support.hpp"

@@ -1,5 +1,5 @@
-// The GSL odeiv2 reference driver (reference/gsl_reference.hpp, conventions §4): accuracy against closed
-// forms, the certification estimate, sampling at t0, and failures reported as ok = false.
+// The GSL odeiv2 reference driver (reference/gsl_reference.hpp, conventions §4): accuracy against
+// closed forms, the certification estimate, sampling at t0, and failures reported as ok = false.
 #include "reference/gsl_reference.hpp"
 
 #include <catch2/catch.hpp>
@@ -149,8 +149,9 @@ TEST_CASE("gsl reference: the certified estimate tracks the true rkf45 error") {
         REQUIRE(std::isfinite(est));
         REQUIRE(est > 0.0);
         // The rk8pd certifier is ~100x more accurate than rkf45 here, so the estimate is
-        // essentially the rkf45 error itself: measured est/err in [0.999, 1.005]. conventions §4 only
-        // needs a factor ~100; we check the tighter band [0.5, 2] that the measurement supports.
+        // essentially the rkf45 error itself: measured est/err in [0.999, 1.005]. conventions §4
+        // only needs a factor ~100; we check the tighter band [0.5, 2] that the measurement
+        // supports.
         CHECK(est >= 0.5 * err);
         CHECK(est <= 2.0 * err);
     }

@@ -1,9 +1,9 @@
-// The report contract of conventions §7: report.json fields, full-precision final states (checked bit
-// for bit against an independent re-integration with the same kernel), check records, the summary,
-// and report.md listing failing cases first.
-// GCC 12 reports false -Wuse-after-free / -Wstringop-overread positives inside Eigen's aligned
-// allocator when the explicit RK kernel is inlined into the re-integration below (the same kernel
-// code compiles cleanly in the library); they are silenced for this test file only.
+// The report contract of conventions §7: report.json fields, full-precision final states (checked
+// bit for bit against an independent re-integration with the same kernel), check records, the
+// summary, and report.md listing failing cases first. GCC 12 reports false -Wuse-after-free /
+// -Wstringop-overread positives inside Eigen's aligned allocator when the explicit RK kernel is
+// inlined into the re-integration below (the same kernel code compiles cleanly in the library);
+// they are silenced for this test file only.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wuse-after-free"
 #pragma GCC diagnostic ignored "-Wstringop-overread"

@@ -1,8 +1,8 @@
 // One-step matrix of cimp, csv1, csv2 (and rk3 as a negative control) on the damped oscillator
-// (conventions §5, F ch.3). M is always the method's own matrix, obtained by stepping the unit vectors
-// with the kernel; the closed forms it is compared with are written out again here, independently
-// of src/methods/catalog.cpp, and evaluated in __float128 so that the reference carries no
-// round-off.
+// (conventions §5, F ch.3). M is always the method's own matrix, obtained by stepping the unit
+// vectors with the kernel; the closed forms it is compared with are written out again here,
+// independently of src/methods/catalog.cpp, and evaluated in __float128 so that the reference
+// carries no round-off.
 #include "diagnostics/stability.hpp"
 #include "methods/cimp.hpp"
 #include "methods/csv1.hpp"
@@ -90,9 +90,9 @@ Q exact_half_trace_q(double w, double g, double h) {
     return expq(-G * H) * c;
 }
 
-// Signed leading coefficient c of ½trM − e^{−γh}cos(βh) = c h⁴ + O(h⁵) (conventions §5, derived by hand
-// from the closed forms above: cimp +(ω²−γ²)²/12, csv1 −ω²(ω²+4γ²)/24,
-// csv2 −(2ω⁴+5γ²ω²−4γ⁴)/48).
+// Signed leading coefficient c of ½trM − e^{−γh}cos(βh) = c h⁴ + O(h⁵) (conventions §5, derived by
+// hand from the closed forms above: cimp +(ω²−γ²)²/12, csv1 −ω²(ω²+4γ²)/24, csv2
+// −(2ω⁴+5γ²ω²−4γ⁴)/48).
 double h4_signed(const std::string& id, double w, double g) {
     const double w2 = w * w, g2 = g * g;
     if (id == "cimp") return (w2 - g2) * (w2 - g2) / 12.0;
@@ -376,9 +376,9 @@ TEST_CASE("F's closed-form conditions (3.12)/(3.17)/(3.22) agree with the sign o
 }
 
 TEST_CASE("csv2 beyond gamma h = 2: F's condition against the one-step matrix", "[stability]") {
-    // conventions §5 adds "also needs γh < 2" to F(3.22) and the catalog returns false whenever γh ≥ 2.
-    // For γh > 2 the factor 4 − γ²h² in F(3.20) is negative and the inequality flips: the matrix
-    // then satisfies |½trM| < e^{−γh} exactly when 4 sech(γh/2)/h² < ω² < γ² sech(γh/2).
+    // conventions §5 adds "also needs γh < 2" to F(3.22) and the catalog returns false whenever γh
+    // ≥ 2. For γh > 2 the factor 4 − γ²h² in F(3.20) is negative and the inequality flips: the
+    // matrix then satisfies |½trM| < e^{−γh} exactly when 4 sech(γh/2)/h² < ω² < γ² sech(γh/2).
     // This checks the catalog's condition against the kernel's matrix there as well.
     const GridResult r =
         compare_on_grid("csv2", {0.3, 1.0, 1.5, 1.8, 3.51, 8.0}, 3.5, 1.0, false, true);

@@ -190,7 +190,7 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
     check_unique_ids(loaded);
     Selected out;
     for (auto& c : loaded) {
-        if (!sel.targets.empty()) {      // named cases: the filters still apply
+        if (!sel.targets.empty()) { // named cases: the filters still apply
             if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
             if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
             if (!sel.suites.empty() &&

@@ -24,7 +24,8 @@ namespace dampsym {
 
 struct GlmCoefficients;
 
-// Structure a method claims (conventions §3); the harness uses it to label checks and negative controls.
+// Structure a method claims (conventions §3); the harness uses it to label checks and negative
+// controls.
 enum Claim : unsigned {
     claim_none = 0,
     claim_conformal_symplectic = 1u << 0,
@@ -57,8 +58,8 @@ inline bool is_explicit_tableau(const ButcherTableau& t) {
     return true;
 }
 
-// Equation form a method steps (conventions §1): the plain full vector field z' = f(t, z), the conformal
-// form z' = N(z, t) − γz, or the separable Rayleigh form q' = ∇T(p), p' = F(q, t) − 2γp.
+// Equation form a method steps (conventions §1): the plain full vector field z' = f(t, z), the
+// conformal form z' = N(z, t) − γz, or the separable Rayleigh form q' = ∇T(p), p' = F(q, t) − 2γp.
 enum class Form { plain, conformal, separable };
 constexpr std::string_view form_name(Form f) {
     switch (f) {

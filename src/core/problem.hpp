@@ -121,7 +121,8 @@ constexpr int static_dof() {
 
 // Separable Rayleigh form q' = ∇T(p), p' = F(q,t) − 2γ(t)p with F = −∇_q V(q,t) (+ forcing).
 // Derived provides: n() (degrees of freedom), gamma_at(t), grad_T(p, out), hess_T(p, out),
-// force(t, q, out), force_jacobian(t, q, out). This base derives the other two forms of conventions §1:
+// force(t, q, out), force_jacobian(t, q, out). This base derives the other two forms of conventions
+// §1:
 //   conformal form: z' = N(z,t) − γ(t)z, N = J⁻¹∇H_γ = [∇T(p) + γq; F(q,t) − γp]
 //   plain form:     z' = f(t,z) = [∇T(p); F(q,t) − 2γp]
 template <class Derived>

@@ -1,7 +1,8 @@
-// Conformal symplecticness of the discrete step map (conventions §5 "conformal-symplectic", B(2.42),
-// B(3.2)). For every step n → n+1 the kernel returns Ψ = ∂z_{n+1}/∂z_n, the exact derivative of
-// the scheme itself (step_jacobian(): chain rule through explicit stages, implicit-function
-// theorem at converged implicit solves; never finite differences), and the diagnostic measures
+// Conformal symplecticness of the discrete step map (conventions §5 "conformal-symplectic",
+// B(2.42), B(3.2)). For every step n → n+1 the kernel returns Ψ = ∂z_{n+1}/∂z_n, the exact
+// derivative of the scheme itself (step_jacobian(): chain rule through explicit stages,
+// implicit-function theorem at converged implicit solves; never finite differences), and the
+// diagnostic measures
 //   E_n = ‖Ψᵀ J⁻¹ Ψ − e^{−2ΔΓ_n} J⁻¹‖_F,   ΔΓ_n = Γ(t_{n+1}) − Γ(t_n) = problem.dGamma(t_n, h),
 // in the Frobenius norm, and the relative defect E_n / (e^{−2ΔΓ_n} ‖J⁻¹‖_F), ‖J⁻¹‖_F = √d.
 // J⁻¹ is the canonical structure for z = [q; p] with z' = J⁻¹∇H: J⁻¹ = [0 I; −I 0] (the defect is

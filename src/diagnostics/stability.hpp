@@ -1,5 +1,5 @@
-// Linear stability on the oscillator (conventions §5 "stability", F ch.3). The one-step matrix M of a
-// method is obtained by stepping the unit vectors (the step map is linear on a linear problem),
+// Linear stability on the oscillator (conventions §5 "stability", F ch.3). The one-step matrix M of
+// a method is obtained by stepping the unit vectors (the step map is linear on a linear problem),
 // so it is the method's own M, not a formula. F calls a method "stable" when |½ tr M| < e^{−γh}
 // (both eigenvalues on the circle of radius e^{−γh}); power-boundedness (spectral radius ≤ 1, with
 // a defective eigenvalue on the unit circle counted as unbounded) is reported beside it.
@@ -32,8 +32,8 @@ struct OscillatorFormulas {
     double (*half_trace)(double omega, double gamma, double h) = nullptr;
     // F's "stability" condition |½ tr M| < e^{-γh} in closed form: F(3.12), (3.17), (3.22).
     bool (*F_condition)(double omega, double gamma, double h) = nullptr;
-    // Leading coefficient c of ½tr M − e^{-γh}cos(βh) = c h⁴ + O(h⁵), up to sign (conventions §5 gives
-    // them up to sign; F's (3.13), (3.18), (3.23) are typos). Checks compare magnitudes.
+    // Leading coefficient c of ½tr M − e^{-γh}cos(βh) = c h⁴ + O(h⁵), up to sign (conventions §5
+    // gives them up to sign; F's (3.13), (3.18), (3.23) are typos). Checks compare magnitudes.
     double (*h4_coefficient)(double omega, double gamma) = nullptr;
     const char* source = "";
 };

@@ -312,7 +312,8 @@ void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& d
              "ratio, spread and across_dt compare per-run metrics; '" + diag + "' is not one");
 }
 
-// "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } } (docs/case-keys.md).
+// "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } }
+// (docs/case-keys.md).
 void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file, CaseSpec& c) {
     if (!mj.is_object() || mj.empty())
         fail(file, "measures", "must be an object of named measures");

@@ -1,6 +1,7 @@
 // A case ("scene"): one problem instance, methods, a step or step ladder, the diagnostics it asks
-// for and the checks it expects. Cases are JSON files in verify/cases/ (conventions §7); this is their
-// parsed and validated form. Every validation error names the file and the key (exit status 2).
+// for and the checks it expects. Cases are JSON files in verify/cases/ (conventions §7); this is
+// their parsed and validated form. Every validation error names the file and the key (exit status
+// 2).
 #pragma once
 
 #include "core/problem.hpp"

@@ -1,5 +1,5 @@
-// Runs validated cases and assembles report JSON (conventions §7). Work is split into independent tasks
-// (one per method × step size, one per method-level sweep) run on --jobs threads; results are
+// Runs validated cases and assembles report JSON (conventions §7). Work is split into independent
+// tasks (one per method × step size, one per method-level sweep) run on --jobs threads; results are
 // stored by index and assembled in a fixed order, so the numbers do not depend on --jobs.
 #pragma once
 

@@ -520,8 +520,8 @@ private:
 
     // d(t) of the method; with a reference on the output grid also d(t) of the reference (same
     // maxima locator on the reference samples) and the differences, maximum by maximum.
-    // E_n of conventions §5 from the exact step Jacobian, in a separate pass with its own stepper and
-    // counters (the main run's cost and timing stay those of the bare step).
+    // E_n of conventions §5 from the exact step Jacobian, in a separate pass with its own stepper
+    // and counters (the main run's cost and timing stay those of the bare step).
     template <class K>
     json conformal_symplectic_metrics(const MethodInfo& info, double h, std::int64_t n) const {
         Counters counters;
@@ -736,10 +736,10 @@ private:
         return out;
     }
 
-    // (γ, h) sweep of F's condition and power-boundedness (conventions §5, F Figs 3.1–3.3). The sweep of
-    // one method is split into independent tasks of sweep_rows_per_task γ rows; each writes only
-    // its own pre-sized row slots and finish() assembles the rows in grid order (sweep_json), so
-    // the report does not depend on --jobs or on the order in which tasks run.
+    // (γ, h) sweep of F's condition and power-boundedness (conventions §5, F Figs 3.1–3.3). The
+    // sweep of one method is split into independent tasks of sweep_rows_per_task γ rows; each
+    // writes only its own pre-sized row slots and finish() assembles the rows in grid order
+    // (sweep_json), so the report does not depend on --jobs or on the order in which tasks run.
     struct SweepRow {
         std::int64_t first_emp = 0, first_formula = 0, first_pb = 0, first_pb_formula = 0;
         std::int64_t f_viol = 0, pb_viol = 0, violations_inside = 0;
@@ -1044,7 +1044,8 @@ json TypedCase<P>::finish() {
     for (const char* diag : {"order", "local-order"}) {
         if (!c_.wants(diag)) continue;
         const bool global = std::string(diag) == "order";
-        // Round-off floor, and conventions §4: no fit uses an error within 100× the reference's estimate.
+        // Round-off floor, and conventions §4: no fit uses an error within 100× the reference's
+        // estimate.
         const double roundoff =
             1000.0 * std::numeric_limits<double>::epsilon() *
             (reference_ok_ && global ? std::max(1.0, ref_.col(ref_.cols() - 1).norm()) : 1.0);

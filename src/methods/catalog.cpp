@@ -1,7 +1,7 @@
-// The method catalog: one row per method (conventions §3): id, order, implicit, form, claims, citation
-// and one typed coefficient set (core/method.hpp), which selects the family engine that steps it.
-// Coefficients are exact fractions. Adding a method of an existing family = one row here (plus its
-// tableau); the runner, the CLI and the reports pick it up from this list, and
+// The method catalog: one row per method (conventions §3): id, order, implicit, form, claims,
+// citation and one typed coefficient set (core/method.hpp), which selects the family engine that
+// steps it. Coefficients are exact fractions. Adding a method of an existing family = one row here
+// (plus its tableau); the runner, the CLI and the reports pick it up from this list, and
 // tests/test_method_families.cpp and tests/test_coefficient_checks.cpp loop over it.
 #include "core/method.hpp"
 #include "methods/exponential_tableaux.hpp"

@@ -1,5 +1,6 @@
 // Coefficient-level structure conditions of the exponential RK families (no problem needed),
-// evaluated at a given γh (our γ, conventions §1) on the data of src/methods/exponential_tableaux.hpp.
+// evaluated at a given γh (our γ, conventions §1) on the data of
+// src/methods/exponential_tableaux.hpp.
 //
 // ERK, B Thm 2.6 / Thm 2.11: an ERK method B(2.7) maps dz∧J dz to φ_0² dz∧J dz (and a quadratic
 // invariant zᵀWz to φ_0² zᵀWz) when, for all i, j,

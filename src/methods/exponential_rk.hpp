@@ -8,7 +8,8 @@
 // b_i = β_i e^{−(1−c_i)x}, φ_0 = e^{−x}) and exponential time differencing B(2.6), e.g. etdrk2
 // B(2.13): c = ½, a = (e^{x/2} − e^{−x/2})/(2x) = sinh(x/2)/x, φ_1 = e^{−x/2}, b = (1 − e^{−x})/x,
 // φ_0 = e^{−x}. x = γh is OUR γ: B(1.1), (2.5), (2.13) use the conformal-form γ, which is the
-// γ of conventions §1 (only B(2.17)–(2.22), (2.34) use twice ours; see partitioned_exponential_rk.hpp).
+// γ of conventions §1 (only B(2.17)–(2.22), (2.34) use twice ours; see
+// partitioned_exponential_rk.hpp).
 //
 // Damping argument. With constant γ the coefficients are evaluated once, in the constructor, at
 // x = problem.dGamma(0, h) = γh. With time-dependent γ (hill, rigid-body) they are re-evaluated at

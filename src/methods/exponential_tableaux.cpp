@@ -31,8 +31,8 @@ void perk_coefficients(const PartitionedExponentialRKData& data, double gamma_h,
                        ExponentialTableau& hat_q, ExponentialTableau& tilde_p) {
     hat_q.resize(data.stages);
     tilde_p.resize(data.stages);
-    // B(2.17)–(2.22) write p' = −∇V − γ_B p; ours is p' = −∇V − 2γp (conventions §1), so γ_B = 2γ and
-    // B's argument γ_B h is 2γh. This is the only place where B's γ is converted.
+    // B(2.17)–(2.22) write p' = −∇V − γ_B p; ours is p' = −∇V − 2γp (conventions §1), so γ_B = 2γ
+    // and B's argument γ_B h is 2γh. This is the only place where B's γ is converted.
     const double x_B = 2.0 * gamma_h;
     data.coefficients_B(x_B, hat_q, tilde_p);
 }

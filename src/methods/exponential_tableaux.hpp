@@ -4,7 +4,8 @@
 // (exponential_conditions.hpp): functions of the damping argument x (γh, or the step's
 // x_n = Γ(t_n + h) − Γ(t_n) for a time-dependent γ, see exponential_rk.hpp).
 //
-// ERK, B(2.7) with tableau B(2.10), on the conformal form z' = N(z, t) − γz (conventions §1, B(1.1)):
+// ERK, B(2.7) with tableau B(2.10), on the conformal form z' = N(z, t) − γz (conventions §1,
+// B(1.1)):
 //   Z_i     = φ_i(x) z_n + h Σ_j a_ij(x) N(Z_j, t_n + c_j h),
 //   z_{n+1} = φ_0(x) z_n + h Σ_i b_i(x) N(Z_i, t_n + c_i h),          x = γh (OUR γ: B(1.1),
 //   (2.5), (2.13) use the conformal γ, which is ours; no conversion for ERK data).
@@ -25,7 +26,8 @@
 //   q_{n+1} = φ̂_0 q_n + h Σ_i b̂_i ∇T(P_i),    p_{n+1} = φ̃_0 p_n + h Σ_i b̃_i F(Q_i, t_n + ĉ_i h),
 // the "hat" tableau for q and the "tilde" tableau for p, both functions of B's argument x_B = γ_B
 // h.
-// *** B's γ in (2.17)–(2.22) is TWICE ours (conventions §1). The PERK data functions below are written
+// *** B's γ in (2.17)–(2.22) is TWICE ours (conventions §1). The PERK data functions below are
+// written
 // *** exactly as B prints them, in x_B; perk_coefficients() is the ONE place that converts:
 // ***   x_B = γ_B h = 2γh.
 // Rows (B Example 2.2; all written in x_B):

@@ -43,7 +43,8 @@ struct GlmCoefficients {
     std::string_view citation;
 };
 
-// Butcher's 2-stage, 2-value G-symplectic method of order 4 with its starting method (BS; conventions §3):
+// Butcher's 2-stage, 2-value G-symplectic method of order 4 with its starting method (BS;
+// conventions §3):
 //   A = [ (3+√3)/6  0 ; −√3/3  (3+√3)/6 ],   U = [ 1  −(3+2√3)/3 ; 1  (3+2√3)/3 ],
 //   B = [ ½  ½ ; ½  −½ ],                    V = [ 1  0 ; 0  −1 ],
 //   G = diag(1, 1 + 2√3/3),  D = diag(½, ½),  c = A e = ((3+√3)/6, (3−√3)/6);

@@ -1,8 +1,8 @@
 // Generic partitioned exponential Runge–Kutta kernel (PERK), B(2.14), for separable problems in the
-// Rayleigh form of conventions §1, q' = ∇T(p), p' = F(q, t) − 2γp (F = −∇_q V + forcing). B writes this
-// system as B(2.17), q' = ∇T(p), p' = −∇V − γ_B p, i.e. B(1.2) with γ^1 = 0 and γ^2 = γ_B, where
-// γ_B = 2γ: B's γ in (2.17)–(2.22) is TWICE ours. The data of B(2.18)–(2.22) are kept exactly as B
-// prints them, as functions of x_B = γ_B h; the conversion x_B = 2γh is made once, in
+// Rayleigh form of conventions §1, q' = ∇T(p), p' = F(q, t) − 2γp (F = −∇_q V + forcing). B writes
+// this system as B(2.17), q' = ∇T(p), p' = −∇V − γ_B p, i.e. B(1.2) with γ^1 = 0 and γ^2 = γ_B,
+// where γ_B = 2γ: B's γ in (2.17)–(2.22) is TWICE ours. The data of B(2.18)–(2.22) are kept exactly
+// as B prints them, as functions of x_B = γ_B h; the conversion x_B = 2γh is made once, in
 // perk_coefficients() (src/methods/exponential_tableaux.cpp), called by this kernel's constructor.
 // With the hat tableau (Â, b̂, φ̂, φ̂_0, ĉ) for q and the tilde tableau (Ã, b̃, φ̃, φ̃_0) for p,
 // B(2.14) with F(Q, P) = ∇T(P) and G(Q, P) = F(Q, t) reads

@@ -1,13 +1,13 @@
 // The outer solar system, HLW I.2: the Sun and the five outer planets (Jupiter, Saturn, Uranus,
 // Neptune, Pluto) as a 3-D gravitational N-body problem with Hamiltonian HLW(2.10)
 //   H = ½ Σ_{i=0}^{5} |p_i|²/m_i − G Σ_{i=1}^{5} Σ_{j=0}^{i−1} m_i m_j / |q_i − q_j|,
-// damped as in conventions §1 (p_i' = −∇_{q_i}V − 2γ p_i; default γ = 0, HLW's conservative problem).
-// HLW's units: masses relative to the Sun, distances in astronomical units, times in earth days, so
-// γ is per day. G = 2.95912208286e−4, m0 = 1.00000597682 (the Sun with the inner planets). Data of
-// HLW Table 2.2 (5 September 1994, 0h00): positions q_i(0) and velocities q̇_i(0); the momenta are
-// p_i = m_i q̇_i(0). The Sun starts at rest at the origin. HLW integrate with h = 10 days over
-// 200 000 days (Fig. 2.3). Built on NBodySystem (src/problems/nbody.hpp): gravity, d = 3, N = 6,
-// body 0 = Sun, 1 = Jupiter, ..., 5 = Pluto; state z = [q_0..q_5; p_0..p_5].
+// damped as in conventions §1 (p_i' = −∇_{q_i}V − 2γ p_i; default γ = 0, HLW's conservative
+// problem). HLW's units: masses relative to the Sun, distances in astronomical units, times in
+// earth days, so γ is per day. G = 2.95912208286e−4, m0 = 1.00000597682 (the Sun with the inner
+// planets). Data of HLW Table 2.2 (5 September 1994, 0h00): positions q_i(0) and velocities q̇_i(0);
+// the momenta are p_i = m_i q̇_i(0). The Sun starts at rest at the origin. HLW integrate with h = 10
+// days over 200 000 days (Fig. 2.3). Built on NBodySystem (src/problems/nbody.hpp): gravity, d = 3,
+// N = 6, body 0 = Sun, 1 = Jupiter, ..., 5 = Pluto; state z = [q_0..q_5; p_0..p_5].
 #pragma once
 
 #include "problems/nbody.hpp"

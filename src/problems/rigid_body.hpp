@@ -4,8 +4,8 @@
 //   N(z) = S(z) z = z × ω,   ω = I⁻¹ z   (the angular velocity),
 //   z1' = (1/I3 − 1/I2) z2 z3,  z2' = (1/I1 − 1/I3) z3 z1,  z3' = (1/I2 − 1/I1) z1 z2,
 // which is Euler's I ω' = (I ω) × ω (BS: A w1' = (B − C) w2 w3, ...). N does not depend on t and
-// carries no γ: this problem is given directly in the conformal form of conventions §1 (not separable,
-// so csv1/csv2 do not apply). Γ(t) = ¼ε sin 2t; Γ(t+h) − Γ(t) = ½ε cos(2t+h) sin h.
+// carries no γ: this problem is given directly in the conformal form of conventions §1 (not
+// separable, so csv1/csv2 do not apply). Γ(t) = ¼ε sin 2t; Γ(t+h) − Γ(t) = ½ε cos(2t+h) sin h.
 // Conformal invariants (B(3.10)), both decaying as e^{−2Γ(t)}: the Casimir C = |z|² and the energy
 // H = ½ Σ z_i²/I_i; energy() = H. Defaults: BS's I = (4, 3, 2) and ω0 = (1, 1, 0), z0 = I ω0 =
 // (4, 3, 0) (the z defaults do not follow a changed I). Exact solution for every ε
