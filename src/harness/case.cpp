@@ -239,8 +239,10 @@ std::vector<std::string> metric_names(const std::string& diagnostic,
     if (diagnostic == "stability")
         return {"det",
                 "det_rel_err",
+                "det_abs_err",
                 "half_trace",
                 "half_trace_formula_rel_err",
+                "half_trace_formula_abs_err",
                 "half_trace_exact_err",
                 "spectral_radius",
                 "F_condition",
@@ -256,7 +258,8 @@ std::vector<std::string> metric_names(const std::string& diagnostic,
         return {"steps",     "steps_planned", "rhs_evals",
                 "jac_evals", "newton_iters",  "final_time",
                 "ok",        "diverged",      "failed_at_step"};
-    if (diagnostic == "trace-taylor") return {"h4_coeff", "h4_coeff_expected", "h4_coeff_rel_err"};
+    if (diagnostic == "trace-taylor")
+        return {"h4_coeff", "h4_coeff_expected", "h4_coeff_rel_err", "h4_coeff_abs_err"};
     if (diagnostic == "cost")
         return {"rhs_evals_per_step", "jac_evals_per_step", "newton_iters_per_step",
                 "max_newton_iters", "wall_seconds"};

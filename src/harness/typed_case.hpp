@@ -718,6 +718,7 @@ private:
         json out = {{"det", a.det},
                     {"det_expected", det_expected},
                     {"det_rel_err", std::abs(a.det - det_expected) / det_expected},
+                    {"det_abs_err", std::abs(a.det - det_expected)},
                     {"half_trace", a.half_trace},
                     {"half_trace_exact", exact_half_trace},
                     {"half_trace_exact_err", std::abs(a.half_trace - exact_half_trace)},
@@ -727,10 +728,22 @@ private:
                     {"F_condition", a.F_condition ? 1 : 0},
                     {"power_bounded", a.power_bounded ? 1 : 0},
                     {"matrix", {{M(0, 0), M(0, 1)}, {M(1, 0), M(1, 1)}}}};
+        // e^{−2γh} underflows for γh > ~354: det M against it is then round-off over nothing.
+        if (!(det_expected >= std::numeric_limits<double>::min()))
+            set_undefined(out, "det_rel_err", "e^{-2 gamma h} underflows: compare det_abs_err");
         if (oscillator_formulas(info.id).half_trace) {
             const double f = oscillator_formulas(info.id).half_trace(problem_.omega, g, h);
             out["half_trace_formula"] = f;
-            out["half_trace_formula_rel_err"] = std::abs(a.half_trace - f) / std::abs(f);
+            out["half_trace_formula_abs_err"] = std::abs(a.half_trace - f);
+            // ½tr M passes through 0 (hω near the threshold): relative to |f| only where f is
+            // resolved on the eigenvalues' scale e^{−γh}, else undefined (read the absolute error)
+            const double radius = std::exp(-g * h);
+            if (std::abs(f) > 1e-8 * radius && radius >= std::numeric_limits<double>::min())
+                out["half_trace_formula_rel_err"] = std::abs(a.half_trace - f) / std::abs(f);
+            else
+                set_undefined(out, "half_trace_formula_rel_err",
+                              "F's half trace is 0 on the scale e^{-gamma h}: compare "
+                              "half_trace_formula_abs_err");
             out["formula_source"] = oscillator_formulas(info.id).source;
         }
         return out;
@@ -1015,7 +1028,14 @@ private:
             if (oscillator_formulas(info.id).h4_coefficient) {
                 const double e = std::abs(oscillator_formulas(info.id).h4_coefficient(w, g));
                 out["h4_coeff_expected"] = e;
-                out["h4_coeff_rel_err"] = std::abs(c - e) / e;
+                out["h4_coeff_abs_err"] = std::abs(c - e);
+                // the expected coefficient vanishes (cimp at ω = γ): no relative error
+                const double scale = (w * w + g * g) * (w * w + g * g);
+                if (e > 1e-12 * scale)
+                    out["h4_coeff_rel_err"] = std::abs(c - e) / e;
+                else
+                    set_undefined(out, "h4_coeff_rel_err",
+                                  "expected h^4 coefficient is 0: compare h4_coeff_abs_err");
             }
         }
     }
