@@ -21,8 +21,27 @@ Tolerances (each justified in one line):
   error.*         rel 1e-6 when the error is >= 1000x both reference estimates (then it is a
                   property of the method, not of the reference); otherwise |diff| <= the
                   state-difference bound plus both reference estimates.
-  residuals       (invariant laws, E_n, momentum laws): factor 2, or both below 1e-13 (100
-                  eps over a few operations: the round-off floor of a relative residual).
+  residuals       (invariant laws *_step_res, E_n, momentum *_law_res/*_table_res, all on the
+                  scales of docs/conventions.md "Law residuals and their scales", recomputed here
+                  from the docs' definitions): factor 2, or both below 1e-13 (100 eps over a few
+                  operations: the round-off floor of a residual on its scale).
+  max_global_res  factor 2 or both <= 8 n eps: one rounding eps S(z_k) per step, decaying with
+                  the law, stays ~n eps on S(z_n).
+  ratio dev       max_global_ratio_dev factor 2 or both <= 8 n u (u = eps S(z_n)/|e^{-2 Gamma}
+                  I_0| <= 1e-8 where r_n is resolved); slopes rel 1e-6 + that floor / run time.
+  *_abs numerators the residual floor 1e-13 times the largest scale in the run.
+  measured factor max_factor_dev factor 2 or both <= 8 max eps S(z_n)/|X_n| (its round-off);
+                  first_factor rel 1e-6 + the same.
+  initial_norm    rel 1e-6 + 4 N eps S(z_0): |sum of N vectors| summed in another order.
+  scale_initial   rel 64 eps: a function of z0 alone, a few sums of products.
+  scale_at_max_*  compared only when the maximum residual is > 1e-10 (else the argmax of
+                  round-off), against S(z_k) at every step k whose residual is within rel 1e-6
+                  of our maximum (near-ties between steps), rel 1e-6.
+  energy *_res    on S_H: rel 1e-6 + 8 sqrt(n) eps S_H(z0) / S_H(z0) (random-walk round-off of
+                  H = T + V, which is eps (T + |V|), not eps |H|); slopes that over the run time.
+  undefined       a null metric (reason under `undefined.<name>`) must be undefined here by
+                  the docs' rule, and a defined one defined; a check on an undefined metric
+                  must have failed.
   other metrics   rel 1e-6 plus the propagated state-difference bound (they are smooth
                   functions of the trajectory).
   order.slope     abs 0.01 plus (floor-limited fits): the slope of two independent error sets
