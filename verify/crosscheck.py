@@ -33,6 +33,8 @@ Tolerances (each justified in one line):
   measured factor max_factor_dev factor 2 or both <= 8 max eps S(z_n)/|X_n| (its round-off);
                   first_factor rel 1e-6 + the same.
   initial_norm    rel 1e-6 + 4 N eps S(z_0): |sum of N vectors| summed in another order.
+  local-error     rel 1e-6 + 8 eps |z(t0 + h)| (+ our exact solution's estimate): one step and
+                  the exact value are each rounded to a few eps |z|.
   scale_initial   rel 64 eps: a function of z0 alone, a few sums of products.
   scale_at_max_*  compared only when the maximum residual is > 1e-10 (else the argmax of
                   round-off), against S(z_k) at every step k whose residual is within rel 1e-6
@@ -599,16 +601,20 @@ def check_case(case):
                 sl = err_slack / (rn[-1] if key.endswith("rel") else 1.0)
                 big = num(th) >= 1000 * max(est, their_est if not math.isnan(their_est) else 0.0, TINY)
                 comps.append(cmp_rel("error." + key, ours, th, TOL_ERR if big else 0.0, abs_floor=sl))
+        priv = {}                 # our own round-off bands of metrics (never compared)
         if "local-error" in metrics and prob.exact_available:
             z1 = xrun.integrate(method, prob, dt, 1, t0)["z"]
             ze = prob.exact(t0, [t0 + dt])[0]
             la = float(np.linalg.norm(z1 - ze))
             nze = float(np.linalg.norm(ze))
+            # one step and the exact value are each rounded to a few eps |z|: floor 8 eps |z| plus
+            # our exact solution's estimate (the rigid body's is a DOP853 solve)
+            priv["local-error.floor"] = 8 * EPS * nze + getattr(prob, "exact_estimate", 0.0)
+            priv["local-error.norm"] = nze
             mm["local-error.abs"] = la
             mm["local-error.rel"] = la / nze if nze > 0 else Undef("exact solution at t0 + h has norm 0")
             my_local.setdefault(method, {})[dt] = la
         traj = mine["traj"]
-        priv = {}                 # our own round-off bands of metrics (never compared)
         if traj is not None and "energy-balance" in metrics and points >= 10:
             # B (3.4): R_n = |D_t H_n + 2 gamma p_n^2| with the 8th-order central difference on the
             # output grid (interior points n = 4 .. N-4)
@@ -841,6 +847,13 @@ def check_case(case):
                 if mm.get("energy.max_abs_change", 1.0) <= 8 * math.sqrt(max(nsteps, 1)) * EPS * e0:
                     comps.append(comp(key, ours, th, True, "energy change at round-off: ratio undefined"))
                     continue
+            if key in ("local-error.abs", "local-error.rel"):
+                fl = priv.get("local-error.floor", 0.0)
+                if key.endswith("rel"):
+                    fl /= max(priv.get("local-error.norm", 0.0), TINY)
+                unc[key] = fl
+                comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=fl))
+                continue
             if key == "conformal-symplectic.max_rel_step":
                 # the step of the maximum is only defined when E_n is above round-off
                 if num(flat.get("conformal-symplectic.max_rel")) > 1e-10:
