@@ -41,6 +41,8 @@ Tolerances (each justified in one line):
                   of our maximum (near-ties between steps), rel 1e-6.
   energy *_res    on S_H: rel 1e-6 + 8 sqrt(n) eps S_H(z0) / S_H(z0) (random-walk round-off of
                   H = T + V, which is eps (T + |V|), not eps |H|); slopes that over the run time.
+  chaotic runs    residuals: factor 2 or both below the floor + 16 |m - m'| over our own 4-eps
+                  ensemble (the C++ run is a third member); other metrics rel 1e-6 + that band.
   undefined       a null metric (reason under `undefined.<name>`) must be undefined here by
                   the docs' rule, and a defined one defined; a check on an undefined metric
                   must have failed.
