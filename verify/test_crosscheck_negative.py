@@ -13,6 +13,12 @@ corrupted item (and nothing outside the corrupted case):
   wrongcoef: a gauss2 run's final state replaced by what gauss2 gives with A_12 of the
              Gauss tableau perturbed by 1e-8 (computed by our own kernel with that one
              coefficient patched: a report "from a build with a wrong coefficient")
+  lawres   : issue 21's law residuals on their scales: rk3's H_gamma max_step_res in
+             osc-overdamped-hgamma-law and rk3's angular max_law_res in nbody-zero-momentum,
+             each x 3 (outside the residual tolerance, factor 2)
+  undefined: nbody-zero-momentum: csv1's undefined momentum.linear.max_factor_dev reported
+             as 0.0 (defined), csv2's defined momentum.angular.max_law_res reported as null
+             with a reason (undefined): the docs' rule must decide, both must be named
   badinput : not a dampsym report -> exit 2
 """
 import copy
@@ -47,7 +53,7 @@ def expect_caught(report, case_ids, workdir, must_name):
     return sl
 
 
-def compare(base_report, bad_report, workdir, must_name):
+def compare(base_report, bad_report, workdir, must_name, must_quantity=()):
     _, base_lines, _ = run_crosscheck(base_report, workdir, "base")
     rc, lines, out = run_crosscheck(bad_report, workdir, "bad")
     new = [l for l in lines if l not in base_lines]
@@ -58,6 +64,9 @@ def compare(base_report, bad_report, workdir, must_name):
     for name in must_name:
         if not any(l.startswith("DISAGREE " + name) for l in new):
             fail("no new disagreement names %s; new: %s" % (name, new))
+    for q in must_quantity:
+        if not any(q in l for l in new):
+            fail("no new disagreement names the quantity %s; new: %s" % (q, new))
     print("caught and named: %s" % ", ".join(must_name))
 
 
@@ -113,6 +122,36 @@ def main():
         for r in cc["runs"]:
             r["method"] = other.get(r["method"], r["method"])
         compare(base, bad, workdir, ["osc-orders / csv1", "osc-orders / rk3"])
+    elif mode in ("lawres", "undefined"):
+        ids = ["osc-overdamped-hgamma-law", "nbody-zero-momentum"] if mode == "lawres" else ["nbody-zero-momentum"]
+        base = dict(report, cases=[copy.deepcopy(c) for c in report["cases"] if c["id"] in ids])
+        if len(base["cases"]) != len(ids):
+            fail("cases %s not in the report" % ids)
+        bad = copy.deepcopy(base)
+        names, quantities = [], []
+
+        def first_run(cid, method):
+            c = next(c for c in bad["cases"] if c["id"] == cid)
+            r = next(r for r in c["runs"] if r["method"] == method and r.get("status", "ok") == "ok")
+            names.append("%s / %s / dt=%g" % (cid, method, r["dt"]))
+            return r["metrics"]
+        if mode == "lawres":
+            m = first_run("osc-overdamped-hgamma-law", "rk3")["invariants"]["H_gamma"]
+            m["max_step_res"] *= 3.0
+            m = first_run("nbody-zero-momentum", "rk3")["momentum"]["angular"]
+            m["max_law_res"] *= 3.0
+            quantities = ["invariants.H_gamma.max_step_res", "momentum.angular.max_law_res"]
+        else:
+            m = first_run("nbody-zero-momentum", "csv1")["momentum"]["linear"]
+            if m.get("max_factor_dev") is not None:
+                fail("csv1's linear max_factor_dev is defined at zero total momentum")
+            m["max_factor_dev"] = 0.0
+            m.get("undefined", {}).pop("max_factor_dev", None)
+            m = first_run("nbody-zero-momentum", "csv2")["momentum"]["angular"]
+            m["max_law_res"] = None
+            m.setdefault("undefined", {})["max_law_res"] = "corrupted: reported undefined"
+            quantities = ["momentum.linear.max_factor_dev", "momentum.angular.max_law_res"]
+        compare(base, bad, workdir, names, quantities)
     elif mode == "wrongcoef":
         base = slice_of(report, "families-orders-3-4")
         bad = copy.deepcopy(base)

@@ -48,6 +48,14 @@ class Problem:
         q, p = z[..., :self.nq], z[..., self.nq:]
         return 0.5 * np.sum(p * p / self.m, axis=-1) + self.V(q)
 
+    # scale S_H of energy changes and errors (docs/conventions.md "Law residuals and their
+    # scales"): T + |V| where H = T + V may cross zero; None where the docs define none
+    energy_scale = None
+
+    def kinetic(self, z):
+        p = z[..., self.nq:]
+        return 0.5 * np.sum(p * p / self.m, axis=-1)
+
     # numerical reference: DOP853 at scipy's tightest tolerance, certified by a second solve
     def reference_grid(self, t0, times):
         key = (t0, tuple(np.asarray(times).tolist()))
@@ -86,6 +94,13 @@ class Oscillator(Problem):
     def invariants(self):   # H_gamma = (w^2 q^2 + p^2)/2 + g q p (B Ex. 1.2), decays e^{-2Gamma}
         return {"H_gamma": lambda z: 0.5 * (self.w ** 2 * z[..., 0] ** 2 + z[..., 1] ** 2)
                 + self.g * z[..., 0] * z[..., 1]}
+
+    def invariant_scales(self):   # |z|^T |A| |z|: the sum of the magnitudes of H_gamma's terms
+        return {"H_gamma": lambda z: 0.5 * (self.w ** 2 * z[..., 0] ** 2 + z[..., 1] ** 2)
+                + self.g * np.abs(z[..., 0] * z[..., 1])}
+
+    def energy_scale(self, z):    # definite energy: H itself
+        return self.energy(z)
 
     def exact(self, t0, t):
         """Exact state at times t (array) in every regime; z' = A z, A + gI = B, B^2 = -beta^2 I."""
@@ -141,6 +156,9 @@ class Pendulum(Problem):
 
     def V(self, q):
         return -np.cos(q[..., 0])
+
+    def energy_scale(self, z):    # T + 1: the amplitude of V = -cos q does not vanish
+        return self.kinetic(z) + 1.0
 
 
 class DrivenPendulum(Problem):
@@ -223,6 +241,12 @@ class RigidBody(Problem):
     def invariants(self):
         return {"casimir": lambda z: np.sum(z * z, axis=-1), "energy": self.energy}
 
+    def invariant_scales(self):   # both definite: |I| itself
+        return {k: (lambda z, f=f: np.abs(f(z))) for k, f in self.invariants().items()}
+
+    def energy_scale(self, z):
+        return self.energy(z)
+
     def tau(self, t):
         """tau(t) = int_0^t e^{-Gamma(s)} ds, Gamma = a sin 2s, a = eps/4, by the Jacobi-Anger
         series e^{-a sin th} = I0(a) + 2 sum_k I_k(a) cos(k (th + pi/2)) integrated termwise."""
@@ -284,6 +308,12 @@ class Kepler(Problem):
     def invariants(self):   # angular momentum L = q1 p2 - q2 p1 (HLW (2.4))
         return {"angular_momentum": lambda z: z[..., 0] * z[..., 3] - z[..., 1] * z[..., 2]}
 
+    def invariant_scales(self):   # |q1 p2| + |q2 p1|, the magnitudes of L's terms
+        return {"angular_momentum": lambda z: np.abs(z[..., 0] * z[..., 3]) + np.abs(z[..., 1] * z[..., 2])}
+
+    def energy_scale(self, z):    # T + |V| = |p|^2/2 + 1/|q|
+        return self.kinetic(z) + np.abs(self.V(z[..., :2]))
+
     def exact(self, t0, t):
         """Kepler's equation E - e sin E = t - t0 (period 2 pi, a = 1), solved by Newton."""
         e = self.e
@@ -338,6 +368,18 @@ class NBodyBase(Problem):
     def linear_momentum(self, z):
         P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
         return P.sum(axis=-2)
+
+    def energy_scale(self, z):    # T + |V|, V the total pair potential
+        return self.kinetic(z) + np.abs(self.V(z[..., :self.nq]))
+
+    def linear_momentum_scale(self, z):   # sum_i |p_i|_2
+        P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
+        return np.sum(np.linalg.norm(P, axis=-1), axis=-1)
+
+    def angular_momentum_scale(self, z):  # sum_i |q_i|_2 |p_i|_2
+        X = z[..., :self.nq].reshape(z.shape[:-1] + (self.n, self.dim))
+        P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
+        return np.sum(np.linalg.norm(X, axis=-1) * np.linalg.norm(P, axis=-1), axis=-1)
 
     def angular_momentum(self, z):
         X = z[..., :self.nq].reshape(z.shape[:-1] + (self.n, self.dim))
@@ -451,6 +493,9 @@ class LotkaVolterra(Problem):
 
     def invariants(self):
         return {"I": lambda z: np.log(z[..., 0]) - z[..., 0] + 2 * np.log(z[..., 1]) - z[..., 1]}
+
+    def invariant_scales(self):   # I <= 2 ln 2 - 3 < 0 on the whole domain: |I| itself
+        return {"I": lambda z: np.abs(self.invariants()["I"](z))}
 
 
 PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
