@@ -995,6 +995,27 @@ def check_case(case):
         if dt is not None:
             rec["dt"] = float(dt)
         checks_out.append(rec)
+        form = chk.get("form", "per-method")
+        if form != "per-method" or chk.get("across_dt"):
+            # A comparison check (docs/case-keys.md): ratio A/B or spread max/min of OUR values
+            # at each step size, or the log-log slope of those values against dt.
+            val = comparison_value(chk, case, ours_metrics)
+            if isinstance(val, str):
+                rec.update(verdict="not reproduced", reason=val)
+                continue
+            op, exp = chk.get("op"), num(chk.get("expected"))
+            v = abs(val) if chk.get("abs") else val
+            verdict = {"le": v <= exp, "ge": v >= exp, "lt": v < exp, "gt": v > exp,
+                       "near": abs(v - exp) <= num(chk.get("tolerance", 0.0))}.get(op)
+            # our inputs agree with the report's to the run tolerances (<= 1e-6 relative), so a
+            # threshold within 1e-4 relative of our combined value is undecidable from here
+            tie = op in ("le", "ge", "lt", "gt") and abs(v - exp) <= 1e-4 * max(abs(v), abs(exp))
+            rec["comparisons"].append(comp("verdict", bool(verdict), bool(chk.get("passed")),
+                                           bool(verdict) == bool(chk.get("passed")) or tie,
+                                           "equal (undecidable within 1e-4 of the threshold)",
+                                           note="our value %.6g" % v))
+            rec["verdict"] = "agree" if rec["comparisons"][0]["agree"] else "disagree"
+            continue
         mm = ours_metrics.get((method, None if dt is None else float(dt)))
         if mm is None and dt is None:
             mm = next((v for (m, d), v in ours_metrics.items() if m == method and metric in v), None)
@@ -1117,6 +1138,44 @@ def write_markdown(path, result):
     with open(path, "w") as fh:
         fh.write("\n".join(L) + "\n")
 
+
+
+def comparison_value(chk, case, ours_metrics):
+    """OUR value of a ratio / spread / across-dt check, or a string saying why there is none."""
+    metric = chk.get("metric")
+    members = chk.get("methods") or [chk.get("method")]
+    form = chk.get("form", "per-method")
+    dts = [float(d) for d in (case.get("dt_ladder") or [])]
+    if chk.get("dt") is not None:
+        dts = [float(chk["dt"])]
+    hs, values = [], []
+    for d in dts:
+        xs = []
+        for m in members:
+            v = (ours_metrics.get((m, d)) or {}).get(metric)
+            if v is None or isinstance(v, Undef):
+                return "metric %s not recomputed for %s at dt=%g" % (metric, m, d)
+            xs.append(float(v))
+        if form == "ratio":
+            x = xs[0] / xs[1]
+        elif form == "spread":
+            x = max(xs) / min(xs)
+        else:
+            x = xs[0]
+        hs.append(d)
+        values.append(x)
+    if not values:
+        return "no step size to compare"
+    if chk.get("across_dt"):
+        if any(not (x > 0.0) or not math.isfinite(x) for x in values):
+            return "log-log slope of non-positive values"
+        lx = [math.log(h) for h in hs]
+        ly = [math.log(x) for x in values]
+        n = len(lx)
+        mx, my = sum(lx) / n, sum(ly) / n
+        sxx = sum((a - mx) ** 2 for a in lx)
+        return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sxx
+    return values[0]
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
