@@ -412,7 +412,8 @@ TEST_CASE("bad input: a method named that does not apply to the problem", "[bad-
                             {"dt", 0.5},         {"diagnostics", {"cost"}}};
             INFO(std::string(m.id) << " on " << prob.id);
             CHECK(contains(load_error(c.dump()), "methods[0]: method '" + std::string(m.id) +
-                                                     "' (" + std::string(m.form) +
+                                                     "' (" +
+                                                     std::string(dampsym::form_name(m.form)) +
                                                      " form) does not apply to problem"));
             ++rejected;
         }
