@@ -35,7 +35,7 @@ dampsym::Vec exact_at(double omega, double gamma, double q0, double p0, double t
     params.scalars = {{"omega", omega}, {"gamma", gamma}, {"q0", q0}, {"p0", p0}};
     const auto osc = dampsym::Oscillator::from_params(params);
     dampsym::Vec z(2);
-    osc.exact(t, z);
+    osc.exact(0.0, osc.initial_state(), t, z); // from (t0, z0) = (0, (q0, p0))
     return z;
 }
 
