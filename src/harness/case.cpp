@@ -1,7 +1,8 @@
 #include "harness/case.hpp"
 
 #include "harness/case_job.hpp"
-#include "harness/registry.hpp"
+#include "harness/case_util.hpp"
+#include "harness/problem_info.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -18,52 +19,7 @@ namespace dampsym {
 namespace {
 
 using json = nlohmann::json;
-
-// A validation error with its key kept apart, so that parse_case can say when the value came
-// from --set rather than from the file.
-struct KeyedError : InputError {
-    KeyedError(const std::string& file, const std::string& key, const std::string& what)
-        : InputError(file + ": " + key + ": " + what), file_(file), key_(key), what_(what) {}
-    std::string file_, key_, what_;
-};
-
-[[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& what) {
-    throw KeyedError(file, key, what);
-}
-
-std::string format_number(double x) {
-    std::ostringstream os;
-    os.precision(17);
-    os << x;
-    return os.str();
-}
-
-double number(const json& v, const std::string& file, const std::string& key) {
-    if (!v.is_number()) fail(file, key, "must be a number, got " + brief(v));
-    const double x = v.get<double>();
-    if (std::isnan(x)) fail(file, key, "must be a number, got NaN");
-    if (std::isinf(x))
-        fail(file, key,
-             "must be finite, got " + std::string(x > 0 ? "+" : "-") +
-                 "infinity (or a number that overflows a double)");
-    return x;
-}
-
-std::string string_of(const json& v, const std::string& file, const std::string& key) {
-    if (!v.is_string()) fail(file, key, "must be a string, got " + brief(v));
-    return v.get<std::string>();
-}
-
-bool boolean(const json& v, const std::string& file, const std::string& key) {
-    if (!v.is_boolean()) fail(file, key, "must be true or false, got " + brief(v));
-    return v.get<bool>();
-}
-
-std::string describe(const Range& r) {
-    std::ostringstream os;
-    os << (r.lo_open ? "(" : "[") << r.lo << ", " << r.hi << (r.hi_open ? ")" : "]");
-    return os.str();
-}
+using namespace case_detail;
 
 // SAX handler that builds nothing: checks nesting depth, duplicate keys, number overflow and
 // control characters, and knows the key path of the value being read for the error message.
@@ -155,306 +111,6 @@ private:
     std::string error_;
 };
 
-void only_keys(const json& obj, const std::set<std::string>& allowed, const std::string& file,
-               const std::string& prefix) {
-    for (auto it = obj.begin(); it != obj.end(); ++it) {
-        if (!allowed.count(it.key())) {
-            std::string list;
-            for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-            fail(file, prefix + brief(it.key()), "unknown key (allowed: " + list + ")");
-        }
-    }
-}
-
-// Steps of size dt in [t0, t_end]; t_end − t0 must be an integer multiple of dt to 1e-9 relative.
-std::int64_t step_count(double span, double dt, const std::string& file, const std::string& key,
-                        double limit) {
-    const double ratio = span / dt;
-    if (!(ratio <= limit)) {
-        std::ostringstream os;
-        os.precision(3);
-        os << "too many steps: (t_end - t0)/" << key << " = " << ratio << " (limit " << limit
-           << ")";
-        fail(file, key, os.str());
-    }
-    const auto n = static_cast<std::int64_t>(std::llround(ratio));
-    if (n < 1 || std::abs(static_cast<double>(n) * dt - span) > 1e-9 * span) {
-        std::ostringstream os;
-        os.precision(17);
-        os << "t_end - t0 = " << span << " is not an integer multiple of dt = " << dt;
-        fail(file, key, os.str());
-    }
-    return n;
-}
-
-// Metric names each run-level or method-level diagnostic produces (for validating "expect").
-std::vector<std::string> metric_names(const std::string& diagnostic,
-                                      const std::vector<std::string>& invariants) {
-    if (diagnostic == "error")
-        return {"final_abs", "final_rel", "max_abs",
-                "max_rel",   "mean_abs",  "reference_error_estimate"};
-    if (diagnostic == "order" || diagnostic == "local-order") return {"slope", "r2", "points"};
-    if (diagnostic == "local-error") return {"abs", "rel"};
-    if (diagnostic == "invariants") {
-        std::vector<std::string> out;
-        for (const auto& inv : invariants)
-            for (const char* stat :
-                 {"max_step_res", "last_step_res", "max_step_abs", "scale_initial",
-                  "scale_at_max_step_res", "max_global_res", "global_res_slope",
-                  "max_global_ratio_dev", "ratio_dev_slope", "undefined_points"})
-                out.push_back(inv + "." + stat);
-        return out;
-    }
-    if (diagnostic == "energy")
-        return {"max_abs_error",  "final_abs_error", "drift_slope",    "error_res_slope",
-                "max_abs_change", "change_slope",    "max_change_res", "change_res_slope",
-                "growth_ratio",   "scale_initial"};
-    if (diagnostic == "dissipation-drift")
-        return {"slope",
-                "range",
-                "maxima",
-                "maxima_nonpositive",
-                "slope_minus_reference",
-                "max_abs_diff_reference",
-                "maxima_count_diff",
-                "reference.slope"};
-    if (diagnostic == "momentum") {
-        std::vector<std::string> out;
-        for (const char* part : {"linear", "angular"})
-            for (const char* stat :
-                 {"max_law_res", "last_law_res", "max_law_abs", "scale_initial",
-                  "scale_at_max_law_res", "first_factor", "max_factor_dev", "max_table_res",
-                  "initial_norm", "undefined_points", "factor_undefined_points"})
-                out.push_back(std::string(part) + "." + stat);
-        return out;
-    }
-    if (diagnostic == "conformal-symplectic")
-        return {"max_rel", "last_rel", "max_abs", "last_abs", "steps_measured"};
-    if (diagnostic == "energy-balance")
-        return {"max", "last", "mean", "max_rel", "max_rate", "points"};
-    if (diagnostic == "poincare")
-        return {"sections", "pointwise_max", "pointwise_final", "set_mean", "set_hausdorff"};
-    if (diagnostic == "temperature")
-        return {"initial", "mean", "min", "max", "max_abs_dev_initial", "max_abs_error"};
-    if (diagnostic == "stability")
-        return {"det",
-                "det_rel_err",
-                "det_abs_err",
-                "half_trace",
-                "half_trace_formula_rel_err",
-                "half_trace_formula_abs_err",
-                "half_trace_exact_err",
-                "spectral_radius",
-                "F_condition",
-                "power_bounded"};
-    if (diagnostic == "stability-sweep")
-        return {"max_boundary_mismatch_cells", "mismatch_points",
-                "violations_omega_gt_gamma",   "F_violations",
-                "power_bounded_violations",    "max_power_boundary_mismatch_cells",
-                "power_mismatch_points",       "first_row.gamma",
-                "first_row.h_F_empirical",     "first_row.h_power_unbounded"};
-    // Not a diagnostic: the run record's own fields, checkable in every case and for any status.
-    if (diagnostic == "run")
-        return {"steps",     "steps_planned", "rhs_evals",
-                "jac_evals", "newton_iters",  "final_time",
-                "ok",        "diverged",      "failed_at_step"};
-    if (diagnostic == "trace-taylor")
-        return {"h4_coeff", "h4_coeff_expected", "h4_coeff_rel_err", "h4_coeff_abs_err"};
-    if (diagnostic == "cost")
-        return {"rhs_evals_per_step", "jac_evals_per_step", "newton_iters_per_step",
-                "max_newton_iters", "wall_seconds"};
-    return {};
-}
-
-// "methods" (each method), "ratio" ([A, B]: metric(A) / metric(B)) or "spread" ("all" or
-// [A, B, ...]: max / min over the methods), and "across_dt" (docs/case-keys.md).
-void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& diag,
-                         const std::string& file, const std::string& base, CheckSpec& cs) {
-    int forms = 0;
-    for (const char* k : {"methods", "ratio", "spread"}) forms += cj.contains(k) ? 1 : 0;
-    if (forms != 1) fail(file, base + ".methods", "give exactly one of methods, ratio, spread");
-    const char* key = cj.contains("methods") ? "methods"
-                      : cj.contains("ratio") ? "ratio"
-                                             : "spread";
-    cs.form = cj.contains("methods") ? CheckForm::per_method
-              : cj.contains("ratio") ? CheckForm::ratio
-                                     : CheckForm::spread;
-    const json& mj = cj[key];
-    const std::string mkey = base + "." + key;
-    if (mj.is_string() && mj.get<std::string>() == "all" && cs.form != CheckForm::ratio) {
-        cs.methods = c.methods;
-    } else {
-        if (!mj.is_array() || mj.empty())
-            fail(file, mkey,
-                 cs.form == CheckForm::ratio ? "must be an array [A, B] of two methods"
-                                             : "must be \"all\" or a non-empty array");
-        for (std::size_t i = 0; i < mj.size(); ++i) {
-            const std::string ki = mkey + "[" + std::to_string(i) + "]";
-            const std::string m = string_of(mj[i], file, ki);
-            if (std::find(c.methods.begin(), c.methods.end(), m) == c.methods.end())
-                fail(file, ki, "method '" + brief(m) + "' is not among the case's methods");
-            if (std::find(cs.methods.begin(), cs.methods.end(), m) != cs.methods.end())
-                fail(file, ki, "method '" + brief(m) + "' listed twice");
-            cs.methods.push_back(m);
-        }
-    }
-    if (cs.form == CheckForm::ratio && cs.methods.size() != 2)
-        fail(file, mkey, "must name exactly two methods [A, B] (value A / B)");
-    if (cs.form == CheckForm::spread && cs.methods.size() < 2)
-        fail(file, mkey, "needs at least two methods");
-    if (cj.contains("across_dt")) {
-        const std::string a = string_of(cj["across_dt"], file, base + ".across_dt");
-        if (a != "loglog-slope") fail(file, base + ".across_dt", "must be \"loglog-slope\"");
-        if (c.dts.size() < 2)
-            fail(file, base + ".across_dt", "needs a dt_ladder of at least two step sizes");
-        cs.across_dt_slope = true;
-    }
-    if ((cs.form != CheckForm::per_method || cs.across_dt_slope) &&
-        (diagnostic_is_method_level(diag) || diag == "run"))
-        fail(file, base + ".metric",
-             "ratio, spread and across_dt compare per-run metrics; '" + diag + "' is not one");
-}
-
-// "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } }
-// (docs/case-keys.md).
-void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file, CaseSpec& c) {
-    if (!mj.is_object() || mj.empty())
-        fail(file, "measures", "must be an object of named measures");
-    if (!c.wants("error"))
-        fail(file, "measures", "measures are computed by the \"error\" diagnostic; request it");
-    int dim = 0, dof = -1; // dof: degrees of freedom of a canonical z = [q; p], else -1
-    with_problem_type(c.problem_id, [&]<class P>() {
-        const P p = P::from_params(c.params);
-        dim = p.dim();
-        if constexpr (requires { p.n(); }) dof = p.n();
-    });
-    const std::int64_t points = detail::output_points(c);
-    for (auto it = mj.begin(); it != mj.end(); ++it) {
-        const std::string base = "measures." + it.key();
-        const json& e = it.value();
-        MeasureSpec m;
-        m.name = it.key();
-        if (m.name.empty() ||
-            m.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz"
-                                     "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") != std::string::npos)
-            fail(file, base, "a measure name uses letters, digits, '_' and '-' only");
-        if (!e.is_object()) fail(file, base, "must be an object");
-        only_keys(e, {"quantity", "component", "norm", "over", "from"}, file, base + ".");
-        if (e.contains("quantity")) {
-            const std::string q = string_of(e["quantity"], file, base + ".quantity");
-            if (q == "energy-error")
-                m.quantity = MeasureQuantity::energy_error;
-            else if (q != "error")
-                fail(file, base + ".quantity", "must be \"error\" or \"energy-error\"");
-        }
-        if (m.quantity == MeasureQuantity::energy_error) {
-            if (!prob.has_energy)
-                fail(file, base + ".quantity", "problem '" + c.problem_id + "' declares no energy");
-            if (e.contains("component"))
-                fail(file, base + ".component", "the energy error has no component");
-            m.component = "energy";
-        } else {
-            m.count = dim;
-            if (e.contains("component")) {
-                m.component = string_of(e["component"], file, base + ".component");
-                const std::string& s = m.component;
-                if (s.empty()) fail(file, base + ".component", "must not be empty");
-                const bool qp = s[0] == 'q' || s[0] == 'p';
-                if ((qp || s.rfind("z[", 0) == 0) && s != "state") {
-                    if (qp && dof < 0)
-                        fail(file, base + ".component",
-                             "problem '" + c.problem_id +
-                                 "' has no canonical q/p split; use \"z[i]\" or \"state\"");
-                    const int block = s[0] == 'z' ? dim : dof;
-                    const int offset = s[0] == 'p' ? dof : 0;
-                    if (s.size() == 1) {
-                        m.first = offset;
-                        m.count = dof;
-                    } else {
-                        std::size_t used = 0;
-                        int idx = -1;
-                        if (s.size() > 3 && s[1] == '[' && s.back() == ']') {
-                            try {
-                                idx = std::stoi(s.substr(2, s.size() - 3), &used);
-                            } catch (const std::exception&) {
-                                idx = -1;
-                            }
-                        }
-                        if (idx < 0 || used != s.size() - 3)
-                            fail(file, base + ".component",
-                                 "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or "
-                                 "\"z[i]\", got \"" +
-                                     s + "\"");
-                        if (idx >= block)
-                            fail(file, base + ".component",
-                                 "index " + std::to_string(idx) + " out of range (" +
-                                     std::to_string(block) + " components)");
-                        m.first = offset + idx;
-                        m.count = 1;
-                    }
-                } else if (s != "state") {
-                    fail(file, base + ".component",
-                         "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or \"z[i]\", "
-                         "got \"" +
-                             s + "\"");
-                }
-            }
-        }
-        if (e.contains("norm")) {
-            const std::string n = string_of(e["norm"], file, base + ".norm");
-            if (n == "rel")
-                m.relative = true;
-            else if (n != "abs")
-                fail(file, base + ".norm", "must be \"abs\" or \"rel\" (relative to |u(t_n)|)");
-        }
-        if (!e.contains("over")) fail(file, base + ".over", "missing required key");
-        const std::string over = string_of(e["over"], file, base + ".over");
-        const std::pair<const char*, MeasureStat> stats[] = {{"final", MeasureStat::final_value},
-                                                             {"max", MeasureStat::max},
-                                                             {"mean", MeasureStat::mean},
-                                                             {"rms", MeasureStat::rms},
-                                                             {"growth", MeasureStat::growth}};
-        bool found = false;
-        for (const auto& [name, st] : stats)
-            if (over == name) {
-                m.over = st;
-                found = true;
-            }
-        if (!found) fail(file, base + ".over", "must be one of final, max, mean, rms, growth");
-        if (m.over != MeasureStat::final_value && points < 2)
-            fail(file, base + ".over",
-                 "'" + over +
-                     "' needs an output grid: give \"output_dt\" (or a ladder whose "
-                     "step sizes divide each other)");
-        const double span = c.t_end - c.t0;
-        m.growth_from = c.t0 + 0.1 * span;
-        if (e.contains("from")) {
-            if (m.over != MeasureStat::growth)
-                fail(file, base + ".from", "only \"over\": \"growth\" takes a fit start");
-            m.growth_from = number(e["from"], file, base + ".from");
-            if (!(m.growth_from > c.t0) || !(m.growth_from < c.t_end))
-                fail(file, base + ".from", "must lie in (t0, t_end)");
-        }
-        if (m.over == MeasureStat::growth) {
-            const double spacing = span / static_cast<double>(points);
-            if ((c.t_end - m.growth_from) / spacing < 2.0)
-                fail(file, base + ".from", "the growth fit needs >= 3 output points after it");
-        }
-        c.measures.push_back(m);
-    }
-}
-
-Range3 parse_range(const json& v, const std::string& file, const std::string& key) {
-    if (!v.is_array() || v.size() != 3)
-        fail(file, key, "must be [from, to, step], got " + brief(v));
-    Range3 r{number(v[0], file, key + "[0]"), number(v[1], file, key + "[1]"),
-             number(v[2], file, key + "[2]")};
-    if (!(r.step > 0.0)) fail(file, key + "[2]", "step must be > 0");
-    if (r.to < r.from) fail(file, key + "[1]", "must be >= from");
-    if (!((r.to - r.from) / r.step <= 10000.0)) fail(file, key, "more than 10000 grid points");
-    return r;
-}
-
 // The components of a --set KEY (dotted), each non-empty, at most limits::max_depth of them.
 std::vector<std::string> key_parts(const std::string& dotted) {
     std::vector<std::string> parts;
@@ -513,40 +169,21 @@ bool CaseSpec::wants(const std::string& d) const {
 }
 
 const std::vector<std::string>& known_diagnostics() {
-    static const std::vector<std::string> names{"error",
-                                                "order",
-                                                "invariants",
-                                                "energy",
-                                                "dissipation-drift",
-                                                "stability",
-                                                "stability-sweep",
-                                                "trace-taylor",
-                                                "cost",
-                                                "momentum",
-                                                "energy-balance",
-                                                "poincare",
-                                                "temperature",
-                                                "conformal-symplectic",
-                                                "local-error",
-                                                "local-order"};
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const DiagnosticInfo& d : diagnostic_registry()) out.push_back(d.name);
+        return out;
+    }();
     return names;
 }
 
 bool diagnostic_applies(const std::string& d, const ProblemInfo& p) {
-    if (d == "energy") return p.has_energy;
-    if (d == "momentum") return p.has_momentum;
-    if (d == "energy-balance") return p.has_energy_balance;
-    if (d == "temperature") return p.has_temperature;
-    if (d == "poincare") return p.has_forcing_period;
-    if (d == "dissipation-drift") return p.has_maxima;
-    if (d == "local-error" || d == "local-order") return p.has_exact;
-    if (d == "stability" || d == "stability-sweep" || d == "trace-taylor")
-        return p.id == "oscillator";
-    return true;
+    return p.supports(d);
 }
 
 bool diagnostic_is_method_level(const std::string& d) {
-    return d == "order" || d == "local-order" || d == "stability-sweep" || d == "trace-taylor";
+    const DiagnosticInfo* info = find_diagnostic(d);
+    return info && info->level == DiagnosticLevel::method;
 }
 
 std::string brief(const std::string& s) {
@@ -563,9 +200,7 @@ std::string brief(const json& v) {
 
 std::vector<std::string> diagnostic_metric_names(const std::string& diagnostic,
                                                  const std::vector<std::string>& invariant_names) {
-    return metric_names(diagnostic, invariant_names.empty() && diagnostic == "invariants"
-                                        ? std::vector<std::string>{"<invariant>"}
-                                        : invariant_names);
+    return diagnostic_metrics(diagnostic, invariant_names, true);
 }
 
 json parse_json_checked(const std::string& text, const std::string& source) {
@@ -710,55 +345,9 @@ CaseSpec parse_case(const json& input, const std::string& file,
 
 namespace {
 
-CaseSpec parse_case_unchecked(const json& input, const std::string& file,
-                              const std::vector<std::string>& overrides, json& applied) {
-    if (!input.is_object()) fail(file, "(top level)", "a case must be a JSON object");
-    CaseSpec c;
-    c.file = file;
-    json j = input;
-    for (const auto& o : overrides) {
-        auto [key, value] = parse_override(o);
-        set_path(j, key, value);
-        c.overrides[key] = value;
-        applied[key] = o.substr(o.find('=') + 1); // as typed (1e400, not inf)
-    }
-    c.raw = j;
-
-    only_keys(j,
-              {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
-               "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
-               "notes", "measures", "no_checks_because"},
-              file, "");
-    for (const char* k : {"id", "problem", "methods", "t_end"})
-        if (!j.contains(k)) fail(file, k, "missing required key");
-
-    c.id = string_of(j["id"], file, "id");
-    if (c.id.empty()) fail(file, "id", "must not be empty");
-    if (!valid_case_id(c.id))
-        fail(file, "id",
-             "'" + brief(c.id) + "' is not a valid case id (at most " +
-                 std::to_string(limits::max_id_length) +
-                 " characters of A-Z a-z 0-9 . _ -, starting with a letter or digit)");
-    if (j.contains("title")) c.title = string_of(j["title"], file, "title");
-    if (j.contains("source")) c.source = string_of(j["source"], file, "source");
-    if (j.contains("notes")) string_of(j["notes"], file, "notes");
-    if (j.contains("suites")) {
-        if (!j["suites"].is_array()) fail(file, "suites", "must be an array of suite names");
-        for (std::size_t i = 0; i < j["suites"].size(); ++i) {
-            const std::string key = "suites[" + std::to_string(i) + "]";
-            const std::string suite = string_of(j["suites"][i], file, key);
-            if (!valid_case_id(suite))
-                fail(file, key,
-                     "'" + brief(suite) +
-                         "' is not a valid suite name (characters of A-Z a-z "
-                         "0-9 . _ -, starting with a letter or digit)");
-            if (std::find(c.suites.begin(), c.suites.end(), suite) != c.suites.end())
-                fail(file, key, "suite '" + suite + "' listed twice");
-            c.suites.push_back(suite);
-        }
-    }
-
-    // problem
+// "problem": the id and the parameters, each in its range; then the problem checks the whole.
+const ProblemInfo* parse_problem(const json& j, const std::string& file, CaseSpec& c,
+                                 std::optional<double>& forcing_period) {
     const json& pj = j["problem"];
     if (!pj.is_object()) fail(file, "problem", "must be an object with an \"id\"");
     if (!pj.contains("id")) fail(file, "problem.id", "missing required key");
@@ -826,18 +415,18 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     }
 
     // Problem-level consistency (array lengths, ...) is checked by the problem itself.
-    std::optional<double> forcing_period;
-    with_problem_type(c.problem_id, [&]<class P>() {
-        try {
-            const P p = P::from_params(c.params);
-            c.dim = p.dim();
-            if constexpr (HasForcingPeriod<P>) forcing_period = p.forcing_period();
-        } catch (const std::invalid_argument& e) {
-            fail(file, "problem", e.what());
-        }
-    });
+    try {
+        const ProblemFacts facts = prob->facts(c.params);
+        c.dim = facts.dim;
+        forcing_period = facts.forcing_period;
+    } catch (const std::invalid_argument& e) {
+        fail(file, "problem", e.what());
+    }
+    return prob;
+}
 
-    // methods
+// "methods": known, listed once, applicable to the problem.
+void parse_methods(const json& j, const std::string& file, CaseSpec& c) {
     if (!j["methods"].is_array() || j["methods"].empty())
         fail(file, "methods", "must be a non-empty array of method ids");
     for (std::size_t i = 0; i < j["methods"].size(); ++i) {
@@ -863,8 +452,10 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
         }
         c.methods.push_back(m);
     }
+}
 
-    // time grid
+// "t0", "t_end", "dt" or "dt_ladder", "output_dt".
+void parse_time_grid(const json& j, const std::string& file, CaseSpec& c) {
     if (j.contains("t0")) c.t0 = number(j["t0"], file, "t0");
     c.t_end = number(j["t_end"], file, "t_end");
     for (const auto& [k, t] : {std::pair<const char*, double>{"t0", c.t0}, {"t_end", c.t_end}})
@@ -907,8 +498,12 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
         }
         c.output_dt = odt;
     }
+}
 
-    // diagnostics
+// "diagnostics" and "reference": each known and supported by the problem (diagnostic registry).
+void parse_diagnostics(const json& j, const std::string& file, CaseSpec& c,
+                       const ProblemInfo& problem, std::optional<double> forcing_period) {
+    const ProblemInfo* prob = &problem;
     if (j.contains("diagnostics")) {
         if (!j["diagnostics"].is_array()) fail(file, "diagnostics", "must be an array");
         for (std::size_t i = 0; i < j["diagnostics"].size(); ++i) {
@@ -926,14 +521,15 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     } else {
         c.diagnostics.push_back("error");
     }
-    if (c.wants("order")) {
-        if (c.dts.size() < 3) fail(file, "dt_ladder", "the order diagnostic needs >= 3 step sizes");
-        if (!c.wants("error")) c.diagnostics.push_back("error");
-    }
-    if (c.wants("local-order")) {
-        if (c.dts.size() < 3)
-            fail(file, "dt_ladder", "the local-order diagnostic needs >= 3 step sizes");
-        if (!c.wants("local-error")) c.diagnostics.push_back("local-error");
+    // What each requested diagnostic needs of the ladder and which diagnostics it adds (registry).
+    for (std::size_t i = 0; i < c.diagnostics.size(); ++i) {
+        const DiagnosticInfo& d = *find_diagnostic(c.diagnostics[i]);
+        if (c.dts.size() < d.needs.min_dts)
+            fail(file, "dt_ladder",
+                 "the " + d.name + " diagnostic needs >= " + std::to_string(d.needs.min_dts) +
+                     " step sizes");
+        for (const std::string& implied : d.implies)
+            if (!c.wants(implied)) c.diagnostics.push_back(implied);
     }
     if (j.contains("reference")) {
         const json& rj = j["reference"];
@@ -953,16 +549,12 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
             (std::string(k) == "epsrel" ? c.reference.epsrel : c.reference.epsabs) = x;
         }
     }
-    if (c.wants("energy") && !prob->has_energy)
-        fail(file, "diagnostics", "problem '" + c.problem_id + "' declares no energy");
-    const std::pair<const char*, bool> needs[] = {
-        {"momentum", prob->has_momentum},        {"energy-balance", prob->has_energy_balance},
-        {"temperature", prob->has_temperature},  {"poincare", prob->has_forcing_period},
-        {"dissipation-drift", prob->has_maxima}, {"local-error", prob->has_exact}};
-    for (const auto& [d, supported] : needs)
-        if (c.wants(d) && !supported)
+    // What each requested diagnostic needs of the problem: its `supports<P>` concept (registry).
+    for (const std::string& name : c.diagnostics)
+        if (!prob->supports(name))
             fail(file, "diagnostics",
-                 std::string(d) + " is not defined for problem '" + c.problem_id + "'");
+                 name + " is not defined for problem '" + c.problem_id + "' (it needs " +
+                     find_diagnostic(name)->requirement + ")");
     if (c.wants("poincare")) {
         // Sections at t0 + kT: the output grid must be the forcing period (typed_case.hpp).
         const double T = forcing_period.value_or(0.0);
@@ -973,9 +565,10 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
                      (c.output_dt ? ", got " + format_number(*c.output_dt)
                                   : std::string(", which is not given")));
     }
-    for (const char* d : {"stability", "stability-sweep", "trace-taylor"})
-        if (c.wants(d) && c.problem_id != "oscillator")
-            fail(file, "diagnostics", std::string(d) + " is defined on the oscillator only");
+}
+
+// "stability_sweep": exactly with the stability-sweep diagnostic.
+void parse_sweep(const json& j, const std::string& file, CaseSpec& c) {
     if (c.wants("stability-sweep") != j.contains("stability_sweep"))
         fail(file, "stability_sweep",
              "give \"stability_sweep\" exactly when the stability-sweep diagnostic is requested");
@@ -992,7 +585,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
         s.h = parse_range(sj["h"], file, "stability_sweep.h");
         if (s.gamma.from < 0.0) fail(file, "stability_sweep.gamma[0]", "must be >= 0");
         if (!(s.h.from > 0.0)) fail(file, "stability_sweep.h[0]", "must be > 0");
-        // The oscillator's ranges (its exact solution and F's closed forms).
+        // The linear oscillator's ranges (its exact solution and F's closed forms).
         if (!(s.omega >= 1e-6 && s.omega <= 1e6))
             fail(file, "stability_sweep.omega", "must be in [1e-06, 1e+06]");
         if (!(s.gamma.to <= 1e6)) fail(file, "stability_sweep.gamma[1]", "must be <= 1e+06");
@@ -1004,89 +597,10 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
                  "gamma x h grid of " + format_number(std::round(cells)) + " points (at most 1e6)");
         c.sweep = s;
     }
+}
 
-    if (j.contains("measures")) parse_measures(j["measures"], *prob, file, c);
-
-    // expectations
-    if (j.contains("expect")) {
-        const json& ej = j["expect"];
-        if (!ej.is_object()) fail(file, "expect", "must be an object of named checks");
-        for (auto it = ej.begin(); it != ej.end(); ++it) {
-            const std::string base = "expect." + brief(it.key());
-            const json& cj = it.value();
-            if (!cj.is_object()) fail(file, base, "must be an object");
-            only_keys(cj,
-                      {"metric", "methods", "ratio", "spread", "across_dt", "refutes", "near", "le",
-                       "ge", "lt", "gt", "tol", "abs", "negative_control", "dt", "note"},
-                      file, base + ".");
-            CheckSpec cs;
-            cs.name = it.key();
-            if (!cj.contains("metric")) fail(file, base + ".metric", "missing required key");
-            cs.metric = string_of(cj["metric"], file, base + ".metric");
-            const auto dot = cs.metric.find('.');
-            const std::string diag = cs.metric.substr(0, dot);
-            const bool is_measure = diag == "measure" && !c.measures.empty();
-            if (dot == std::string::npos || (!c.wants(diag) && diag != "run" && !is_measure))
-                fail(file, base + ".metric",
-                     "'" + brief(cs.metric) + "' is not a metric of a requested diagnostic" +
-                         (diag == "measure" ? " (no \"measures\" defined)" : ""));
-            std::vector<std::string> names = metric_names(diag, prob->invariants);
-            if (diag == "invariants" && names.empty())
-                fail(file, base + ".metric",
-                     "problem '" + c.problem_id + "' declares no conformal invariants");
-            if (is_measure)
-                for (const auto& m : c.measures) names.push_back(m.name);
-            if (std::find(names.begin(), names.end(), cs.metric.substr(dot + 1)) == names.end()) {
-                std::string list;
-                for (const auto& n : names) list += (list.empty() ? "" : ", ") + diag + "." + n;
-                fail(file, base + ".metric",
-                     "unknown metric '" + brief(cs.metric) + "' (known: " + list + ")");
-            }
-            parse_check_methods(cj, c, diag, file, base, cs);
-            int ops = 0;
-            const std::pair<const char*, CheckOp> op_names[] = {{"near", CheckOp::near},
-                                                                {"le", CheckOp::le},
-                                                                {"ge", CheckOp::ge},
-                                                                {"lt", CheckOp::lt},
-                                                                {"gt", CheckOp::gt}};
-            for (const auto& [name, op] : op_names) {
-                if (!cj.contains(name)) continue;
-                ++ops;
-                cs.op = op;
-                const json& v = cj[name];
-                cs.value = v.is_boolean() ? (v.get<bool>() ? 1.0 : 0.0)
-                                          : number(v, file, base + "." + name);
-            }
-            if (ops != 1) fail(file, base, "give exactly one of near, le, ge, lt, gt");
-            if (cs.op == CheckOp::near) {
-                if (!cj.contains("tol")) fail(file, base + ".tol", "\"near\" needs a tolerance");
-                cs.tol = number(cj["tol"], file, base + ".tol");
-                if (!(cs.tol >= 0.0)) fail(file, base + ".tol", "must be >= 0");
-            } else if (cj.contains("tol")) {
-                fail(file, base + ".tol", "only \"near\" takes a tolerance");
-            }
-            if (cj.contains("abs")) cs.use_abs = boolean(cj["abs"], file, base + ".abs");
-            if (cj.contains("negative_control"))
-                cs.negative_control =
-                    boolean(cj["negative_control"], file, base + ".negative_control");
-            if (cj.contains("note")) cs.note = string_of(cj["note"], file, base + ".note");
-            if (cj.contains("refutes"))
-                cs.refutes = boolean(cj["refutes"], file, base + ".refutes");
-            if (cj.contains("dt")) {
-                if (cs.across_dt_slope)
-                    fail(file, base + ".dt", "\"across_dt\" uses every step size; no dt");
-                const double dt = number(cj["dt"], file, base + ".dt");
-                if (std::find(c.dts.begin(), c.dts.end(), dt) == c.dts.end())
-                    fail(file, base + ".dt", "not one of the case's step sizes");
-                if (diagnostic_is_method_level(diag))
-                    fail(file, base + ".dt", "'" + diag + "' is a per-method metric; no dt");
-                cs.dt = dt;
-            }
-            c.checks.push_back(cs);
-        }
-    }
-
-    // No silent cases: a case without a check says why.
+// No silent cases: a case without a check says why.
+void parse_no_checks(const json& j, const std::string& file, CaseSpec& c) {
     if (j.contains("no_checks_because")) {
         c.no_checks_because = string_of(j["no_checks_because"], file, "no_checks_because");
         if (c.no_checks_because.empty())
@@ -1099,6 +613,65 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
         fail(file, "expect",
              "the case has no check: add one, or say why with \"no_checks_because\": \"...\"");
     }
+}
+
+CaseSpec parse_case_unchecked(const json& input, const std::string& file,
+                              const std::vector<std::string>& overrides, json& applied) {
+    if (!input.is_object()) fail(file, "(top level)", "a case must be a JSON object");
+    CaseSpec c;
+    c.file = file;
+    json j = input;
+    for (const auto& o : overrides) {
+        auto [key, value] = parse_override(o);
+        set_path(j, key, value);
+        c.overrides[key] = value;
+        applied[key] = o.substr(o.find('=') + 1); // as typed (1e400, not inf)
+    }
+    c.raw = j;
+
+    only_keys(j,
+              {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
+               "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
+               "notes", "measures", "no_checks_because"},
+              file, "");
+    for (const char* k : {"id", "problem", "methods", "t_end"})
+        if (!j.contains(k)) fail(file, k, "missing required key");
+
+    c.id = string_of(j["id"], file, "id");
+    if (c.id.empty()) fail(file, "id", "must not be empty");
+    if (!valid_case_id(c.id))
+        fail(file, "id",
+             "'" + brief(c.id) + "' is not a valid case id (at most " +
+                 std::to_string(limits::max_id_length) +
+                 " characters of A-Z a-z 0-9 . _ -, starting with a letter or digit)");
+    if (j.contains("title")) c.title = string_of(j["title"], file, "title");
+    if (j.contains("source")) c.source = string_of(j["source"], file, "source");
+    if (j.contains("notes")) string_of(j["notes"], file, "notes");
+    if (j.contains("suites")) {
+        if (!j["suites"].is_array()) fail(file, "suites", "must be an array of suite names");
+        for (std::size_t i = 0; i < j["suites"].size(); ++i) {
+            const std::string key = "suites[" + std::to_string(i) + "]";
+            const std::string suite = string_of(j["suites"][i], file, key);
+            if (!valid_case_id(suite))
+                fail(file, key,
+                     "'" + brief(suite) +
+                         "' is not a valid suite name (characters of A-Z a-z "
+                         "0-9 . _ -, starting with a letter or digit)");
+            if (std::find(c.suites.begin(), c.suites.end(), suite) != c.suites.end())
+                fail(file, key, "suite '" + suite + "' listed twice");
+            c.suites.push_back(suite);
+        }
+    }
+
+    std::optional<double> forcing_period;
+    const ProblemInfo* prob = parse_problem(j, file, c, forcing_period);
+    parse_methods(j, file, c);
+    parse_time_grid(j, file, c);
+    parse_diagnostics(j, file, c, *prob, forcing_period);
+    parse_sweep(j, file, c);
+    if (j.contains("measures")) parse_measures(j["measures"], *prob, file, c);
+    if (j.contains("expect")) parse_expect(j["expect"], *prob, file, c);
+    parse_no_checks(j, file, c);
     return c;
 }
 
