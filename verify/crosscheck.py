@@ -60,6 +60,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 import time
 from multiprocessing import Pool
@@ -70,6 +71,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import xmethods as xm  # noqa: E402
 import xproblems as xp  # noqa: E402
 import xrun  # noqa: E402
+import xnewton  # noqa: E402
 from refmath import fit_order  # noqa: E402  (our own asymptotic-window fit)
 
 EPS = np.finfo(float).eps
@@ -390,7 +392,9 @@ def metric_stability(method, prob, h):
     b2 = (w - g) * (w + g)
     # exact flow: half trace of e^{hA} = e^{-gh} cos(beta h) (cosh for beta^2 < 0)
     hx = math.exp(-g * h) * (math.cos(math.sqrt(b2) * h) if b2 >= 0 else math.cosh(math.sqrt(-b2) * h))
-    out = dict(det=det, det_expected=dexp, det_rel_err=abs(det - dexp) / dexp, half_trace=float(ht),
+    out = dict(det=det, det_expected=dexp, det_abs_err=abs(det - dexp),
+               det_rel_err=abs(det - dexp) / dexp if dexp >= DBL_MIN
+               else Undef("e^{-2 gamma h} underflows"), half_trace=float(ht),
                half_trace_exact=hx, half_trace_exact_err=abs(ht - hx),
                spectral_radius=float(np.abs(ev).max()), matrix=M.tolist(),
                # power-bounded: rho < 1, or rho = 1 within 8 eps with distinct (non-defective)
@@ -405,7 +409,101 @@ def metric_stability(method, prob, h):
          "csv2": e * ((4 + g * g * h * h) - 2 * h * h * w * w * math.cosh(g * h / 2)) / (4 - g * g * h * h)
          if g * h != 2 else math.nan}.get(method)
     if F is not None:
-        out.update(half_trace_formula=F, half_trace_formula_rel_err=abs(ht - F) / abs(F) if F else abs(ht))
+        # relative form undefined where |f| <= 1e-8 e^{-gamma h} (docs/conventions.md, "Other
+        # relative metrics"): the half trace passes through 0 near a threshold
+        out.update(half_trace_formula=F, half_trace_formula_abs_err=abs(ht - F),
+                   half_trace_formula_rel_err=abs(ht - F) / abs(F) if abs(F) > 1e-8 * e
+                   else Undef("|f| <= 1e-8 e^{-gamma h}"))
+    return out
+
+
+def _component(prob, spec, Z):
+    """The components a measure reads (docs/case-keys.md): state, q, p, q[i], p[i], z[i]."""
+    spec = spec or "state"
+    if spec == "state":
+        return Z
+    if spec == "q":
+        return Z[..., :prob.nq]
+    if spec == "p":
+        return Z[..., prob.nq:]
+    m = re.fullmatch(r"([qpz])\[(\d+)\]", spec)
+    if not m:
+        raise BadInput("measure component '%s' not understood" % spec)
+    i = int(m.group(2)) + (prob.nq if m.group(1) == "p" else 0)
+    return Z[..., i:i + 1]
+
+
+def _grad_norm(fn, Z):
+    """max_n |grad fn(z_n)|_2 by central differences (step 1e-6 |z|; only sizes a floor)."""
+    g2 = np.zeros(len(Z))
+    for i in range(Z.shape[-1]):
+        dz = 1e-6 * np.maximum(1.0, np.abs(Z[:, i]))
+        Zp, Zm = Z.copy(), Z.copy()
+        Zp[:, i] += dz
+        Zm[:, i] -= dz
+        g2 += ((fn(Zp) - fn(Zm)) / (2 * dz)) ** 2
+    return float(np.sqrt(g2.max()))
+
+
+def measures(prob, case, Z, Zr, times, dz):
+    """measure.<name> of docs/case-keys.md: the pointwise error U_n - u(t_n) of a component
+    (Euclidean norm; `rel` divides pointwise by the reference component's norm), or the energy
+    error H(U_n) - H(u(t_n)) (`rel`: by |H(u(t_n))|), reduced over the output grid t_1..t_end
+    (final, max, mean, rms), or `growth`: least-squares slope of log(running maximum from t_1)
+    against log(t - t0) over the grid points t >= from (default t0 + (t_end - t0)/10).
+    Returns {name: (value, floor)}: floor = the value's uncertainty from the state bound dz
+    (propagated pointwise) and the reference estimate, for the comparison and the verdicts."""
+    t0 = float(case.get("t0", 0.0))
+    t_end = float(case.get("t_end", times[-1]))
+    out = {}
+    for name, spec in sorted(case["measures"].items()):
+        qty = spec.get("quantity", "error")
+        rel = spec.get("norm", "abs") == "rel"
+        if qty == "energy-error":
+            Hm, Hr = prob.energy(Z), prob.energy(Zr)
+            e = np.abs(Hm - Hr)
+            fl = dz * max(_grad_norm(prob.energy, Zr), _grad_norm(prob.energy, Z)) \
+                + 8 * EPS * float(np.max(np.abs(Hr)) + np.max(np.abs(Hm)))
+            if rel:
+                den = np.abs(Hr)
+        else:
+            C, Cr = _component(prob, spec.get("component"), Z), _component(prob, spec.get("component"), Zr)
+            e = np.linalg.norm(C - Cr, axis=-1)
+            fl = dz
+            if rel:
+                den = np.linalg.norm(Cr, axis=-1)
+        flp = np.full(len(e), fl)
+        if rel:
+            ok = den >= DBL_MIN
+            e = np.where(ok, e / np.where(ok, den, 1.0), np.nan)
+            flp = np.where(ok, fl / np.where(ok, den, 1.0), np.inf)
+        i1 = slice(1, None) if len(e) > 1 else slice(0, None)
+        over = spec.get("over")
+        ev, fv = e[i1], flp[i1]
+        if over == "final":
+            val, f = float(e[-1]), float(flp[-1])
+        elif over == "max":
+            val, f = float(np.max(ev)), float(np.max(fv))
+        elif over == "mean":
+            val, f = float(np.mean(ev)), float(np.mean(fv))
+        elif over == "rms":
+            val, f = float(np.sqrt(np.mean(ev ** 2))), float(np.max(fv))
+        elif over == "growth":
+            frm = float(spec.get("from", t0 + (t_end - t0) / 10.0))
+            tt = times[i1] - t0
+            run = np.maximum.accumulate(ev)
+            w = times[i1] >= frm * (1 - 1e-12) - 1e-300
+            x, y = np.log(tt[w]), np.log(run[w])
+            val = lsq_slope(x, y)
+            # log of the running max moves by at most floor/value: slope by twice that over the
+            # log-time span (the fit's leverage)
+            f = 2.0 * float(np.max(fv[w] / run[w])) / max(float(x[-1] - x[0]), TINY)
+        else:
+            raise BadInput("measure '%s': over '%s' not understood" % (name, over))
+        if not math.isfinite(val):
+            out[name] = (Undef("reference norm 0 on the grid"), 0.0)
+        else:
+            out[name] = (val, f)
     return out
 
 
@@ -561,6 +659,7 @@ def check_case(case):
                           "rel %.3g%s" % (tol, " (" + floor_note + ")" if floor_note else ""),
                           rel_diff=diff / scale))
         state_bound = tol * scale          # absolute state difference we accept
+        measure_floor = {}
         mm = ours_metrics[(method, dt)]
         # errors on the output grid
         if "error" in metrics or "order" in (case.get("diagnostics") or []):
@@ -603,6 +702,12 @@ def check_case(case):
                 sl = err_slack / (rn[-1] if key.endswith("rel") else 1.0)
                 big = num(th) >= 1000 * max(est, their_est if not math.isnan(their_est) else 0.0, TINY)
                 comps.append(cmp_rel("error." + key, ours, th, TOL_ERR if big else 0.0, abs_floor=sl))
+            if case.get("measures"):
+                # issue 19's named measures (docs/case-keys.md "Measures as the paper states
+                # them") from OUR trajectory and OUR reference on the output grid
+                for name, (val, fl) in measures(prob, case, Z, Zr, times, state_bound + est).items():
+                    mm["measure." + name] = val
+                    measure_floor["measure." + name] = fl
         priv = {}                 # our own round-off bands of metrics (never compared)
         if "local-error" in metrics and prob.exact_available:
             z1 = xrun.integrate(method, prob, dt, 1, t0)["z"]
@@ -702,8 +807,24 @@ def check_case(case):
             mm["cost.max_newton_iters"] = 0
             mm["cost.jac_evals_per_step"] = 0.0
             mm["cost.newton_iters_per_step"] = 0.0
+        cost_range = {}
+        run_counts = {"run.newton_iters", "run.rhs_evals", "run.jac_evals"}
+        wants_counts = "cost" in metrics or any(
+            c_.get("metric") in run_counts and c_.get("method") == method for c_ in case.get("checks") or [])
+        if wants_counts and method in xm.IMPLICIT and xnewton.supported(method):
+            # Newton counts: the range of a stated family of correct solvers (verify/xnewton.py)
+            if mine.get("linear_path") and traj is None:
+                cost_range = xnewton.linear_cost_metrics(method, xnewton._coef(method, prob, dt)[1](t0)[2].size,
+                                                         nsteps)
+            else:
+                tr = traj if traj is not None else xrun.integrate(method, prob, dt, nsteps, t0, record=True)["traj"]
+                cost_range = xnewton.cost_metrics(method, prob, dt, t0, tr)
+            for k, (o, lo, hi) in cost_range.items():
+                mm[k] = o
         ours_metrics[(method, dt)] = mm
         unc = ours_unc.setdefault((method, dt), {})
+        for k, (o, lo, hi) in cost_range.items():
+            unc[k] = max(hi - o, o - lo)      # a threshold inside the family's range is a tie
         band = {}
         if chaotic is not None and chaotic.get("traj") is not None:
             # chaotic run: two of our own runs 4 eps apart diverge; each trajectory metric gets
@@ -778,6 +899,21 @@ def check_case(case):
                     comps.append(comp(key, ours, th, ok, "rel %g + %.2g per entry" % (TOL_METRIC, dfl)))
                 else:
                     comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=dfl))
+                continue
+            if key in cost_range:
+                o, lo, hi = cost_range[key]
+                t_ = num(th)
+                comps.append(comp(key, o, th, lo - 1e-9 <= t_ <= hi + 1e-9,
+                                  "within [%.6g, %.6g]: full to simplified Newton, tests 1e-8 to 1e-15 "
+                                  "(verify/xnewton.py)" % (lo, hi)))
+                continue
+            if key.startswith("measure."):
+                # a measure of the error: rel 1e-6 plus its floor propagated from the state bound
+                # and the reference estimates (as error.*), which is also the verdicts' band
+                fl = measure_floor.get(key, 0.0)
+                unc[key] = fl
+                comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=fl + 1e-300,
+                                     label="rel %g + propagated floor %.2g" % (TOL_METRIC, fl)))
                 continue
             if key.startswith("energy-balance.") and key != "energy-balance.points":
                 unc[key] = eb_floor if key != "energy-balance.max_rel" else eb_floor / max(diss.max(), TINY)
@@ -896,6 +1032,12 @@ def check_case(case):
                     comps.append(comp(key, ours, th, dd <= TOL_STAB * np.abs(M).max(), "abs %g max|M|" % TOL_STAB))
                 elif key == "stability.spectral_radius":
                     comps.append(cmp_rel(key, ours, th, TOL_RHO))
+                elif key in ("stability.det_abs_err", "stability.half_trace_formula_abs_err"):
+                    # |x - f| of two O(e^{-gamma h}) numbers each rounded a few times: factor 2
+                    # or both below 8 eps max(1, |f|) (their round-off floor)
+                    ref_ = abs(num(flat.get("stability.det_expected" if "det" in key else
+                                            "stability.half_trace_formula")))
+                    comps.append(cmp_resid(key, ours, th, slack=8 * EPS * max(1.0, ref_)))
                 elif key in ("stability.det_rel_err", "stability.half_trace_formula_rel_err"):
                     comps.append(cmp_resid(key, ours, th, slack=8 * EPS))   # round-off quantities
                 elif key == "stability.half_trace_exact_err":
