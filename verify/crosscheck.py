@@ -72,6 +72,7 @@ import xmethods as xm  # noqa: E402
 import xproblems as xp  # noqa: E402
 import xrun  # noqa: E402
 import xnewton  # noqa: E402
+import xsweep  # noqa: E402
 from refmath import fit_order  # noqa: E402  (our own asymptotic-window fit)
 
 EPS = np.finfo(float).eps
@@ -505,6 +506,111 @@ def measures(prob, case, Z, Zr, times, dz):
         else:
             out[name] = (val, f)
     return out
+
+
+def sweep_spec(case):
+    """The (gamma, h) grid is an input of the case file (docs/case-keys.md `stability_sweep`),
+    not part of the report: read it from the file the report names, else from verify/cases."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases")
+    cands = [case.get("file") or "", os.path.join(here, os.path.basename(case.get("file") or "")),
+             os.path.join(here, "%s.json" % case["id"])]
+    for path in cands:
+        if path and os.path.isfile(path):
+            try:
+                with open(path) as fh:
+                    c = json.load(fh)
+            except (OSError, ValueError):
+                continue
+            if c.get("id") == case["id"] and c.get("stability_sweep"):
+                return c["stability_sweep"]
+    return None
+
+
+def _in_range(v, rng):
+    """rng = [ours, lo, hi] of a first-failure step (None = no failure = beyond the grid)."""
+    big = math.inf
+    val = big if v is None else float(v)
+    lo, hi = (big if x is None else x for x in (rng[1], rng[2]))
+    return min(lo, hi) * (1 - 1e-12) <= val <= max(lo, hi) * (1 + 1e-12) or val == rng[0]
+
+
+def compare_sweep(ours, theirs, comps, mine, unc):
+    """Sweep metrics (verify/xsweep.py): counts agree within the number of round-off ties, first
+    failure steps within the range ties allow, F's formula boundary exactly, the half-trace
+    error rel 1e-9 + 1e-13 (M's entries carry a few eps of rounding), the grid exactly."""
+    for k, v in theirs.items():
+        if isinstance(v, str):
+            continue
+        if k in ("grid",):
+            comps.append(comp("stability-sweep.grid", ours["grid"], v, ours["grid"] == v, "equal"))
+        elif k == "omega":
+            continue                       # an input (the case's stability_sweep.omega)
+        elif k in ("rows", "first_row"):
+            rows_t = v if k == "rows" else [v]
+            rows_o = ours["rows"] if k == "rows" else [ours["first_row"]]
+            ok, worst = len(rows_t) == len(rows_o), ""
+            for ro, rt in zip(rows_o, rows_t):
+                if abs(ro["gamma"] - num(rt.get("gamma"))) > 1e-12 * max(1.0, abs(ro["gamma"])):
+                    ok, worst = False, "gamma %s" % rt.get("gamma")
+                for kk in ("h_F_empirical", "h_power_unbounded", "h_F_formula"):
+                    if kk in rt and kk in ro and not _in_range(rt[kk], ro[kk]):
+                        ok, worst = False, "%s at gamma %g: ours %s, theirs %s" % (kk, ro["gamma"], ro[kk][0], rt[kk])
+                if "max_half_trace_err" in rt and rt["max_half_trace_err"] is not None:
+                    a, b = ro["max_half_trace_err"], num(rt["max_half_trace_err"])
+                    if not abs(a - b) <= 1e-9 * abs(b) + 1e-13:
+                        ok, worst = False, "max_half_trace_err at gamma %g: %r vs %r" % (ro["gamma"], a, b)
+            comps.append(comp("stability-sweep.%s" % k, "%d rows" % len(rows_o), "%d rows" % len(rows_t), ok,
+                              "first failures within the ties' range, h_F_formula equal, max_half_trace_err "
+                              "rel 1e-9 + 1e-13", note=worst))
+            if k == "first_row":
+                for kk in ("h_F_empirical", "h_power_unbounded"):
+                    rng = ours["first_row"][kk]
+                    if rng[0] is not None:
+                        mine["stability-sweep.first_row." + kk] = rng[0]
+                        unc["stability-sweep.first_row." + kk] = max(
+                            abs((x if x is not None else rng[0]) - rng[0]) for x in rng)
+                mine["stability-sweep.first_row.gamma"] = ours["first_row"]["gamma"]
+        elif k in ours:
+            o, ties = ours[k]
+            t_ = num(v)
+            comps.append(comp("stability-sweep." + k, o, v, abs(o - t_) <= ties,
+                              "equal within %d round-off tie points" % ties))
+            mine["stability-sweep." + k] = o
+            unc["stability-sweep." + k] = ties
+        else:
+            comps.append(comp("stability-sweep." + k, "not computed", v, False, "metric unknown to us"))
+
+
+def compare_trace_taylor(method, prob, case, theirs, comps, mine, unc):
+    """h^4 coefficient (verify/xsweep.trace_taylor, at h = the case's first step size): ours is
+    extrapolated to ~1e-6; the report's estimate may carry the truncation of any estimator at
+    step sizes <= h, which the band bounds.  Expected: docs/conventions.md §5's magnitudes."""
+    w, g = prob.w, prob.g
+    h = float((case.get("dt_ladder") or [case["runs"][0]["dt"]])[0])
+    c, band = xsweep.trace_taylor(method, w, g, h)
+    exp_ = {"cimp": (w * w - g * g) ** 2 / 12, "csv1": w * w * (w * w + 4 * g * g) / 24,
+            "csv2": (2 * w ** 4 + 5 * g * g * w * w - 4 * g ** 4) / 48}.get(method)
+    vals = {"h4_coeff": (c, band)}
+    if exp_ is not None:
+        exp_ = abs(exp_)
+        vals["h4_coeff_expected"] = (exp_, 1e-12 * exp_)
+        vals["h4_coeff_abs_err"] = (abs(c - exp_), band)
+        vals["h4_coeff_rel_err"] = ((abs(c - exp_) / exp_, band / exp_) if exp_ > 0
+                                    else (Undef("expected coefficient 0"), 0.0))
+    for k, v in theirs.items():
+        if isinstance(v, str) or k == "undefined":
+            continue
+        key = "trace-taylor." + k
+        if k not in vals:
+            comps.append(comp(key, "not computed", v, False, "metric unknown to us"))
+            continue
+        o, b = vals[k]
+        mine[key], unc[key] = o, b
+        if v is None or isinstance(o, Undef):
+            comps.append(comp(key, repr(o), v, (v is None) == isinstance(o, Undef), "both undefined, or both defined"))
+            continue
+        comps.append(comp(key, o, v, abs(o - num(v)) <= b, "abs %.3g: truncation of a step-size-h estimate "
+                          "plus round-off" % b if k != "h4_coeff_expected" else "rel 1e-12"))
 
 
 # ---------------------------------------------------------------------------------------
@@ -1127,6 +1233,29 @@ def check_case(case):
         for d in errs:
             ours_metrics.setdefault((method, d), {})["local-order.slope"] = fit.get("slope")
         ours_metrics.setdefault((method, None), {})["local-order.slope"] = fit.get("slope")
+
+    # stability sweep and trace-taylor (method-level): from OUR one-step matrices (verify/xsweep.py)
+    for method, mmd in sorted((case.get("method_metrics") or {}).items()):
+        for diag in ("stability-sweep", "trace-taylor"):
+            theirs = (mmd or {}).get(diag)
+            if theirs is None:
+                continue
+            rec = dict(case=cid, method=method + " (%s)" % diag, comparisons=[], notes=[])
+            orders_out.append(rec)
+            mine_ = ours_metrics.setdefault((method, None), {})
+            unc_ = ours_unc.setdefault((method, None), {})
+            if not isinstance(prob, xp.Oscillator) or method not in xm.METHODS:
+                rec.update(verdict="not reproduced", reason="%s needs the oscillator and a known method" % diag)
+                continue
+            if diag == "stability-sweep":
+                spec = sweep_spec(case)
+                if spec is None:
+                    rec.update(verdict="not reproduced", reason="case file with `stability_sweep` not found")
+                    continue
+                compare_sweep(xsweep.sweep(method, spec), theirs, rec["comparisons"], mine_, unc_)
+            else:
+                compare_trace_taylor(method, prob, case, theirs, rec["comparisons"], mine_, unc_)
+            rec["verdict"] = "agree" if all(c_["agree"] for c_ in rec["comparisons"]) else "disagree"
 
     # every check's verdict from OUR value
     for chk in case.get("checks") or []:
