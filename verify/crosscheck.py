@@ -298,7 +298,7 @@ def poincare_metrics(prob, traj, dt, Zref):
         return np.hypot(dq, A[..., 1] - B[..., 1])
     pw = dist(S2, R2)
     D = dist(S2[:, None, :], R2[None, :, :])
-    return dict(sections=n, transient_skipped=skip, pointwise_final=float(pw[-1]),
+    return dict(_pairs=D, sections=n, transient_skipped=skip, pointwise_final=float(pw[-1]),
                 pointwise_max=float(pw.max()), set_mean=float(D.min(axis=1).mean()),
                 set_hausdorff=float(max(D.min(axis=1).max(), D.min(axis=0).max())))
 
@@ -864,7 +864,7 @@ def check_case(case):
                 ts = t0 + dt * np.arange(0, nsteps + 1, stride)
                 Zs, _, _ = reference_states(prob, case, ts)
                 for k, v in poincare_metrics(prob, traj, dt, Zs).items():
-                    mm["poincare." + k] = v
+                    (priv if k.startswith("_") else mm)["poincare." + k] = v
             if "dissipation-drift" in metrics and prob.nq == 1:
                 dd = dissipation_drift(prob, traj, t0, dt)
                 for k, v in dd.items():
@@ -948,7 +948,8 @@ def check_case(case):
                 stride = int(round(prob.forcing_period / dt))
                 Zs, _, _ = reference_states(prob, case, t0 + dt * np.arange(0, nsteps + 1, stride))
                 alt.update({"poincare." + k: v for k, v in poincare_metrics(prob, T2, dt, Zs).items()
-                            if k not in ("sections", "transient_skipped")})
+                            if k not in ("sections", "transient_skipped", "_pairs")})
+                priv["poincare._alt_hausdorff"] = alt["poincare.set_hausdorff"]
             if "momentum" in metrics and hasattr(prob, "linear_momentum"):
                 for kk, vals in metric_momentum(prob, T2, dt, method).items():
                     alt.update({"momentum.%s.%s" % (kk, k): v for k, v in vals.items()})
@@ -984,11 +985,34 @@ def check_case(case):
                 continue
             ours = mm[key]
             if chaotic is not None and key in ("poincare.pointwise_final", "poincare.pointwise_max",
-                                               "poincare.set_hausdorff"):
-                # chaotic run: single-point and extreme-value distances to a reference that is
-                # itself O(1) off pointwise (the report's own estimate says so) are not reproducible
-                rec["notes"].append("metric %s not reproducible for a chaotic run" % key)
-                rec.setdefault("not_reproduced", []).append(key + " (chaotic)")
+                                               "poincare.set_hausdorff") and "poincare._pairs" in priv:
+                # chaotic run: the trajectory and the reference decorrelate (the report's own
+                # certified estimate is O(100)), so a pointwise distance after the transient is a
+                # random draw from the distances between two independent points of the attractor.
+                # Their distribution is estimated by ALL pairs (our section i, our reference's
+                # section j), n^2 ~ 7e4 draws; a statistic agrees when it is inside the range that
+                # distribution gives it (a statistical comparison, never pointwise):
+                #   pointwise_final: one draw, inside [min, max] of the pair distances;
+                #   pointwise_max: the maximum of n draws, between the 1e-3 quantile of that
+                #     maximum (F^{-1}(1e-3^{1/n}), F the pairs' distribution) and the largest pair;
+                #   set_hausdorff: the largest gap between two n-point samples of one attractor,
+                #     an extreme value: within a factor 2 of the range over our own ensemble
+                #     (our run and our run perturbed by 4 eps, each against our reference).
+                D = np.sort(priv["poincare._pairs"].ravel())
+                nsec = priv["poincare._pairs"].shape[0]
+                t_ = num(th)
+                if key.endswith("pointwise_final"):
+                    lo, hi, why = float(D[0]), float(D[-1]), "one draw of the attractor's pair distances"
+                elif key.endswith("pointwise_max"):
+                    q = 1e-3 ** (1.0 / nsec)
+                    lo, hi = float(D[min(len(D) - 1, int(q * len(D)))]), float(D[-1])
+                    why = "max of %d draws: [1e-3 quantile, largest pair]" % nsec
+                else:
+                    ens = [float(ours), float(priv.get("poincare._alt_hausdorff", ours))]
+                    lo, hi, why = 0.5 * min(ens), 2.0 * max(ens), "factor 2 around our ensemble %s" % ens
+                comps.append(comp(key, ours, th, lo <= t_ <= hi, "statistical, chaotic run: in [%.4g, %.4g] (%s)"
+                                  % (lo, hi, why)))
+                unc[key] = max(hi - float(ours), float(ours) - lo)
                 continue
             if key.startswith("dissipation-drift.") and key.split(".")[-1] in ("first", "last", "slope",
                                                                                 "range", "slope_minus_reference",
