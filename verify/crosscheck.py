@@ -919,7 +919,12 @@ def check_case(case):
             c_.get("metric") in run_counts and c_.get("method") == method for c_ in case.get("checks") or [])
         if wants_counts and method in xm.IMPLICIT and xnewton.supported(method):
             # Newton counts: the range of a stated family of correct solvers (verify/xnewton.py)
-            if mine.get("linear_path") and traj is None:
+            if method == "glm4":
+                gy = mine.get("glm_y")
+                if gy is None:
+                    gy = xrun.integrate(method, prob, dt, nsteps, t0, record=True).get("glm_y")
+                cost_range = xnewton.glm_cost_metrics(prob, dt, t0, gy)
+            elif mine.get("linear_path") and traj is None:
                 cost_range = xnewton.linear_cost_metrics(method, xnewton._coef(method, prob, dt)[1](t0)[2].size,
                                                          nsteps)
             else:

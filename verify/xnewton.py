@@ -54,7 +54,7 @@ def _coef(method, prob, h):
     return None, None
 
 
-SUPPORTED = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "cimp", "glifrk1",
+SUPPORTED = {"glm4", "implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "cimp", "glifrk1",
              "glifrk2", "glifrk3", "etdrk2"}
 
 
@@ -110,7 +110,25 @@ def iteration_updates(method, prob, h, t0, traj, full=True):
         Z = Z - dZ
         with np.errstate(invalid="ignore", divide="ignore"):
             U[it] = np.max(np.abs(dZ), axis=(1, 2)) / np.maximum(np.max(np.abs(Z), axis=(1, 2)), 1e-300)
+        if _all_done(U, it):
+            break
     return U, s
+
+
+def _all_done(U, it):
+    """Every step has met the round-off test by iteration it (0-based): later rows are set to
+    0 (no further update counts), which changes no count of the family."""
+    if it < 2:
+        return False
+    stop = np.zeros(U.shape[1], bool)
+    for k in range(it + 1):
+        stop |= U[k] <= 2 * EPS
+        if k >= 2:
+            stop |= (U[k] >= 0.5 * U[k - 1]) & (U[k] <= 1e-11)
+    if stop.all() and np.all(np.min(U[:it + 1], axis=0) <= 1e-12):
+        U[it + 1:] = 0.0
+        return True
+    return False
 
 
 def _count(U, tau):
@@ -171,4 +189,67 @@ def linear_cost_metrics(method, s, n):
         "run.newton_iters": (it * n, it * n, it * n),
         "run.rhs_evals": (s * it * n, s * it * n, s * (it + 1) * n),
         "run.jac_evals": (s * it * n, s * n, s * it * n),
+    }
+
+
+def _stage_updates(f, t, base, ha, full):
+    """Newton on y = base + ha f(t, y) for a batch of steps (N, d) from the predictor y = base:
+    (relative updates (MAX_IT, N), converged y, f(y))."""
+    N, d = base.shape
+    y = base.copy()
+    U = np.empty((MAX_IT, N))
+    Minv = None
+    eye = np.eye(d)
+    for it in range(MAX_IT):
+        R = y - base - ha * f(t, y)
+        if full or Minv is None:
+            Minv = np.linalg.inv(eye - ha * _jac_batch(f, t, y))
+        dy = np.einsum("nab,nb->na", Minv, R)
+        y = y - dy
+        with np.errstate(invalid="ignore", divide="ignore"):
+            U[it] = np.max(np.abs(dy), axis=1) / np.maximum(np.max(np.abs(y), axis=1), 1e-300)
+        if _all_done(U, it):
+            break
+    return U, y, f(t, y)
+
+
+def glm_cost_metrics(prob, h, t0, Y):
+    """Butcher's GLM (BS; xmethods.GLM): two diagonally implicit stages solved one after the
+    other, each by the same family of Newton solvers as above; Y = OUR y^[n] (steps + 1, 2, d).
+    Stage 2's equation uses stage 1's converged slope.  Counts are the sums over both stages
+    (the upper end also counts the starting method's two stages in the first step);
+    evaluations: one f per stage iteration (+ one per stage at the end), Jacobians from one per
+    stage (frozen) to one per iteration."""
+    Yn = np.asarray(Y[:-1], float)
+    N = Yn.shape[0]
+    t = (t0 + h * np.arange(N))[:, None]
+    Yp = np.einsum("ij,njd->nid", xm.GLM_U, Yn)
+    A = xm.GLM_A
+    res = {}
+    for full in (True, False):
+        U1, _, K1 = _stage_updates(prob.f, t, Yp[:, 0], h * A[0, 0], full)
+        U2, _, _ = _stage_updates(prob.f, t, Yp[:, 1] + h * A[1, 0] * K1, h * A[1, 1], full)
+        res[full] = (U1, U2)
+    mid = sum(_count(U, 1e-12) for U in res[True])
+    lo = sum(_count(U, 1e-8) for U in res[True])
+    hi = np.maximum(sum(_count_roundoff(U) for U in res[True]), sum(_count_roundoff(U) for U in res[False]))
+    # the starting method (BS: its two stages from y_0, predictor y_0) may be counted in the
+    # first step or not: the upper end counts it
+    y0 = Yn[:1, 0]
+    st = 0
+    for full in (True, False):
+        A0 = xm.GLM_A0
+        U1, _, K1 = _stage_updates(prob.f, t[:1], y0, h * A0[0, 0], full)
+        U2, _, _ = _stage_updates(prob.f, t[:1], y0 + h * A0[1, 0] * K1, h * A0[1, 1], full)
+        st = max(st, int(_count_roundoff(U1)[0] + _count_roundoff(U2)[0]))
+    hi = hi.copy()
+    hi[0] += st
+    return {
+        "cost.newton_iters_per_step": (mid.mean(), lo.mean(), hi.mean()),
+        "cost.max_newton_iters": (int(mid.max()), int(lo.max()), int(hi.max())),
+        "cost.rhs_evals_per_step": (mid.mean(), lo.mean(), hi.mean() + 2),
+        "cost.jac_evals_per_step": (mid.mean(), 2.0, hi.mean()),
+        "run.newton_iters": (int(mid.sum()), int(lo.sum()), int(hi.sum())),
+        "run.rhs_evals": (int(mid.sum()), int(lo.sum()), int(hi.sum()) + 2 * N),
+        "run.jac_evals": (int(mid.sum()), 2 * N, int(hi.sum())),
     }
