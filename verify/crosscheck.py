@@ -53,6 +53,23 @@ Tolerances (each justified in one line):
   stability       det, half_trace rel 1e-12 (a few roundings of a 2x2 product); entries 1e-12
                   max|M|; spectral radius rel 1e-7 (eigenvalues of a near-defective M move like
                   sqrt(eps)).
+  stability *_abs_err  |det M - e^{-2 gamma h}|, |1/2 tr M - f|: factor 2 or both <= 8 eps
+                  max(1, |f|) (two O(1) numbers each rounded a few times).
+  measure.*       rel 1e-6 plus the floor propagated pointwise from the state bound and the
+                  reference estimates (energy errors: times max |grad H| on the grid, + 8 eps |H|;
+                  growth slopes: twice the largest floor/value over the log-time span).
+  Newton counts   cost.* and run.{newton_iters,rhs_evals,jac_evals} of implicit methods: inside the
+                  range of a stated family of correct solvers (full to simplified Newton, tests
+                  from 1e-8 ~ sqrt(eps) down to our round-off test; verify/xnewton.py), because a
+                  count depends on the solver variant and on round-off in the last update.
+  stability sweep counts within the number of round-off tie points (|1/2 tr M| within 16 eps of
+                  e^{-gamma h}, rho within 16 eps of 1); first-failure steps within the range the
+                  ties allow; F's formula boundary exactly; max_half_trace_err rel 1e-9 + 1e-13.
+  trace-taylor    h4_coeff and its errors within the truncation of a step-size-h estimate plus
+                  round-off (our value is extrapolated to ~1e-6; verify/xsweep.py); expected rel 1e-12.
+  chaotic Poincare pointwise_final/pointwise_max/set_hausdorff: statistical (the trajectories
+                  decorrelate): inside the range the attractor's pair-distance distribution gives
+                  one draw / the maximum of n draws; Hausdorff within a factor 2 of our ensemble.
   check verdicts  recomputed from OUR value with the check's op/expected; must equal `passed`.
 Exit 0 all agree, 1 any disagreement, 2 bad input.
 """
