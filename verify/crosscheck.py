@@ -948,7 +948,7 @@ def check_case(case):
                 if gy is None:
                     gy = xrun.integrate(method, prob, dt, nsteps, t0, record=True).get("glm_y")
                 cost_range = xnewton.glm_cost_metrics(prob, dt, t0, gy)
-            elif mine.get("linear_path") and traj is None:
+            elif mine.get("linear_path"):
                 cost_range = xnewton.linear_cost_metrics(method, xnewton._coef(method, prob, dt)[1](t0)[2].size,
                                                          nsteps)
             else:
