@@ -845,7 +845,7 @@ def check_case(case):
             la = float(np.linalg.norm(z1 - ze))
             nze = float(np.linalg.norm(ze))
             # one step and the exact value are each rounded to a few eps |z|: floor 8 eps |z| plus
-            # our exact solution's estimate (the rigid body's is a DOP853 solve)
+            # our exact solution's estimate (the rigid body's: the phase round-off of its elliptic closed form)
             priv["local-error.floor"] = 8 * EPS * nze + getattr(prob, "exact_estimate", 0.0)
             priv["local-error.norm"] = nze
             mm["local-error.abs"] = la
