@@ -229,7 +229,8 @@ std::vector<std::string> metric_names(const std::string& diagnostic,
         return out;
     }
     if (diagnostic == "conformal-symplectic")
-        return {"max_rel", "last_rel", "max_abs", "last_abs", "steps_measured"};
+        return {"max_rel",  "last_rel",       "max_abs",
+                "last_abs", "steps_measured", "rel_undefined_steps"};
     if (diagnostic == "energy-balance")
         return {"max", "last", "mean", "max_rel", "max_rate", "points"};
     if (diagnostic == "poincare")
