@@ -556,8 +556,8 @@ private:
             if (st.max_rel_step == 0)
                 for (const char* key : {"max_rel", "last_rel"})
                     set_undefined(out, key,
-                                  "e^{-2 dGamma} per step is not representable in double "
-                                  "(dGamma > ~709 per step) at every measured step");
+                                  "e^{-2 dGamma} per step is below the double range "
+                                  "(dGamma > ~354 per step) at every measured step");
         }
         return out;
     }
