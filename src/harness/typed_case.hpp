@@ -322,6 +322,9 @@ private:
                 } else {
                     e = (u.segment(m.first, m.count) - ref.segment(m.first, m.count)).norm();
                     scale = ref.segment(m.first, m.count).norm();
+                    // as error.max_rel: the reference cannot resolve a relative error below
+                    // 100 times its certified error estimate
+                    floor = std::max(floor, 100.0 * ref_error_);
                 }
                 // relative to a reference that is not resolved: undefined (never a huge ratio)
                 if (m.relative && !(scale > floor)) return std::numeric_limits<double>::quiet_NaN();
