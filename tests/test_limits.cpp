@@ -371,7 +371,7 @@ TEST_CASE("limits: I/O errors exit 3 from the executable with one message", "[li
     TempDir dir;
     copy_data("cases/cli-pass.json", dir.path());
     write_text(dir / "a-file", "x");
-    for (const std::string out : {std::string("/proc/x"), (dir / "a-file").string()}) {
+    for (const std::string& out : {std::string("/proc/x"), (dir / "a-file").string()}) {
         const pid_t pid =
             spawn({"run", (dir / "cli-pass.json").string(), "--out", out}, dir.path());
         INFO(out);

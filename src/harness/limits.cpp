@@ -118,7 +118,10 @@ double parse_memory_size(const std::string& text) {
     if (end == text.c_str() || errno == ERANGE || !std::isfinite(x) || !(x > 0.0))
         throw InputError(what);
     std::string suffix(end);
-    if (suffix.size() == 2 && (suffix[1] == 'B' || suffix[1] == 'b')) suffix.pop_back();
+    if (suffix.size() == 3 && suffix.substr(1) == "iB") // KiB, MiB, ...
+        suffix.resize(1);
+    else if (suffix.size() == 2 && (suffix[1] == 'B' || suffix[1] == 'b')) // KB, MB, ...
+        suffix.pop_back();
     double scale = 1.0;
     if (suffix.empty() || suffix == "B" || suffix == "b")
         scale = 1.0;
