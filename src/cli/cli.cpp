@@ -3,6 +3,7 @@
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
+#include "harness/limits.hpp"
 #include "harness/progress.hpp"
 #include "harness/provenance.hpp"
 #include "harness/registry.hpp"
@@ -627,12 +628,14 @@ int finish_report(const json& report, const OutputOptions& o, std::ostream& out,
 }
 
 int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_budget,
-            const std::vector<std::string>& sets, const std::string& cases_dir,
-            const std::vector<std::string>& command_line, std::ostream& out, std::ostream& err) {
+            const CliLimits& limits, const std::vector<std::string>& sets,
+            const std::string& cases_dir, const std::vector<std::string>& command_line,
+            std::ostream& out, std::ostream& err) {
     for (const auto& s : sets) parse_override(s); // usage errors before any work
     const Selected selected = select_cases(sel, sets, cases_dir, true, true);
     check_output_dir(o.out_dir); // an unwritable --out fails before any case runs (exit 3)
     if (!o.junit.empty()) check_output_file(o.junit);
+    before_run(selected.cases, jobs, limits); // memory limit, SIGINT/SIGTERM (harness/limits.hpp)
     for (const auto& c : selected.cases) {
         const double secs = case_predicted_seconds(c);
         if (secs < 10.0) continue;
@@ -647,7 +650,8 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     json report;
     {
         ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
-        report = run_cases(selected.cases, RunOptions{jobs, time_budget}, progress.callback());
+        report = run_cases(selected.cases, RunOptions{jobs, time_budget, limits.case_timeout},
+                           progress.callback());
     }
     report["provenance"] = make_provenance(command_line, jobs, start);
     if (selected.shard)
@@ -655,7 +659,8 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                          {"count", selected.shard->count},
                                          {"source", selected.shard->source},
                                          {"selected", selected.all_ids}};
-    return finish_report(report, o, out, err);
+    mark_interrupted(report);
+    return exit_status_after_run(finish_report(report, o, out, err));
 }
 
 json read_report(const std::string& arg) {
@@ -713,7 +718,9 @@ int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs
 
 const char* kExitCodes = "Exit status: 0 all checks passed (compare: nothing moved), 1 a check "
                          "failed (compare: something moved), 2 bad input or usage (one line naming "
-                         "the file and key), 3 internal or I/O error (e.g. an unwritable --out).";
+                         "the file and key; also a case above --max-memory), 3 internal or I/O "
+                         "error (e.g. an unwritable --out), 130/143 stopped by SIGINT/SIGTERM "
+                         "(report of what finished written, marked interrupted).";
 
 } // namespace
 
@@ -781,6 +788,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                     "seconds of timed repetitions per run of a step ladder (work-precision; "
                     "0 = off; default 0.02)")
         ->check(CLI::Range(0.0, 60.0));
+    CliLimits limits;
+    add_limit_options(*run, limits); // --case-timeout, --max-memory (harness/limits.hpp)
     run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")
         ->take_all();
     run->add_option("--annotations", oo.annotations,
@@ -876,7 +885,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     try {
         if (*list) return cmd_list(list_json, sel, cases_dir, out);
         if (*run)
-            return cmd_run(sel, oo, jobs, time_budget, sets, cases_dir, command_line, out, err);
+            return cmd_run(sel, oo, jobs, time_budget, limits, sets, cases_dir, command_line, out,
+                           err);
         if (*compare) return cmd_compare(cmp_base, cmp_new, copt, cmp_json, out);
         if (*merge) return cmd_merge(merge_out, merge_in, oo, command_line, out, err);
         if (*methods_cmd) return cmd_methods(methods_check, methods_json, out);

@@ -16,6 +16,9 @@ struct RunOptions {
     // the measured run, one warm-up of the bare step loop, then the minimum of N repetitions with
     // N chosen so that the repetitions take >= time_budget seconds in total. 0 switches it off.
     double time_budget = 0.02;
+    // Time budget of each case in seconds (--case-timeout; a case's timeout_seconds wins; 0 =
+    // none): src/harness/limits.hpp.
+    double case_timeout = 0.0;
 };
 
 // Returns the report: {"schema_version", "tool", "cases": [...], "summary": {...}}.
