@@ -67,9 +67,14 @@ public:
     virtual json finish() = 0;
     // Work-precision timing of ladder runs (RunOptions::time_budget; 0 = off).
     void set_time_budget(double seconds) { time_budget_ = seconds; }
+    // Figures hook (issue 14): with --figures the runs keep time series (harness/figure_series.hpp)
+    // and series() returns them after finish(); without, nothing is kept and series() is null.
+    void set_figures(bool on) { figures_ = on; }
+    virtual json series() { return nullptr; }
 
 protected:
     double time_budget_ = 0.0;
+    bool figures_ = false;
 };
 
 // Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000

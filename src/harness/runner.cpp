@@ -224,6 +224,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         std::unique_ptr<detail::CaseJob> job;
         job = make_case(c, std::make_integer_sequence<int, kShards>{});
         job->set_time_budget(options.time_budget);
+        job->set_figures(static_cast<bool>(options.series_sink)); // figures hook (issue 14)
         jobs.push_back(std::move(job));
     }
     // Progress: every task is attributed to its case; a case is done when its last task is.
@@ -270,6 +271,8 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
 
     json out_cases = json::array();
     for (auto& j : jobs) out_cases.push_back(j->finish());
+    if (options.series_sink) // figures hook (issue 14)
+        for (auto& j : jobs) options.series_sink(j->series());
     json timings_cases = take_timings(out_cases);
     json summary = summarize(out_cases);
     return {{"schema_version", kReportSchemaVersion},
