@@ -223,7 +223,7 @@ def series_panels(series):
             for k in sorted(keys):
                 if k.startswith(pre) and k.endswith(post):
                     inv = k[len(pre):-len(post)]
-                    out.append((k, label.format(inv=inv), scale))
+                    out.append((k, label.replace("{inv}", inv), scale))
         elif pat in keys:
             out.append((pat, label, scale))
     return out
