@@ -2,6 +2,7 @@
 
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
+#include "harness/figures.hpp"
 #include "harness/junit.hpp"
 #include "harness/limits.hpp"
 #include "harness/progress.hpp"
@@ -609,6 +610,7 @@ struct OutputOptions {
     std::string junit;       // "" = none
     std::string annotations; // "" or "github"
     bool quiet = false;
+    bool figures = false; // run --figures (issue 14, harness/figures.hpp)
 };
 
 // Writes the reports and prints the summary; returns the exit status of the checks.
@@ -650,8 +652,9 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     json report;
     {
         ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
-        report = run_cases(selected.cases, RunOptions{jobs, time_budget, limits.case_timeout},
-                           progress.callback());
+        RunOptions ro{jobs, time_budget, limits.case_timeout};
+        if (o.figures) ro.series_sink = series_file_sink(o.out_dir); // figures hook (issue 14)
+        report = run_cases(selected.cases, ro, progress.callback());
     }
     report["provenance"] = make_provenance(command_line, jobs, start);
     if (selected.shard)
@@ -660,7 +663,14 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                          {"source", selected.shard->source},
                                          {"selected", selected.all_ids}};
     mark_interrupted(report);
-    return exit_status_after_run(finish_report(report, o, out, err));
+    const int status = exit_status_after_run(finish_report(report, o, out, err));
+    if (o.figures && report.value("interrupted", false) == false) {
+        // figures hook (issue 14): draw, then report.md again with the figures
+        if (make_figures(o.out_dir, jobs, err) != 0) return 3;
+        if (!o.quiet)
+            out << "Figures: " << o.out_dir << "/figures/, " << o.out_dir << "/figures.md\n";
+    }
+    return status;
 }
 
 json read_report(const std::string& arg) {
@@ -796,6 +806,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                     "github: print ::error lines for failing checks")
         ->check(CLI::IsMember({"github"}));
     run->add_flag("--quiet,-q", oo.quiet, "only errors and the final totals line");
+    run->add_flag("--figures", oo.figures,
+                  "keep time series (DIR/series/) and draw the figures into DIR/figures/, "
+                  "embedded in report.md (docs/reports.md)");
     run->footer(
         "\nExamples:\n"
         "  dampsym run                                   default suite into reports/\n"
@@ -810,6 +823,15 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         "between runs of the same build. GITHUB_STEP_SUMMARY, if set, gets totals and "
         "failures.\n\n" +
         std::string(kExitCodes));
+
+    // Figures (issue 14, harness/figures.hpp): draw the figures of an existing report directory.
+    auto* plot = app.add_subcommand(
+        "plot", "draw the figures of a report directory (REPORT_DIR/figures/, report.md, "
+                "figures.md); time series only if it was run with --figures");
+    std::string plot_dir;
+    int plot_jobs = 2;
+    plot->add_option("REPORT_DIR", plot_dir, "directory holding report.json")->required();
+    plot->add_option("--jobs,-j", plot_jobs, "figure processes")->check(CLI::Range(1, 256));
 
     auto* compare = app.add_subcommand(
         "compare", "compare two reports: final states, metrics, order fits, check verdicts");
@@ -872,9 +894,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                 continue;
             }
             if (a.empty() || a[0] == '-') continue;
-            if (a != "list" && a != "run" && a != "methods") {
+            if (a != "list" && a != "run" && a != "methods" && a != "plot") {
                 err << "dampsym: unknown subcommand '" << brief(a)
-                    << "' (known: list, run, methods; dampsym --help)\n";
+                    << "' (known: list, run, methods, plot; dampsym --help)\n";
                 return 2;
             }
             break;
@@ -883,6 +905,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         return 2;
     }
     try {
+        if (*plot) return make_figures(plot_dir, plot_jobs, err); // issue 14
         if (*list) return cmd_list(list_json, sel, cases_dir, out);
         if (*run)
             return cmd_run(sel, oo, jobs, time_budget, limits, sets, cases_dir, command_line, out,

@@ -1,5 +1,6 @@
 #include "harness/report.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -44,10 +45,15 @@ std::string check_line(const json& ck) {
     if (ck.value("abs", false)) expected = "|x| " + expected;
     os << "| " << (ck["passed"].get<bool>() ? "pass" : "**FAIL**") << " | "
        << ck["name"].get<std::string>()
-       << (ck["negative_control"].get<bool>() ? " (negative control)" : "") << " | "
-       << ck["method"].get<std::string>() << " | " << (ck.contains("dt") ? num(ck["dt"]) : "")
-       << " | `" << ck["metric"].get<std::string>() << "` | " << num(ck["value"], 6) << " | "
-       << expected << " | " << (ck.contains("message") ? ck["message"].get<std::string>() : "")
+       // the label once: many check names already say "(negative control)"
+       << (ck["negative_control"].get<bool>() &&
+                   ck["name"].get<std::string>().find("negative control") == std::string::npos
+               ? " (negative control)"
+               : "")
+       << " | " << ck["method"].get<std::string>() << " | "
+       << (ck.contains("dt") ? num(ck["dt"]) : "") << " | `" << ck["metric"].get<std::string>()
+       << "` | " << num(ck["value"], 6) << " | " << expected << " | "
+       << (ck.contains("message") ? ck["message"].get<std::string>() : "")
        << (ck.value("refutes", false) ? " (passing refutes the paper's claim)" : "")
        << (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "") << " |\n";
     return os.str();
@@ -373,6 +379,52 @@ const json* run_timing(const json& report, std::size_t case_index, std::size_t r
 }
 
 std::string render_markdown(const json& report) {
+    return render_markdown(report, json());
+}
+
+namespace {
+
+// A table folded in <details> when it is long (more than `fold_rows` lines), else as it is.
+std::string folded(const std::string& table, const std::string& summary, int fold_rows = 12) {
+    int lines = 0;
+    for (char ch : table) lines += ch == '\n';
+    if (lines <= fold_rows) return table;
+    return "\n<details><summary>" + summary + " (" + std::to_string(lines) + " lines)</summary>\n" +
+           table + "\n</details>\n";
+}
+
+std::string anchor_of(const std::string& id) {
+    std::string a = "case-";
+    for (char ch : id) a += (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-') ? ch : '-';
+    return a;
+}
+
+// Overview (issue 14): one row per case, failing cases first, with a link to its section.
+void overview_table(std::ostringstream& os, const json& report,
+                    const std::vector<std::size_t>& order) {
+    os << "\n| case | verdict | checks passed | failed | runs | time s | paper |\n"
+          "|---|---|---|---|---|---|---|\n";
+    for (const std::size_t ci : order) {
+        const json& c = report["cases"][ci];
+        int pass = 0, fail = 0;
+        for (const auto& ck : c["checks"]) (ck["passed"].get<bool>() ? pass : fail)++;
+        const json* t = case_timings(report, ci);
+        const std::string id = c["id"].get<std::string>();
+        std::string src = c["source"].get<std::string>();
+        if (src.size() > 48) src = src.substr(0, 45) + "…";
+        for (auto& ch : src)
+            if (ch == '|' || ch == '\n') ch = ' ';
+        os << "| [" << id << "](#" << anchor_of(id) << ") | "
+           << (fail ? "**FAIL**" : (c["checks"].empty() ? "no checks" : "pass")) << " | " << pass
+           << " | " << fail << " | " << c["runs"].size() << " | "
+           << (t && t->contains("runs_wall_seconds") ? num((*t)["runs_wall_seconds"], 3) : "—")
+           << " | " << src << " |\n";
+    }
+}
+
+} // namespace
+
+std::string render_markdown(const json& report, const json& figures) {
     std::ostringstream os;
     const json& s = report["summary"];
     os << "# dampsym report\n\n";
@@ -389,9 +441,15 @@ std::string render_markdown(const json& report) {
         if (!case_passed(report["cases"][i])) order.push_back(i);
     for (std::size_t i = 0; i < report["cases"].size(); ++i)
         if (case_passed(report["cases"][i])) order.push_back(i);
+    overview_table(os, report, order);
+    if (figures.is_object() && figures.contains("cases"))
+        os << "\nFigures: one or more per case below, drawn by `dampsym plot` "
+              "(tools/figures/plot.py); the gallery of the paper figures is "
+              "[figures.md](figures.md).\n";
     for (const std::size_t ci : order) {
         const json& c = report["cases"][ci];
         const json* t = case_timings(report, ci);
+        os << "\n<a id=\"" << anchor_of(c["id"].get<std::string>()) << "\"></a>\n";
         os << "\n## " << (case_passed(c) ? "" : "FAILED: ") << c["id"].get<std::string>();
         if (!c["title"].get<std::string>().empty()) os << " — " << c["title"].get<std::string>();
         os << "\n\n";
@@ -416,19 +474,33 @@ std::string render_markdown(const json& report) {
         if (!c["overrides"].empty()) os << " Overrides: `" << c["overrides"].dump() << "`.";
         if (c.contains("no_checks_because"))
             os << " No checks: " << c["no_checks_because"].get<std::string>() << ".";
+        // figures (issue 14): from figures/manifest.json, paths relative to report.md
+        if (figures.is_object() && figures.contains("cases") &&
+            figures["cases"].contains(c["id"].get<std::string>())) {
+            os << "\n\n";
+            for (const auto& f : figures["cases"][c["id"].get<std::string>()])
+                os << "![" << f.value("caption", std::string()) << "]("
+                   << f["file"].get<std::string>() << ")\n";
+        }
         os << "\n\n| result | check | method | dt | metric | value | expected | note |\n"
               "|---|---|---|---|---|---|---|---|\n";
         for (const auto& ck : c["checks"])
             if (!ck["passed"].get<bool>()) os << check_line(ck);
         for (const auto& ck : c["checks"])
             if (ck["passed"].get<bool>()) os << check_line(ck);
-        measures_table(os, c);
-        order_table(os, c, "order");
-        order_table(os, c, "local-order");
-        metrics_table(os, c);
-        sweep_table(os, c);
-        work_precision_table(os, c, t);
-        runs_table(os, c, t);
+        // long tables folded in <details> (issue 14)
+        auto part = [&](const std::string& summary, auto&& table) {
+            std::ostringstream tos;
+            table(tos);
+            os << folded(tos.str(), summary);
+        };
+        part("Measures", [&](std::ostringstream& o) { measures_table(o, c); });
+        part("Convergence", [&](std::ostringstream& o) { order_table(o, c, "order"); });
+        part("Local error", [&](std::ostringstream& o) { order_table(o, c, "local-order"); });
+        part("Structure metrics per run", [&](std::ostringstream& o) { metrics_table(o, c); });
+        part("Stability sweep", [&](std::ostringstream& o) { sweep_table(o, c); });
+        part("Work-precision", [&](std::ostringstream& o) { work_precision_table(o, c, t); });
+        part("Runs", [&](std::ostringstream& o) { runs_table(o, c, t); });
     }
     return os.str();
 }

@@ -225,6 +225,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         job = make_case(c, std::make_integer_sequence<int, kShards>{});
         job->set_time_budget(options.time_budget);
         job->guard().set_timeout(case_timeout(c, options.case_timeout)); // issue 17 (limits.hpp)
+        job->set_figures(static_cast<bool>(options.series_sink)); // figures hook (issue 14)
         jobs.push_back(std::move(job));
     }
     // issue 17: an exception in one task is recorded for its case (which then fails its
@@ -300,6 +301,9 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         }
         out_cases.push_back(std::move(record));
     }
+    if (options.series_sink) // figures hook (issue 14)
+        for (std::size_t i = 0; i < jobs.size(); ++i)
+            if (prepared[i]) options.series_sink(jobs[i]->series());
     json timings_cases = take_timings(out_cases);
     json summary = summarize(out_cases);
     return {{"schema_version", kReportSchemaVersion},

@@ -14,6 +14,7 @@
 #include "diagnostics/order_fit.hpp"
 #include "diagnostics/recorder.hpp"
 #include "diagnostics/stability.hpp"
+#include "harness/figure_series.hpp" // figures hook (issue 14)
 #include "harness/registry.hpp"
 
 #include <algorithm>
@@ -30,6 +31,7 @@ public:
     void prepare() override {
         runs_.assign(c_.methods.size() * c_.dts.size(), json());
         method_metrics_.assign(c_.methods.size(), json::object());
+        if (figures_) series_.assign(runs_.size(), json()); // figures hook (issue 14)
         points_ = output_points(c_);
         // A trajectory grid only for diagnostics that read it; a reference only for those that
         // compare with it (the energy diagnostic without "error" reports changes only).
@@ -94,7 +96,33 @@ public:
 
     json finish() override;
 
+    // Figures hook (issue 14): the series file of the case (docs/reports.md "Series files").
+    json series() override {
+        if (!figures_) return nullptr;
+        json out = case_series_json(c_, runs_, series_);
+        if constexpr (P::is_linear)
+            if (c_.wants("stability-sweep") && c_.sweep)
+                for (std::size_t m = 0; m < c_.methods.size(); ++m)
+                    out["stability_map"][c_.methods[m]] = stability_map_series<P>(c_, method(m));
+        return out;
+    }
+
 private:
+    // Figures hook (issue 14): the series of the run whose record is `out` (a slot of runs_).
+    template <class K>
+    void capture_figure_series(const MethodInfo& info, double h, std::int64_t n,
+                               const Recorder<P>& rec, const json& out) {
+        const auto slot = static_cast<std::size_t>(&out - runs_.data());
+        if (!figure_series_for_dt(c_, slot % c_.dts.size())) return;
+        const Mat& g = rec.grid();
+        std::vector<double> times;
+        for (Eigen::Index i = 0; i < g.cols(); ++i) times.push_back(grid_time(i));
+        const bool ref_on_grid = reference_ok_ && needs_grid_ && ref_.cols() == g.cols();
+        series_[slot] = capture_run_series<K>(problem_, c_, info, h, n, g, times, ref_, ref_on_grid,
+                                              rec.maxima());
+    }
+    std::vector<json> series_; // per run slot, only with --figures
+
     const MethodInfo& method(std::size_t m) const { return *find_method(c_.methods[m]); }
     json& run_slot(std::size_t m, std::size_t d) { return runs_[m * c_.dts.size() + d]; }
 
@@ -212,6 +240,9 @@ private:
         }
         if (c_.wants("local-error")) metrics["local-error"] = local_error_metrics<K>(info, h);
         out["metrics"] = metrics;
+        // Figures hook (issue 14): only with --figures; a separate pass, the run above is
+        // untouched.
+        if (figures_ && ok) capture_figure_series<K>(info, h, n, rec, out);
         // Work-precision timing (ladder cases): the bare step loop only, never a failed run.
         if (ok && time_budget_ > 0.0 && c_.dts.size() >= 2)
             out["timing"] = time_bare_loop<K>(info, h, n);
