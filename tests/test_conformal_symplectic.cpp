@@ -273,3 +273,45 @@ TEST_CASE("canonical J⁻¹ and the defect of an exactly conformal map", "[jacob
     CHECK_THAT(W.norm(), WithinRel(1.5 * std::sqrt(2.0), 1e-15));
     CHECK_THAT(W(0, 0), WithinAbs(0.0, 0.0));
 }
+
+TEST_CASE("conformal-symplectic defect: one-step damping beyond the double range of e^{-2ΔΓ}",
+          "[jacobian]") {
+    // ΔΓ = γh = 500 per step: e^{−2ΔΓ} = e^{−1000} underflows to 0 and so do the products that
+    // make up ΨᵀJ⁻¹Ψ; the relative defect is undefined at every step, the run is not diverged
+    // and the absolute defect is still measured. At ΔΓ = 300 (e^{−600} is a normal double) the
+    // conformal methods are at round-off on the relative scale.
+    for (const char* id : {"cimp", "csv1"}) {
+        for (const double gamma : {300.0, 1000.0}) {
+            dampsym::Oscillator p;
+            p.gamma = gamma;
+            const double hh = 1.0;
+            const MethodInfo& info = method(id);
+            const KernelMatch match =
+                dampsym::with_kernel<dampsym::Oscillator>(info, [&]<class K>() {
+                    Counters c;
+                    K stepper(p, info, hh, c);
+                    Vec z = p.initial_state();
+                    const auto st = dampsym::conformal_symplectic_defect(stepper, p, z, 0.0, hh, 3);
+                    INFO(id << " gamma h = " << gamma * hh);
+                    CHECK(st.status == RunStatus::ok);
+                    CHECK(st.steps_measured == 3);
+                    CHECK(std::isfinite(st.max_abs));
+                    if (gamma * hh < 354.0) {
+                        CHECK(st.rel_undefined_steps == 0);
+                        CHECK(st.max_rel_step > 0);
+                        CHECK(st.max_rel <= 1e-13);
+                    } else {
+                        CHECK(st.rel_undefined_steps == 3);
+                        CHECK(st.max_rel_step == 0);
+                    }
+                    if (verbose())
+                        std::printf("[jacobian] gamma h = %g %-5s max E_rel %.3e, %lld undefined\n",
+                                    gamma * hh, id, st.max_rel,
+                                    static_cast<long long>(st.rel_undefined_steps));
+                });
+            CHECK(match == KernelMatch::applied);
+        }
+    }
+    CHECK(std::isnan(dampsym::relative_defect(0.0, 1e-300, 1.0)));
+    CHECK(dampsym::relative_defect(0.5, 1e-16, 2.0) == 1e-16);
+}

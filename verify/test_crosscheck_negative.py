@@ -19,6 +19,11 @@ corrupted item (and nothing outside the corrupted case):
   undefined: nbody-zero-momentum: csv1's undefined momentum.linear.max_factor_dev reported
              as 0.0 (defined), csv2's defined momentum.angular.max_law_res reported as null
              with a reason (undefined): the docs' rule must decide, both must be named
+  counts   : issue 16's newly reproduced metrics, each corrupted in one case:
+             pend-table41-g0 cimp cost.newton_iters_per_step x 3 (outside the Newton family's
+             range), osc-fig31-k1 cse-etd measure.theta_mean_abs x (1 + 1e-3), osc-stability-sweep
+             csv1 stability-sweep.F_violations + 5, osc-trace-fig34 cimp trace-taylor.h4_coeff
+             x 1.1, osc-stability-det rk3 stability.det_abs_err x 3 (factor 2): each must be named
   badinput : not a dampsym report -> exit 2
 """
 import copy
@@ -152,6 +157,30 @@ def main():
             m.setdefault("undefined", {})["max_law_res"] = "corrupted: reported undefined"
             quantities = ["momentum.linear.max_factor_dev", "momentum.angular.max_law_res"]
         compare(base, bad, workdir, names, quantities)
+    elif mode == "counts":
+        ids = ["pend-table41-g0", "osc-fig31-k1", "osc-stability-sweep", "osc-trace-fig34", "osc-stability-det"]
+        base = dict(report, cases=[copy.deepcopy(c) for c in report["cases"] if c["id"] in ids])
+        if len(base["cases"]) != len(ids):
+            fail("cases %s not in the report" % ids)
+        bad = copy.deepcopy(base)
+        cs = {c["id"]: c for c in bad["cases"]}
+        names = []
+        r = next(r for r in cs["pend-table41-g0"]["runs"] if r["method"] == "cimp")
+        r["metrics"]["cost"]["newton_iters_per_step"] *= 3.0
+        names.append("pend-table41-g0 / cimp / dt=%g" % r["dt"])
+        r = next(r for r in cs["osc-fig31-k1"]["runs"] if r["method"] == "cse-etd")
+        r["metrics"]["measure"]["theta_mean_abs"] *= 1 + 1e-3
+        names.append("osc-fig31-k1 / cse-etd / dt=%g" % r["dt"])
+        cs["osc-stability-sweep"]["method_metrics"]["csv1"]["stability-sweep"]["F_violations"] += 5
+        names.append("osc-stability-sweep / csv1 (stability-sweep)")
+        cs["osc-trace-fig34"]["method_metrics"]["cimp"]["trace-taylor"]["h4_coeff"] *= 1.1
+        names.append("osc-trace-fig34 / cimp (trace-taylor)")
+        r = next(r for r in cs["osc-stability-det"]["runs"] if r["method"] == "rk3")
+        r["metrics"]["stability"]["det_abs_err"] *= 3.0
+        names.append("osc-stability-det / rk3 / dt=%g" % r["dt"])
+        compare(base, bad, workdir, names, ["cost.newton_iters_per_step", "measure.theta_mean_abs",
+                                            "stability-sweep.F_violations", "trace-taylor.h4_coeff",
+                                            "stability.det_abs_err"])
     elif mode == "wrongcoef":
         base = slice_of(report, "families-orders-3-4")
         bad = copy.deepcopy(base)

@@ -297,7 +297,7 @@ def csv1_step(prob, h):
     return step
 
 
-def csv2_step(prob, h):
+def csv2_step(prob, h, beyond=False):
     """F (2.16): (1 + x/2) p_half = e^{-x/2} p - (h/2) grad V(q);
     (1 - x/2) q1 = e^{-x/2} [ (1 + x/2) e^{-x/2} q + h grad T(p_half) ];
     p1 = e^{-x/2} [ (1 - x/2) p_half - (h/2) grad V(q1) ];  needs x < 2."""
@@ -306,7 +306,9 @@ def csv2_step(prob, h):
     def step(t, z):
         x = dGamma(prob, t, h)
         a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
-        if b <= 0:
+        if b == 0 or (b < 0 and not beyond):
+            # F (2.16) divides by 1 - x/2; the one-step matrix of the stability sweep also
+            # exists for x > 2 (F (3.22) "reversed"), a run is confined to x < 2
             raise NotApplicable("csv2 needs gamma h < 2")
         q, p = z[..., :nq], z[..., nq:]
         ph = (e * p + 0.5 * h * prob.force(t, q)) / a

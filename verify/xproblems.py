@@ -56,6 +56,12 @@ class Problem:
         p = z[..., self.nq:]
         return 0.5 * np.sum(p * p / self.m, axis=-1)
 
+    def f_ref(self, t, z):
+        """The field for the DOP853 reference (one state, no batch axes); problems with one
+        degree of freedom override it with the same formula in plain floats (numpy's per-call
+        overhead dominated the reference solves)."""
+        return self.f(t, z)
+
     # numerical reference: DOP853 at scipy's tightest tolerance, certified by a second solve
     def reference_grid(self, t0, times):
         key = (t0, tuple(np.asarray(times).tolist()))
@@ -64,7 +70,7 @@ class Problem:
             times = np.asarray(times, float)
             sols = []
             for rtol, atol in ((1e-13, 1e-15), (2.3e-14, 1e-16)):
-                s = solve_ivp(lambda t, z: self.f(t, z), (t0, times[-1]), self.z0, method="DOP853",
+                s = solve_ivp(self.f_ref, (t0, times[-1]), self.z0, method="DOP853",
                               rtol=rtol, atol=atol, t_eval=times, dense_output=False)
                 if not s.success:
                     raise RuntimeError("reference failed: " + s.message)
@@ -157,6 +163,10 @@ class Pendulum(Problem):
     def V(self, q):
         return -np.cos(q[..., 0])
 
+    def f_ref(self, t, z):
+        q, p = z
+        return np.array([p, -math.sin(q) - 2.0 * self.g * p])
+
     def energy_scale(self, z):    # T + 1: the amplitude of V = -cos q does not vanish
         return self.kinetic(z) + 1.0
 
@@ -178,6 +188,10 @@ class DrivenPendulum(Problem):
     def V(self, q):
         return -self.lam ** 2 * np.cos(q[..., 0])
 
+    def f_ref(self, t, z):
+        q, p = z
+        return np.array([p, -self.lam ** 2 * math.sin(q) + self.F * math.sin(t) - 2.0 * self.g * p])
+
 
 class Hill(Problem):
     """q'' + 2 gamma(t) q' + kappa^2 q = 0, gamma(t) = eps cos(2t) / 2 (B 3.1.2)."""
@@ -198,6 +212,10 @@ class Hill(Problem):
 
     def force(self, t, q):
         return -self.k ** 2 * q
+
+    def f_ref(self, t, z):
+        q, p = z
+        return np.array([p, -self.k ** 2 * q - self.eps * math.cos(2.0 * t) * p])
 
     def V(self, q):
         return 0.5 * self.k ** 2 * q[..., 0] ** 2
@@ -260,29 +278,93 @@ class RigidBody(Problem):
             out = out + 2.0 * ck * (np.sin(k * (2.0 * t + 0.5 * math.pi)) - math.sin(k * 0.5 * math.pi)) / (2.0 * k)
         return out
 
+    def free_body(self, y0, taus):
+        """Closed form of the free rigid body y' = N(y) (Euler's equations; HLW ch. I, B(1.7)) by
+        Jacobi elliptic functions, derived here (docs/conventions.md §2).  With a_i = 1/I_i the
+        equations y_i' = (a_k - a_j) y_j y_k are invariant under cyclic relabelling, so the axis of
+        the middle a is made index 2.  C = |y|^2, E = sum a_i y_i^2, P = E - a3 C, Q = a1 C - E,
+        alpha = a1 - a2, beta = a2 - a3 (same sign s), then (y2')^2 = (P - beta y2^2)(Q - alpha y2^2):
+          P/beta > Q/alpha (about axis 1): y = (s1 sqrt(P/(a1-a3)) dn u, sqrt(Q/alpha) sn u,
+            sqrt(Q/(a1-a3)) cn u), m = beta Q/(alpha P), u' = s1 s sqrt(alpha P);
+          P/beta < Q/alpha (about axis 3): y = (sqrt(P/(a1-a3)) cn u, sqrt(P/beta) sn u,
+            s3 sqrt(Q/(a1-a3)) dn u), m = alpha P/(beta Q), u' = s3 s sqrt(beta Q);
+        u = u0 + u' tau, u0 = F(am, m) with am = atan2(sn u0, cn u0) from y0.  Returns None on
+        the separatrix (m within 1e-6 of 1) or on an axis (then the DOP853 solve is used)."""
+        from scipy.special import ellipj, ellipkinc, ellipk
+        a = 1.0 / self.I
+        r = next((r for r in range(3) if sorted(a)[1] == a[(1 + r) % 3]), None)
+        if r is None:
+            return None
+        perm = [(i + r) % 3 for i in range(3)]
+        a1, a2, a3 = a[perm]
+        y = np.asarray(y0, float)[perm]
+        al, be, d13 = a1 - a2, a2 - a3, a1 - a3
+        if al * be <= 0 or d13 == 0:
+            return None
+        sg = math.copysign(1.0, d13)
+        C = float(np.dot(y, y))
+        E = float(np.dot(a[perm], y * y))
+        P, Q = E - a3 * C, a1 * C - E
+        if P / be > Q / al:
+            m = be * Q / (al * P)
+            B, A, D = math.sqrt(Q / al), math.sqrt(P / d13), math.sqrt(Q / d13)
+            s1 = math.copysign(1.0, y[0])
+            nu = s1 * sg * math.sqrt(al * P)
+            ph = math.atan2(y[1] / B, y[2] / D)
+            kind = 1
+        else:
+            m = al * P / (be * Q)
+            B, A, D = math.sqrt(P / be), math.sqrt(P / d13), math.sqrt(Q / d13)
+            s3 = math.copysign(1.0, y[2])
+            nu = s3 * sg * math.sqrt(be * Q)
+            ph = math.atan2(y[1] / B, y[0] / A)
+            kind = 3
+        if not (0.0 <= m < 1.0 - 1e-6):
+            return None
+        u0 = float(ellipkinc(ph, m))
+        K4 = 4.0 * float(ellipk(m))
+        u = u0 + nu * np.asarray(taus, float)
+        u = u - K4 * np.round(u / K4)            # sn, cn, dn have period 4K
+        sn, cn, dn, _ = ellipj(u, m)
+        out = np.empty((len(u), 3))
+        if kind == 1:
+            Y = np.stack([s1 * A * dn, B * sn, D * cn], axis=-1)
+        else:
+            Y = np.stack([A * cn, B * sn, s3 * D * dn], axis=-1)
+        out[:, perm] = Y
+        # round-off: the phase u carries ~4 eps |u| (+ u0's few eps), amplified by |dy/du| <= |y|
+        self.free_estimate = float(8 * EPS * (1.0 + np.max(np.abs(nu * np.asarray(taus))) + abs(u0))
+                                   * math.sqrt(C))
+        return out
+
     def exact(self, t0, t):
         """N is homogeneous of degree 2, so z(t) = e^{-Gamma(t)} y(tau(t)) with y the free body
-        (docs/conventions.md §2).  The free body is integrated once by DOP853 at scipy's tightest
-        tolerance in tau (its invariants are conserved to round-off); the estimate is the
-        difference to a 10x looser solve."""
+        (docs/conventions.md §2), y in closed form (free_body: Jacobi elliptic functions).  Where
+        the closed form does not apply (separatrix, body on an axis) the free body is integrated
+        by DOP853 at scipy's tightest tolerance in tau, the estimate the difference to a 10x
+        looser solve."""
         t = np.atleast_1d(np.asarray(t, float))
         G0 = self.Gamma(t0)
         taus = self.tau(t) - self.tau(t0)
         # the body starts at z0 at t0: y(0) = e^{Gamma(t0)} z0 in the rescaled time from t0
         y0 = self.z0 * math.exp(G0)
+        sc = np.exp(-self.Gamma(t))[:, None]
+        Yc = self.free_body(y0, taus)
+        if Yc is not None:
+            self.exact_estimate = float(np.max(sc)) * self.free_estimate
+            return sc * Yc
         order = np.argsort(taus)
         tt = taus[order]
         sols = []
         for rtol, atol in ((1e-13, 1e-15), (2.3e-14, 1e-16)):
             # tau measured from t0: z(t) = e^{-Gamma(t)} y(tau(t) - tau(t0)) with y(0) = e^{Gamma(t0)} z0
-            s = solve_ivp(lambda s_, y: self.N(0.0, y), (0.0, max(tt[-1], 1e-300)), y0,
-                          method="DOP853", rtol=rtol, atol=atol, t_eval=tt)
-            sols.append(s.y.T)
+            s_ = solve_ivp(lambda s__, y: self.N(0.0, y), (0.0, max(tt[-1], 1e-300)), y0,
+                           method="DOP853", rtol=rtol, atol=atol, t_eval=tt)
+            sols.append(s_.y.T)
         Y = np.empty((len(t), 3))
         Y[order] = sols[1]
         Y2 = np.empty((len(t), 3))
         Y2[order] = sols[0]
-        sc = np.exp(-self.Gamma(t))[:, None]
         self.exact_estimate = float(np.max(np.linalg.norm(sc * (Y - Y2), axis=-1)))
         return sc * Y
 

@@ -42,11 +42,14 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     try:
         if stepf is None:
             y = glm.start(t0, z)
+            glm_y = [np.array(y)]
         for n in range(1, nsteps + 1):
             t = t0 + (n - 1) * h
             if stepf is None:
                 y, it = glm.step(t, y)
                 z = y[0]
+                if record:
+                    glm_y.append(np.array(y))
             else:
                 z, it = stepf(t, z)
             out["newton"] += it
@@ -64,6 +67,8 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     except (OverflowError, FloatingPointError):
         out.update(status="diverged", message="overflow at step %d" % n)
     out.update(steps=n, z=z, traj=traj[:n + 1] if record else None)
+    if record and stepf is None and out["status"] == "ok":
+        out["glm_y"] = np.array(glm_y)          # the GLM's full state y^[n] (Newton counts)
     return out
 
 
@@ -169,11 +174,14 @@ def integrate_small(stepper, prob, nsteps, t0, h, record, limit, out):
     try:
         if glm:
             y = stepper.start(t0, z)
+            glm_y = [y] if record else None
         for n in range(1, nsteps + 1):
             t = t0 + (n - 1) * h
             if glm:
                 y, it = stepper.step(t, y)
                 z = y[0]
+                if record:
+                    glm_y.append(y)
             else:
                 z, it = stepper(t, z)
             out["newton"] += it
@@ -188,4 +196,6 @@ def integrate_small(stepper, prob, nsteps, t0, h, record, limit, out):
     except OverflowError:
         out.update(status="diverged", message="overflow at step %d" % n)
     out.update(steps=n, z=np.array(z), traj=np.array(traj) if record else None)
+    if glm and record and out["status"] == "ok":
+        out["glm_y"] = np.array(glm_y)          # the GLM's full state y^[n] (Newton counts)
     return out

@@ -34,6 +34,46 @@ def rigid_fields(prob):
     return N, f
 
 
+def driven_fields(prob):
+    """B 3.2.2: q'' + 2 gamma q' + lambda^2 sin q = f sin t, as xproblems.DrivenPendulum."""
+    lam2, F, g = prob.lam ** 2, prob.F, prob.g
+
+    def force(t, q):
+        return -lam2 * math.sin(q) + F * math.sin(t)
+
+    def f(t, z):
+        return [z[1], force(t, z[0]) - 2.0 * g * z[1]]
+
+    def N(t, z):
+        return [z[1] + g * z[0], force(t, z[0]) - g * z[1]]
+    return force, f, N
+
+
+def _csv_scalar(prob, force, h, which):
+    """F (2.12) / F (2.16) on one degree of freedom (m = 1), the formulas of xmethods.csv1_step
+    and csv2_step."""
+    if which == "csv1":
+        def step(t, z):
+            e1 = math.exp(-2.0 * xm.dGamma(prob, t, 0.5 * h))
+            e2 = math.exp(-2.0 * xm.dGamma(prob, t + 0.5 * h, 0.5 * h))
+            q, p = z
+            ph = e1 * p + 0.5 * h * force(t, q)
+            q1 = q + h * ph
+            return [q1, e2 * (ph + 0.5 * h * force(t + h, q1))], 0
+        return step
+
+    def step(t, z):
+        x = xm.dGamma(prob, t, h)
+        a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
+        if b <= 0:
+            raise xm.NotApplicable("csv2 needs gamma h < 2")
+        q, p = z
+        ph = (e * p + 0.5 * h * force(t, q)) / a
+        q1 = e * (a * e * q + h * ph) / b
+        return [q1, e * (b * ph + 0.5 * h * force(t + h, q1))], 0
+    return step
+
+
 def _erk(f, A, b, c, h):
     s = len(b)
 
@@ -180,6 +220,21 @@ def make(method, prob, h):
         if method in ("implicit-midpoint", "gauss1", "gauss2", "gauss3"):
             A, b, c = xm.GAUSS[1 if method == "implicit-midpoint" else int(method[-1])]
             return _implicit(f, xm.plain_coef(A, b, c), h, 4, lambda t, z: xm.jac_cs(prob.f, t, z))
+        return None
+    if kind == "DrivenPendulum":
+        force, f, N = driven_fields(prob)
+        if method in xm.EXPLICIT_RK:
+            A, b, c = xm.EXPLICIT_RK[method]
+            st = _erk(f, A, b, c, h)
+            return lambda t, z: (st(t, z), 0)
+        if method in ("csv1", "csv2"):
+            return _csv_scalar(prob, force, h, method)
+        if method in ("gauss1", "gauss2", "gauss3", "implicit-midpoint"):
+            A, b, c = xm.GAUSS[1 if method == "implicit-midpoint" else int(method[-1])]
+            return _implicit(f, xm.plain_coef(A, b, c), h, 2, lambda t, z: xm.jac_cs(prob.f, t, z))
+        if method in ("cimp", "glifrk1", "glifrk2", "glifrk3"):
+            A, b, c = xm.GAUSS[1 if method == "cimp" else int(method[-1])]
+            return _implicit(N, xm.ifrk_coef(prob, A, b, c, h), h, 2, lambda t, z: xm.jac_cs(prob.N, t, z))
         return None
     if kind == "RigidBody":
         N, f = rigid_fields(prob)

@@ -1,10 +1,13 @@
 #include "cli/cli.hpp"
 
 #include "cli/cli_detail.hpp"
+#include "cli/cli_progress.hpp"
 
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
+#include "harness/figures.hpp"
 #include "harness/junit.hpp"
+#include "harness/limits.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/progress.hpp"
 #include "harness/provenance.hpp"
@@ -40,72 +43,12 @@ using json = nlohmann::json;
 namespace fs = std::filesystem;
 using namespace cli_detail;
 
-// The progress line on stderr: only when stderr is a terminal, and only once the run has taken
-// more than a second; erased when the run ends.
-class ProgressLine {
-public:
-    explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()) {
-        if (enabled_) thread_ = std::thread([this] { loop(); });
-    }
-    ~ProgressLine() { stop(); }
-    ProgressLine(const ProgressLine&) = delete;
-    ProgressLine& operator=(const ProgressLine&) = delete;
-
-    ProgressCallback callback() {
-        if (!enabled_) return {};
-        return [this](const RunProgress& p) {
-            std::lock_guard<std::mutex> lock(m_);
-            state_ = p;
-        };
-    }
-    void stop() {
-        if (!thread_.joinable()) return;
-        {
-            std::lock_guard<std::mutex> lock(m_);
-            done_ = true;
-        }
-        cv_.notify_all();
-        thread_.join();
-        if (shown_) std::cerr << "\r\033[K" << std::flush;
-    }
-
-private:
-    using Clock = std::chrono::steady_clock;
-    void loop() {
-        std::unique_lock<std::mutex> lock(m_);
-        while (!cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return done_; })) {
-            const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-            if (elapsed < 1.0) continue;
-            char eta[32] = "?";
-            if (!state_.planned)
-                std::snprintf(eta, sizeof eta, "? (references)");
-            else if (state_.tasks_done > 0 && state_.tasks_total >= state_.tasks_done)
-                std::snprintf(eta, sizeof eta, "%.0f s",
-                              elapsed *
-                                  static_cast<double>(state_.tasks_total - state_.tasks_done) /
-                                  static_cast<double>(state_.tasks_done));
-            char line[256];
-            std::snprintf(line, sizeof line, "[%zu/%zu cases] %.40s  %.0f s elapsed, ETA %s",
-                          state_.cases_done, state_.cases_total, state_.current.c_str(), elapsed,
-                          eta);
-            std::cerr << "\r\033[K" << line << std::flush;
-            shown_ = true;
-        }
-    }
-    bool enabled_;
-    Clock::time_point start_;
-    std::mutex m_;
-    std::condition_variable cv_;
-    RunProgress state_;
-    bool done_ = false, shown_ = false;
-    std::thread thread_;
-};
-
 struct OutputOptions {
     std::string out_dir = "reports";
     std::string junit;       // "" = none
     std::string annotations; // "" or "github"
     bool quiet = false;
+    bool figures = false; // run --figures (issue 14, harness/figures.hpp)
 };
 
 // Writes the reports and prints the summary; returns the exit status of the checks.
@@ -125,12 +68,14 @@ int finish_report(const json& report, const OutputOptions& o, std::ostream& out,
 }
 
 int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_budget,
-            const std::vector<std::string>& sets, const std::string& cases_dir,
-            const std::vector<std::string>& command_line, std::ostream& out, std::ostream& err) {
+            const CliLimits& limits, const std::vector<std::string>& sets,
+            const std::string& cases_dir, const std::vector<std::string>& command_line,
+            std::ostream& out, std::ostream& err) {
     for (const auto& s : sets) parse_override(s); // usage errors before any work
     const Selected selected = select_cases(sel, sets, cases_dir, true, true);
     check_output_dir(o.out_dir); // an unwritable --out fails before any case runs (exit 3)
     if (!o.junit.empty()) check_output_file(o.junit);
+    before_run(selected.cases, jobs, limits); // memory limit, SIGINT/SIGTERM (harness/limits.hpp)
     for (const auto& c : selected.cases) {
         const double secs = case_predicted_seconds(c);
         if (secs < 10.0) continue;
@@ -145,7 +90,12 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     json report;
     {
         ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
-        report = run_cases(selected.cases, RunOptions{jobs, time_budget}, progress.callback());
+        RunOptions ro;
+        ro.jobs = jobs;
+        ro.time_budget = time_budget;
+        ro.case_timeout = limits.case_timeout;                       // issue 17 (limits.hpp)
+        if (o.figures) ro.series_sink = series_file_sink(o.out_dir); // figures hook (issue 14)
+        report = run_cases(selected.cases, ro, progress.callback());
     }
     report["provenance"] = make_provenance(command_line, jobs, start);
     if (selected.shard)
@@ -153,7 +103,15 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                          {"count", selected.shard->count},
                                          {"source", selected.shard->source},
                                          {"selected", selected.all_ids}};
-    return finish_report(report, o, out, err);
+    mark_interrupted(report);
+    const int status = exit_status_after_run(finish_report(report, o, out, err));
+    if (o.figures && report.value("interrupted", false) == false) {
+        // figures hook (issue 14): draw, then report.md again with the figures
+        if (make_figures(o.out_dir, jobs, err) != 0) return 3;
+        if (!o.quiet)
+            out << "Figures: " << o.out_dir << "/figures/, " << o.out_dir << "/figures.md\n";
+    }
+    return status;
 }
 
 json read_report(const std::string& arg) {
@@ -211,7 +169,9 @@ int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs
 
 const char* kExitCodes = "Exit status: 0 all checks passed (compare: nothing moved), 1 a check "
                          "failed (compare: something moved), 2 bad input or usage (one line naming "
-                         "the file and key), 3 internal or I/O error (e.g. an unwritable --out).";
+                         "the file and key; also a case above --max-memory), 3 internal or I/O "
+                         "error (e.g. an unwritable --out), 130/143 stopped by SIGINT/SIGTERM "
+                         "(report of what finished written, marked interrupted).";
 
 } // namespace
 
@@ -279,12 +239,17 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                     "seconds of timed repetitions per run of a step ladder (work-precision; "
                     "0 = off; default 0.02)")
         ->check(CLI::Range(0.0, 60.0));
+    CliLimits limits;
+    add_limit_options(*run, limits); // --case-timeout, --max-memory (harness/limits.hpp)
     run->add_option("--set", sets, "override a case field, e.g. --set problem.gamma=0.3")
         ->take_all();
     run->add_option("--annotations", oo.annotations,
                     "github: print ::error lines for failing checks")
         ->check(CLI::IsMember({"github"}));
     run->add_flag("--quiet,-q", oo.quiet, "only errors and the final totals line");
+    run->add_flag("--figures", oo.figures,
+                  "keep time series (DIR/series/) and draw the figures into DIR/figures/, "
+                  "embedded in report.md (docs/reports.md)");
     run->footer(
         "\nExamples:\n"
         "  dampsym run                                   default suite into reports/\n"
@@ -299,6 +264,15 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         "between runs of the same build. GITHUB_STEP_SUMMARY, if set, gets totals and "
         "failures.\n\n" +
         std::string(kExitCodes));
+
+    // Figures (issue 14, harness/figures.hpp): draw the figures of an existing report directory.
+    auto* plot = app.add_subcommand(
+        "plot", "draw the figures of a report directory (REPORT_DIR/figures/, report.md, "
+                "figures.md); time series only if it was run with --figures");
+    std::string plot_dir;
+    int plot_jobs = 2;
+    plot->add_option("REPORT_DIR", plot_dir, "directory holding report.json")->required();
+    plot->add_option("--jobs,-j", plot_jobs, "figure processes")->check(CLI::Range(1, 256));
 
     auto* compare = app.add_subcommand(
         "compare", "compare two reports: final states, metrics, order fits, check verdicts");
@@ -361,9 +335,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                 continue;
             }
             if (a.empty() || a[0] == '-') continue;
-            if (a != "list" && a != "run" && a != "methods") {
+            if (a != "list" && a != "run" && a != "methods" && a != "plot") {
                 err << "dampsym: unknown subcommand '" << brief(a)
-                    << "' (known: list, run, methods; dampsym --help)\n";
+                    << "' (known: list, run, methods, plot; dampsym --help)\n";
                 return 2;
             }
             break;
@@ -372,9 +346,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         return 2;
     }
     try {
+        if (*plot) return make_figures(plot_dir, plot_jobs, err); // issue 14
         if (*list) return cmd_list(list_json, sel, cases_dir, out);
         if (*run)
-            return cmd_run(sel, oo, jobs, time_budget, sets, cases_dir, command_line, out, err);
+            return cmd_run(sel, oo, jobs, time_budget, limits, sets, cases_dir, command_line, out,
+                           err);
         if (*compare) return cmd_compare(cmp_base, cmp_new, copt, cmp_json, out);
         if (*merge) return cmd_merge(merge_out, merge_in, oo, command_line, out, err);
         if (*methods_cmd) return cmd_methods(methods_check, methods_json, out);

@@ -12,7 +12,9 @@ namespace dampsym {
 
 struct NoObserver {};
 
-enum class RunStatus { ok, diverged, solve_failed };
+// timeout and interrupted: stopped at a step boundary by the case's time budget or by
+// SIGINT/SIGTERM (src/harness/limits.hpp); z is the state at the step reached.
+enum class RunStatus { ok, diverged, solve_failed, timeout, interrupted };
 
 inline const char* to_string(RunStatus s) {
     switch (s) {
@@ -22,6 +24,10 @@ inline const char* to_string(RunStatus s) {
         return "diverged";
     case RunStatus::solve_failed:
         return "solve-failed";
+    case RunStatus::timeout:
+        return "timeout";
+    case RunStatus::interrupted:
+        return "interrupted";
     }
     return "?";
 }
@@ -41,19 +47,29 @@ inline bool state_diverged(const Vec& z) {
     return false;
 }
 
-// Advances z from t0 by n steps of size h. Stepper: StepStatus step(double t, Vec& z).
-// Observer (if any): void operator()(std::int64_t n, double t_n, const Vec& z_n) after each step.
+// Advances z from step k_begin (z is the state at t0 + k_begin·h) to step k_end. Stepper:
+// StepStatus step(double t, Vec& z). Observer (if any): void operator()(std::int64_t n, double t_n,
+// const Vec& z_n) after each step. Steps are numbered from t0 whatever k_begin, so integrating
+// 0..n in one call or in consecutive ranges gives bitwise the same states.
 template <class Stepper, class Observer = NoObserver>
-IntegrateOutcome integrate(Stepper& stepper, Vec& z, double t0, double h, std::int64_t n,
-                           Observer* observer = nullptr) {
-    for (std::int64_t k = 0; k < n; ++k) {
+IntegrateOutcome integrate_steps(Stepper& stepper, Vec& z, double t0, double h,
+                                 std::int64_t k_begin, std::int64_t k_end,
+                                 Observer* observer = nullptr) {
+    for (std::int64_t k = k_begin; k < k_end; ++k) {
         if (stepper.step(time_at(t0, h, k), z) != StepStatus::ok)
             return {RunStatus::solve_failed, k, k + 1};
         if (state_diverged(z)) return {RunStatus::diverged, k + 1, k + 1};
         if constexpr (!std::is_same_v<Observer, NoObserver>)
             (*observer)(k + 1, time_at(t0, h, k + 1), z);
     }
-    return {RunStatus::ok, n, 0};
+    return {RunStatus::ok, k_end, 0};
+}
+
+// Advances z from t0 by n steps of size h (integrate_steps from 0 to n).
+template <class Stepper, class Observer = NoObserver>
+IntegrateOutcome integrate(Stepper& stepper, Vec& z, double t0, double h, std::int64_t n,
+                           Observer* observer = nullptr) {
+    return integrate_steps(stepper, z, t0, h, 0, n, observer);
 }
 
 } // namespace dampsym

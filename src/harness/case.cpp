@@ -2,6 +2,7 @@
 
 #include "harness/case_job.hpp"
 #include "harness/case_util.hpp"
+#include "harness/limits.hpp"
 #include "harness/problem_info.hpp"
 
 #include <algorithm>
@@ -632,8 +633,9 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     only_keys(j,
               {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
                "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
-               "notes", "measures", "no_checks_because"},
+               "notes", "measures", "no_checks_because", "timeout_seconds"},
               file, "");
+    validate_limit_keys(j, file); // issue 17: timeout_seconds (src/harness/limits.hpp)
     for (const char* k : {"id", "problem", "methods", "t_end"})
         if (!j.contains(k)) fail(file, k, "missing required key");
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "harness/case.hpp"
+#include "harness/limits.hpp"
 #include "harness/runner.hpp"
 #include "reference/gsl_reference.hpp"
 
@@ -67,9 +68,17 @@ public:
     virtual json finish() = 0;
     // Work-precision timing of ladder runs (RunOptions::time_budget; 0 = off).
     void set_time_budget(double seconds) { time_budget_ = seconds; }
+    // The case's time budget and the stop requests its runs obey (src/harness/limits.hpp).
+    CaseGuard& guard() { return guard_; }
+    // Figures hook (issue 14): with --figures the runs keep time series (harness/figure_series.hpp)
+    // and series() returns them after finish(); without, nothing is kept and series() is null.
+    void set_figures(bool on) { figures_ = on; }
+    virtual json series() { return nullptr; }
 
 protected:
     double time_budget_ = 0.0;
+    CaseGuard guard_;
+    bool figures_ = false;
 };
 
 // Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000

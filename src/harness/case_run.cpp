@@ -102,6 +102,16 @@ void CaseRun::mark_not_applicable(json& out) const {
     out["metrics"] = json::object();
 }
 
+void CaseRun::mark_error(json& out, const std::string& what) const {
+    json rec = {
+        {"method", out["method"]}, {"dt", out["dt"]}, {"steps_planned", out["steps_planned"]}};
+    rec["status"] = "error";
+    rec["error"] = what;
+    rec["steps"] = 0;
+    rec["metrics"] = json::object();
+    out = std::move(rec);
+}
+
 void CaseRun::sweep_tasks(std::size_t m, std::vector<std::function<void()>>& tasks,
                           OneStepAt one_step) {
     if (sweep_rows_.size() != c_.methods.size()) { // first method: the shared grid

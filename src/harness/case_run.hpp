@@ -45,6 +45,8 @@ protected:
     void record_run(json& out, const IntegrateOutcome& res, const Counters& counters, const Vec& z,
                     double wall, double h) const;
     void mark_not_applicable(json& out) const;
+    // issue 17: the record of a run whose kernel threw (its status; the other runs go on).
+    void mark_error(json& out, const std::string& what) const;
 
     // Stability sweep (method level): the row tasks of method m; one_step is its typed analysis.
     void sweep_tasks(std::size_t m, std::vector<std::function<void()>>& tasks, OneStepAt one_step);
@@ -75,9 +77,10 @@ json evaluate_checks(const CaseSpec& c, const std::vector<json>& runs,
                      const std::vector<json>& method_metrics, const json& reference,
                      bool reference_ok);
 
-// The case's "measures" (docs/case-keys.md) of one run (measures.cpp); energy: the problem's
-// energy, empty when it has none.
+// The case's "measures" (docs/case-keys.md) of one run (measures.cpp); energy and energy_scale:
+// the problem's energy and its scale S_H, empty when it has none.
 json measure_metrics(const CaseSpec& c, const CaseFacts& f, const Mat* grid, const Vec& z_final,
-                     const std::function<double(const Vec&)>& energy);
+                     const std::function<double(const Vec&)>& energy,
+                     const std::function<double(const Vec&)>& energy_scale);
 
 } // namespace dampsym::detail

@@ -9,6 +9,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace dampsym {
 namespace {
@@ -20,7 +22,27 @@ bool clock_key(const std::string& k) {
     return k == "wall_seconds" || k == "timing";
 }
 
+// Nesting depth of a document, without recursion (a report nests ~10 deep; the comparison below
+// recurses, so a hostile document must not nest deeper than kMaxReportDepth).
+constexpr std::size_t kMaxReportDepth = 64;
+std::size_t nesting_depth(const json& root) {
+    std::size_t deepest = 0;
+    std::vector<std::pair<const json*, std::size_t>> stack{{&root, 1}};
+    while (!stack.empty()) {
+        const auto [node, depth] = stack.back();
+        stack.pop_back();
+        deepest = std::max(deepest, depth);
+        if (depth > kMaxReportDepth) break;
+        if (node->is_structured())
+            for (const auto& child : *node) stack.emplace_back(&child, depth + 1);
+    }
+    return deepest;
+}
+
 void require_report(const json& r, const std::string& which) {
+    if (nesting_depth(r) > kMaxReportDepth)
+        throw InputError(which + ": nested deeper than " + std::to_string(kMaxReportDepth) +
+                         " levels; not a dampsym report");
     if (!r.is_object() || !r.contains("cases") || !r["cases"].is_array() ||
         !r.contains("schema_version"))
         throw InputError(which + ": not a dampsym report (no schema_version or cases)");
@@ -33,12 +55,34 @@ void require_report(const json& r, const std::string& which) {
             if (!c.contains(k) || !c[k].is_array())
                 throw InputError(where + "." + k + ": missing or not an array");
         for (const auto& run : c["runs"])
-            if (!run.is_object() || !run.contains("method") || !run.contains("dt"))
-                throw InputError(where + ".runs: a run without method or dt");
+            if (!run.is_object() || !run.contains("method") || !run["method"].is_string() ||
+                !run.contains("dt"))
+                throw InputError(where + ".runs: a run without method (a string) or dt");
         for (const auto& ck : c["checks"])
-            if (!ck.is_object() || !ck.contains("name") || !ck.contains("method") ||
-                !ck.contains("passed"))
-                throw InputError(where + ".checks: a check without name, method or passed");
+            if (!ck.is_object() || !ck.contains("name") || !ck["name"].is_string() ||
+                !ck.contains("method") || !ck["method"].is_string() || !ck.contains("passed"))
+                throw InputError(where +
+                                 ".checks: a check without name, method (strings) or passed");
+        if (c.contains("method_metrics")) {
+            const json& mm = c["method_metrics"];
+            bool ok = mm.is_object();
+            for (auto it = mm.begin(); ok && it != mm.end(); ++it) ok = it.value().is_object();
+            if (!ok)
+                throw InputError(where + ".method_metrics: not an object of objects (per method)");
+        }
+    }
+    // timings (schema 2): only read for the information-only wall-time table
+    if (r.contains("timings") && r["timings"].is_object() && r["timings"].contains("cases")) {
+        const json& tc = r["timings"]["cases"];
+        bool ok = tc.is_array();
+        for (std::size_t i = 0; ok && i < tc.size(); ++i) {
+            const json& c = tc[i];
+            ok = c.is_object() && (!c.contains("id") || c["id"].is_string()) &&
+                 (!c.contains("runs_wall_seconds") || c["runs_wall_seconds"].is_number());
+        }
+        if (!ok)
+            throw InputError(which + ": timings.cases: not an array of {id (string), "
+                                     "runs_wall_seconds (number)}");
     }
 }
 
@@ -241,9 +285,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
 // Wall seconds per case id from a report's timings (schema 2) or its runs (schema 1).
 std::map<std::string, double> case_walls(const json& r) {
     std::map<std::string, double> out;
-    if (r.contains("timings") && r["timings"].contains("cases")) {
+    if (r.contains("timings") && r["timings"].is_object() && r["timings"].contains("cases")) {
         for (const auto& c : r["timings"]["cases"])
-            if (c.contains("id") && c.contains("runs_wall_seconds"))
+            if (c.contains("id") && c["id"].is_string() && c.contains("runs_wall_seconds") &&
+                c["runs_wall_seconds"].is_number())
                 out[c["id"].get<std::string>()] += c["runs_wall_seconds"].get<double>();
         return out;
     }
@@ -255,9 +300,9 @@ std::map<std::string, double> case_walls(const json& r) {
 }
 
 json total_wall(const json& r) {
-    if (r.contains("timings") && r["timings"].contains("wall_seconds"))
+    if (r.contains("timings") && r["timings"].is_object() && r["timings"].contains("wall_seconds"))
         return r["timings"]["wall_seconds"];
-    if (r.contains("summary") && r["summary"].contains("wall_seconds"))
+    if (r.contains("summary") && r["summary"].is_object() && r["summary"].contains("wall_seconds"))
         return r["summary"]["wall_seconds"];
     return nullptr;
 }
@@ -324,10 +369,12 @@ json compare_reports(const json& base, const json& next, const CompareOptions& o
         json per_case = json::array();
         for (const auto& [id, x] : wa)
             if (wb.count(id))
-                per_case.push_back({{"case", id},
-                                    {"base_seconds", x},
-                                    {"new_seconds", wb.at(id)},
-                                    {"ratio", x > 0.0 ? json(wb.at(id) / x) : json(nullptr)}});
+                per_case.push_back(
+                    {{"case", id},
+                     {"base_seconds", x},
+                     {"new_seconds", wb.at(id)},
+                     {"ratio", x > 0.0 && std::isfinite(wb.at(id) / x) ? json(wb.at(id) / x)
+                                                                       : json(nullptr)}});
         std::sort(per_case.begin(), per_case.end(), [](const json& p, const json& q) {
             const double a = p["ratio"].is_number() ? p["ratio"].get<double>() : 0.0;
             const double b = q["ratio"].is_number() ? q["ratio"].get<double>() : 0.0;

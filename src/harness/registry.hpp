@@ -28,6 +28,8 @@
 #include "problems/oscillator.hpp"
 #include "problems/outer_solar_system.hpp"
 #include "problems/pendulum.hpp"
+// Damped PDEs of B ch. 4-5, semi-discretised (issue 15, docs/pde.md).
+#include "problems/pde/klein_gordon.hpp"
 #include "problems/rigid_body.hpp"
 
 #include <string>
@@ -39,7 +41,8 @@
 namespace dampsym {
 
 using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra,
-                             NBody, Kepler, OuterSolarSystem, Argon>;
+                             NBody, Kepler, OuterSolarSystem, Argon,
+                             KleinGordon>; // KleinGordon: issue 15 (B (4.3), docs/pde.md)
 
 // Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
 template <class... Ps>

@@ -2,6 +2,7 @@
 
 #include "harness/report_tables.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -143,6 +144,103 @@ const json* run_timing(const json& report, std::size_t case_index, std::size_t r
 }
 
 std::string render_markdown(const json& report) {
+    return render_markdown(report, json());
+}
+
+namespace {
+
+// A table folded in <details> when it is long (more than `fold_rows` lines), else as it is.
+std::string folded(const std::string& table, const std::string& summary, int fold_rows = 12) {
+    int lines = 0;
+    for (char ch : table) lines += ch == '\n';
+    if (lines <= fold_rows) return table;
+    return "\n<details><summary>" + summary + " (" + std::to_string(lines) + " lines)</summary>\n" +
+           table + "\n</details>\n";
+}
+
+std::string anchor_of(const std::string& id) {
+    std::string a = "case-";
+    for (char ch : id) a += (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-') ? ch : '-';
+    return a;
+}
+
+// Overview (issue 14): one row per case, failing cases first, with a link to its section.
+void overview_table(std::ostringstream& os, const json& report,
+                    const std::vector<std::size_t>& order) {
+    os << "\n| case | verdict | checks passed | failed | runs | time s | paper |\n"
+          "|---|---|---|---|---|---|---|\n";
+    for (const std::size_t ci : order) {
+        const json& c = report["cases"][ci];
+        int pass = 0, fail = 0;
+        for (const auto& ck : c["checks"]) (ck["passed"].get<bool>() ? pass : fail)++;
+        const json* t = case_timings(report, ci);
+        const std::string id = c["id"].get<std::string>();
+        std::string src = c["source"].get<std::string>();
+        if (src.size() > 48) src = src.substr(0, 45) + "…";
+        for (auto& ch : src)
+            if (ch == '|' || ch == '\n') ch = ' ';
+        os << "| [" << id << "](#" << anchor_of(id) << ") | "
+           << (fail ? "**FAIL**" : (c["checks"].empty() ? "no checks" : "pass")) << " | " << pass
+           << " | " << fail << " | " << c["runs"].size() << " | "
+           << (t && t->contains("runs_wall_seconds") ? num((*t)["runs_wall_seconds"], 3) : "—")
+           << " | " << src << " |\n";
+    }
+}
+
+// The heading and the paragraph of a case's section (source, problem, span, reference).
+void case_heading(std::ostringstream& os, const json& c) {
+    os << "\n<a id=\"" << anchor_of(c["id"].get<std::string>()) << "\"></a>\n";
+    os << "\n## " << (case_passed(c) ? "" : "FAILED: ") << c["id"].get<std::string>();
+    if (!c["title"].get<std::string>().empty()) os << " — " << c["title"].get<std::string>();
+    os << "\n\n";
+    if (!c["source"].get<std::string>().empty())
+        os << "Source: " << c["source"].get<std::string>() << ". ";
+    os << "Problem `" << c["problem"]["id"].get<std::string>() << "` ";
+    std::string params;
+    for (auto it = c["problem"]["params"].begin(); it != c["problem"]["params"].end(); ++it) {
+        if (!params.empty()) params += ", ";
+        params += it.key();
+        params += " = ";
+        if (it.value().is_array() && it.value().size() > 6) {
+            params += "[";
+            params += std::to_string(it.value().size());
+            params += " values]";
+        } else {
+            params += num(it.value(), 6);
+        }
+    }
+    os << "(" << params << "), t ∈ [" << num(c["t0"]) << ", " << num(c["t_end"])
+       << "], reference: " << c["reference"]["kind"].get<std::string>() << ".";
+    if (!c["overrides"].empty()) os << " Overrides: `" << c["overrides"].dump() << "`.";
+    if (c.contains("no_checks_because"))
+        os << " No checks: " << c["no_checks_because"].get<std::string>() << ".";
+}
+
+// A case's checks and tables (long tables folded in <details>, issue 14).
+void case_tables(std::ostringstream& os, const json& c, const json* t) {
+    os << "\n\n| result | check | method | dt | metric | value | expected | note |\n"
+          "|---|---|---|---|---|---|---|---|\n";
+    for (const auto& ck : c["checks"])
+        if (!ck["passed"].get<bool>()) os << check_line(ck);
+    for (const auto& ck : c["checks"])
+        if (ck["passed"].get<bool>()) os << check_line(ck);
+    auto part = [&](const std::string& summary, auto&& table) {
+        std::ostringstream tos;
+        table(tos);
+        os << folded(tos.str(), summary);
+    };
+    part("Measures", [&](std::ostringstream& o) { measures_table(o, c); });
+    part("Convergence", [&](std::ostringstream& o) { order_table(o, c, "order"); });
+    part("Local error", [&](std::ostringstream& o) { order_table(o, c, "local-order"); });
+    part("Structure metrics per run", [&](std::ostringstream& o) { metrics_table(o, c); });
+    part("Stability sweep", [&](std::ostringstream& o) { sweep_table(o, c); });
+    part("Work-precision", [&](std::ostringstream& o) { work_precision_table(o, c, t); });
+    part("Runs", [&](std::ostringstream& o) { runs_table(o, c, t); });
+}
+
+} // namespace
+
+std::string render_markdown(const json& report, const json& figures) {
     std::ostringstream os;
     const json& s = report["summary"];
     os << "# dampsym report\n\n";
@@ -159,46 +257,23 @@ std::string render_markdown(const json& report) {
         if (!case_passed(report["cases"][i])) order.push_back(i);
     for (std::size_t i = 0; i < report["cases"].size(); ++i)
         if (case_passed(report["cases"][i])) order.push_back(i);
+    overview_table(os, report, order);
+    const bool with_figures = figures.is_object() && figures.contains("cases");
+    if (with_figures)
+        os << "\nFigures: one or more per case below, drawn by `dampsym plot` "
+              "(tools/figures/plot.py); the gallery of the paper figures is "
+              "[figures.md](figures.md).\n";
     for (const std::size_t ci : order) {
         const json& c = report["cases"][ci];
-        const json* t = case_timings(report, ci);
-        os << "\n## " << (case_passed(c) ? "" : "FAILED: ") << c["id"].get<std::string>();
-        if (!c["title"].get<std::string>().empty()) os << " — " << c["title"].get<std::string>();
-        os << "\n\n";
-        if (!c["source"].get<std::string>().empty())
-            os << "Source: " << c["source"].get<std::string>() << ". ";
-        os << "Problem `" << c["problem"]["id"].get<std::string>() << "` ";
-        std::string params;
-        for (auto it = c["problem"]["params"].begin(); it != c["problem"]["params"].end(); ++it) {
-            if (!params.empty()) params += ", ";
-            params += it.key();
-            params += " = ";
-            if (it.value().is_array() && it.value().size() > 6) {
-                params += "[";
-                params += std::to_string(it.value().size());
-                params += " values]";
-            } else {
-                params += num(it.value(), 6);
-            }
+        case_heading(os, c);
+        // figures (issue 14): from figures/manifest.json, paths relative to report.md
+        if (with_figures && figures["cases"].contains(c["id"].get<std::string>())) {
+            os << "\n\n";
+            for (const auto& f : figures["cases"][c["id"].get<std::string>()])
+                os << "![" << f.value("caption", std::string()) << "]("
+                   << f["file"].get<std::string>() << ")\n";
         }
-        os << "(" << params << "), t ∈ [" << num(c["t0"]) << ", " << num(c["t_end"])
-           << "], reference: " << c["reference"]["kind"].get<std::string>() << ".";
-        if (!c["overrides"].empty()) os << " Overrides: `" << c["overrides"].dump() << "`.";
-        if (c.contains("no_checks_because"))
-            os << " No checks: " << c["no_checks_because"].get<std::string>() << ".";
-        os << "\n\n| result | check | method | dt | metric | value | expected | note |\n"
-              "|---|---|---|---|---|---|---|---|\n";
-        for (const auto& ck : c["checks"])
-            if (!ck["passed"].get<bool>()) os << check_line(ck);
-        for (const auto& ck : c["checks"])
-            if (ck["passed"].get<bool>()) os << check_line(ck);
-        measures_table(os, c);
-        order_table(os, c, "order");
-        order_table(os, c, "local-order");
-        metrics_table(os, c);
-        sweep_table(os, c);
-        work_precision_table(os, c, t);
-        runs_table(os, c, t);
+        case_tables(os, c, case_timings(report, ci));
     }
     return os.str();
 }

@@ -29,6 +29,9 @@ nlohmann::json summarize(const nlohmann::json& cases);
 std::string report_json_text(const nlohmann::json& report);
 
 std::string render_markdown(const nlohmann::json& report);
+// The same with the figures of figures/manifest.json ({"cases": {id: [{"file", "caption"}]}},
+// tools/figures/plot.py) embedded in each case's section (issue 14).
+std::string render_markdown(const nlohmann::json& report, const nlohmann::json& figures);
 std::string render_summary(const nlohmann::json& report); // the one-screen terminal summary
 std::string render_totals(const nlohmann::json& report);  // its last line
 void write_reports(const nlohmann::json& report, const std::string& dir);

@@ -42,10 +42,15 @@ std::string check_line(const json& ck) {
     if (ck.value("abs", false)) expected = "|x| " + expected;
     os << "| " << (ck["passed"].get<bool>() ? "pass" : "**FAIL**") << " | "
        << ck["name"].get<std::string>()
-       << (ck["negative_control"].get<bool>() ? " (negative control)" : "") << " | "
-       << ck["method"].get<std::string>() << " | " << (ck.contains("dt") ? num(ck["dt"]) : "")
-       << " | `" << ck["metric"].get<std::string>() << "` | " << num(ck["value"], 6) << " | "
-       << expected << " | " << (ck.contains("message") ? ck["message"].get<std::string>() : "")
+       // the label once: many check names already say "(negative control)"
+       << (ck["negative_control"].get<bool>() &&
+                   ck["name"].get<std::string>().find("negative control") == std::string::npos
+               ? " (negative control)"
+               : "")
+       << " | " << ck["method"].get<std::string>() << " | "
+       << (ck.contains("dt") ? num(ck["dt"]) : "") << " | `" << ck["metric"].get<std::string>()
+       << "` | " << num(ck["value"], 6) << " | " << expected << " | "
+       << (ck.contains("message") ? ck["message"].get<std::string>() : "")
        << (ck.value("refutes", false) ? " (passing refutes the paper's claim)" : "")
        << (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "") << " |\n";
     return os.str();

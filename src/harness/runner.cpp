@@ -229,8 +229,28 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         std::unique_ptr<detail::CaseJob> job;
         job = make_case(c, std::make_integer_sequence<int, kShards>{});
         job->set_time_budget(options.time_budget);
+        job->guard().set_timeout(case_timeout(c, options.case_timeout)); // issue 17 (limits.hpp)
+        job->set_figures(static_cast<bool>(options.series_sink)); // figures hook (issue 14)
         jobs.push_back(std::move(job));
     }
+    // issue 17: an exception in one task is recorded for its case (which then fails its
+    // completion check, limits.hpp) and the other tasks and cases go on.
+    std::vector<std::vector<std::string>> task_errors(cases.size());
+    std::vector<char> prepared(cases.size(), 1);
+    std::mutex errors_mutex;
+    auto isolated = [&](std::size_t i, const std::function<void()>& f) {
+        try {
+            f();
+            return true;
+        } catch (const std::exception& e) {
+            std::lock_guard<std::mutex> lock(errors_mutex);
+            task_errors[i].emplace_back(e.what());
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(errors_mutex);
+            task_errors[i].emplace_back("non-standard exception");
+        }
+        return false;
+    };
     // Progress: every task is attributed to its case; a case is done when its last task is.
     std::mutex progress_mutex;
     RunProgress state;
@@ -248,7 +268,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
     std::vector<std::function<void()>> tasks;
     for (std::size_t i = 0; i < jobs.size(); ++i)
         tasks.emplace_back([&, i] {
-            jobs[i]->prepare();
+            if (!isolated(i, [&] { jobs[i]->prepare(); })) prepared[i] = 0;
             report(i);
         });
     run_parallel(tasks, options.jobs);
@@ -259,12 +279,12 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         state.cases_done = 0;
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             std::vector<std::function<void()>> mine;
-            jobs[i]->add_tasks(mine);
+            if (prepared[i]) jobs[i]->add_tasks(mine);
             remaining[i] = mine.size();
             if (mine.empty()) ++state.cases_done;
             for (auto& t : mine)
-                planned.emplace_back([&report, i, task = std::move(t)] {
-                    task();
+                planned.emplace_back([&report, &isolated, i, task = std::move(t)] {
+                    isolated(i, task);
                     report(i);
                 });
         }
@@ -274,7 +294,21 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
     run_parallel(planned, options.jobs);
 
     json out_cases = json::array();
-    for (auto& j : jobs) out_cases.push_back(j->finish());
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        json record;
+        if (prepared[i] && isolated(i, [&] { record = jobs[i]->finish(); })) {
+            // issue 17: runs stopped (timeout, interrupted), failed tasks: the case fails
+            json done = completion_check(record, task_errors[i]);
+            if (!task_errors[i].empty()) record["errors"] = task_errors[i];
+            if (!done.is_null()) record["checks"].push_back(std::move(done));
+        } else {
+            record = failed_case_record(cases[i], task_errors[i]);
+        }
+        out_cases.push_back(std::move(record));
+    }
+    if (options.series_sink) // figures hook (issue 14)
+        for (std::size_t i = 0; i < jobs.size(); ++i)
+            if (prepared[i]) options.series_sink(jobs[i]->series());
     json timings_cases = take_timings(out_cases);
     json summary = summarize(out_cases);
     return {{"schema_version", kReportSchemaVersion},

@@ -6,6 +6,8 @@
 #include "harness/case.hpp"
 
 #include <nlohmann/json.hpp>
+
+#include <functional>
 #include <vector>
 
 namespace dampsym {
@@ -16,6 +18,13 @@ struct RunOptions {
     // the measured run, one warm-up of the bare step loop, then the minimum of N repetitions with
     // N chosen so that the repetitions take >= time_budget seconds in total. 0 switches it off.
     double time_budget = 0.02;
+    // Time budget of each case in seconds (--case-timeout; a case's timeout_seconds wins; 0 =
+    // none): src/harness/limits.hpp.
+    double case_timeout = 0.0;
+    // Figures hook (issue 14): when set (dampsym run --figures), every case keeps the time series
+    // of its figures and the sink receives each case's series (docs/reports.md "Series files")
+    // after the case has finished; when empty, nothing is kept.
+    std::function<void(const nlohmann::json& case_series)> series_sink;
 };
 
 // Returns the report: {"schema_version", "tool", "cases": [...], "summary": {...}}.

@@ -110,13 +110,69 @@ std::vector<double> estimate_costs(const std::vector<std::string>& ids,
     return out;
 }
 
+namespace {
+
+// The shape merge_reports reads (schema/report.schema.json), checked before it reads anything, so
+// that a damaged or hostile report is bad input naming the key (exit 2), never a crash.
+void require_mergeable(const json& r, const std::string& name) {
+    auto bad = [&](const std::string& key, const std::string& what) {
+        throw InputError(name + ": " + key + ": " + what + "; not a dampsym report");
+    };
+    if (!r.is_object()) bad("(top level)", "not an object");
+    if (!r.contains("cases") || !r["cases"].is_array()) bad("cases", "missing or not an array");
+    if (!r.contains("schema_version") || !r["schema_version"].is_number_integer())
+        bad("schema_version", "missing or not an integer");
+    if (!r.contains("tool")) bad("tool", "missing");
+    for (std::size_t i = 0; i < r["cases"].size(); ++i) {
+        const json& c = r["cases"][i];
+        const std::string where = "cases[" + std::to_string(i) + "]";
+        if (!c.is_object() || !c.contains("id") || !c["id"].is_string())
+            bad(where + ".id", "missing or not a string");
+        if (!c.contains("runs") || !c["runs"].is_array())
+            bad(where + ".runs", "missing or not an array");
+        if (!c.contains("checks") || !c["checks"].is_array())
+            bad(where + ".checks", "missing or not an array");
+        for (const auto& ck : c["checks"])
+            if (!ck.is_object() || !ck.contains("passed") || !ck["passed"].is_boolean())
+                bad(where + ".checks", "a check without passed (true/false)");
+    }
+    if (r.contains("provenance")) {
+        const json& p = r["provenance"];
+        if (!p.is_object()) bad("provenance", "not an object");
+        if (p.contains("shard") && p["shard"].is_object()) {
+            const json& s = p["shard"];
+            for (const char* k : {"count", "index"})
+                if (!s.contains(k) || !s[k].is_number_integer() || s[k].get<std::int64_t>() < 1 ||
+                    s[k].get<std::int64_t>() > 1000000)
+                    bad(std::string("provenance.shard.") + k, "missing or not a count");
+            if (!s.contains("selected") || !s["selected"].is_array())
+                bad("provenance.shard.selected", "missing or not an array");
+            for (const auto& id : s["selected"])
+                if (!id.is_string()) bad("provenance.shard.selected", "not an array of ids");
+        }
+    }
+    if (r.contains("timings")) {
+        const json& t = r["timings"];
+        if (!t.is_object()) bad("timings", "not an object");
+        if (t.contains("wall_seconds") && !t["wall_seconds"].is_number())
+            bad("timings.wall_seconds", "not a number");
+        if (t.contains("cases")) {
+            if (!t["cases"].is_array()) bad("timings.cases", "not an array");
+            for (const auto& c : t["cases"])
+                if (!c.is_object() || !c.contains("id"))
+                    bad("timings.cases", "an entry without id");
+        }
+    }
+}
+
+} // namespace
+
 json merge_reports(const std::vector<json>& reports, const std::vector<std::string>& names,
                    const json& merge_provenance) {
     if (reports.empty()) throw InputError("merge: no shard reports given");
     for (std::size_t i = 0; i < reports.size(); ++i) {
         const json& r = reports[i];
-        if (!r.is_object() || !r.contains("cases") || !r["cases"].is_array())
-            throw InputError(names[i] + ": cases: missing; not a dampsym report");
+        require_mergeable(r, names[i]);
         if (r.value("schema_version", 0) != kReportSchemaVersion)
             throw InputError(names[i] +
                              ": schema_version: " + r.value("schema_version", json()).dump() +

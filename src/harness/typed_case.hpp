@@ -14,6 +14,8 @@
 #include "diagnostics/diagnostic_list.hpp"
 #include "diagnostics/recorder.hpp"
 #include "harness/case_run.hpp"
+#include "harness/figure_series.hpp" // figures hook (issue 14)
+#include "harness/limits.hpp"
 #include "harness/registry.hpp"
 
 #include <cmath>
@@ -29,6 +31,7 @@ public:
 
     void prepare() override {
         plan();
+        if (figures_) series_.assign(runs_.size(), json()); // figures hook (issue 14)
         if (!needs_reference()) {
             reference_ = {{"kind", "none"}};
             return;
@@ -45,7 +48,9 @@ public:
             set_exact_reference(std::move(ref));
         } else {
             auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
-                return certified_reference(reference_request(problem_, c_, ref_times_));
+                ReferenceRequest req = reference_request(problem_, c_, ref_times_);
+                poison_reference(req, fault_for(c_.id, "(reference)")); // tests only (limits.hpp)
+                return certified_reference(req);
             });
             set_numerical_reference(*sol);
         }
@@ -67,6 +72,18 @@ public:
         }
     }
 
+    // Figures hook (issue 14): the series file of the case (docs/reports.md "Series files").
+    json series() override {
+        if (!figures_) return nullptr;
+        json out = case_series_json(c_, runs_, series_);
+        if constexpr (LinearOscillator<P>)
+            if (c_.wants("stability-sweep") && c_.sweep)
+                for (std::size_t m = 0; m < c_.methods.size(); ++m)
+                    out["stability_map"][c_.methods[m]] =
+                        stability_map_series(problem_, c_, method(m));
+        return out;
+    }
+
 private:
     void run_one(std::size_t m, std::size_t d) {
         const MethodInfo& info = method(m);
@@ -74,9 +91,15 @@ private:
         const double h = c_.dts[d];
         const std::int64_t n = c_.steps[d];
         out = {{"method", info.id}, {"dt", h}, {"steps_planned", n}};
-        if (with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); }) !=
-            KernelMatch::applied)
-            mark_not_applicable(out);
+        KernelMatch match = KernelMatch::applied;
+        try {
+            match = with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
+        } catch (const std::exception& e) {
+            // issue 17: a fault in this run is its status; the other runs and cases go on
+            mark_error(out, e.what());
+            return;
+        }
+        if (match != KernelMatch::applied) mark_not_applicable(out);
     }
 
     // The step loop: bare (no observer: no virtual call, no allocation per step) unless a
@@ -88,20 +111,32 @@ private:
         Vec z = problem_.initial_state();
         Recorder<P> rec(problem_, c_.t0, h);
         IntegrateOutcome res;
+        // issue 17: the step loop in chunks with the case's time budget and stop requests tested
+        // between them (src/harness/limits.hpp); a fault only where a test planted one
+        const FaultPlan* fault = fault_for(c_.id, info.id);
+        guard_.start();
         const auto start = Clock::now();
         if (observes()) {
             start_recorder(rec, info, h, n, z);
-            res = integrate(stepper, z, c_.t0, h, n, &rec);
+            res = integrate_guarded(stepper, z, c_.t0, h, n, &rec, guard_, fault);
         } else {
-            res = integrate(stepper, z, c_.t0, h, n);
+            res = integrate_guarded(stepper, z, c_.t0, h, n, static_cast<NoObserver*>(nullptr),
+                                    guard_, fault);
         }
         const double wall = seconds_since(start);
         record_run(out, res, counters, z, wall, h);
+        if (res.status == RunStatus::timeout || res.status == RunStatus::interrupted) {
+            out["metrics"] = json::object(); // issue 17: stopped; no further pass over the steps
+            return;
+        }
         const bool ok = res.status == RunStatus::ok;
         json metrics = observed_metrics(rec, info, h, ok, z);
         if (produces("cost", ok)) metrics["cost"] = cost_metrics(counters, res.steps_done, wall);
         kernel_metrics<K>(metrics, info, h, n);
         out["metrics"] = metrics;
+        // Figures hook (issue 14): only with --figures; a separate pass, the run above is
+        // untouched.
+        if (figures_ && ok) capture_figure_series<K>(info, h, n, rec, out);
         // Work-precision timing (ladder cases): the bare step loop only, never a failed run.
         if (ok && time_budget_ > 0.0 && c_.dts.size() >= 2) {
             auto once = [&] {
@@ -114,6 +149,21 @@ private:
             };
             out["timing"] = time_repeated(once, time_budget_, n);
         }
+    }
+
+    // Figures hook (issue 14): the series of the run whose record is `out` (a slot of runs_).
+    template <class K>
+    void capture_figure_series(const MethodInfo& info, double h, std::int64_t n,
+                               const Recorder<P>& rec, const json& out) {
+        const auto slot = static_cast<std::size_t>(&out - runs_.data());
+        if (!figure_series_for_dt(c_, slot % c_.dts.size())) return;
+        const Mat& g = rec.grid();
+        std::vector<double> times;
+        for (Eigen::Index i = 0; i < g.cols(); ++i) times.push_back(facts_.grid_time(i));
+        const bool ref_on_grid =
+            facts_.reference_ok && facts_.needs_grid && facts_.ref.cols() == g.cols();
+        series_[slot] = capture_run_series<K>(problem_, c_, info, h, n, g, times, facts_.ref,
+                                              ref_on_grid, rec.maxima());
     }
 
     void start_recorder(Recorder<P>& rec, const MethodInfo& info, double h, std::int64_t n,
@@ -132,11 +182,14 @@ private:
                           const Vec& z) const {
         json m = json::object();
         const Mat* grid = facts_.needs_grid ? &rec.grid() : nullptr;
-        StateFunction energy;
-        if constexpr (HasEnergy<P>) energy = [this](const Vec& v) { return problem_.energy(v); };
+        StateFunction energy, energy_scale;
+        if constexpr (HasEnergy<P>) {
+            energy = [this](const Vec& v) { return problem_.energy(v); };
+            energy_scale = [this](const Vec& v) { return problem_.energy_scale(v); };
+        }
         if (produces("error", ok)) m["error"] = error_metrics(facts_, grid, z);
         if (ok && facts_.reference_ok && !c_.measures.empty())
-            m["measure"] = measure_metrics(c_, facts_, grid, z, energy);
+            m["measure"] = measure_metrics(c_, facts_, grid, z, energy, energy_scale);
         if constexpr (HasEnergy<P>)
             if (produces("energy", ok))
                 m["energy"] = energy_metrics(facts_, rec.grid(), energy, [this](const Vec& v) {
@@ -210,6 +263,7 @@ private:
     }
 
     P problem_;
+    std::vector<json> series_; // figures hook (issue 14): per run slot, only with --figures
 };
 
 // The case job for c if its problem type is in shard K of N (index in ProblemList mod N == K),

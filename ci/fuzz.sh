@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of tests/fuzz/ with clang-14 (ASan + UBSan + libFuzzer; Debian
+# clang-14 and libfuzzer-14-dev, installed by ci/setup.sh) into build-fuzz/, and runs each for a
+# time budget, seeded with its committed corpus (tests/fuzz/corpus/<target>) plus verify/cases and
+# tests/data/bad. New interesting inputs are merged back into the committed corpus; a crash stops
+# the run and leaves its reproducer in build-fuzz/findings/<target>/ (commit it under
+# tests/fuzz/regressions/<target>/ once fixed: CI replays it).
+#
+# Usage: ci/fuzz.sh [SECONDS_PER_TARGET (default 600)] [TARGET...]   (targets: case set report)
+#        ci/fuzz.sh build                                             (build only)
+# Runs at nice 19 (the machine may be shared). Not part of CI: CI replays the corpus instead
+# (ctest -L fuzz in the ASan/UBSan build, seconds; tests/fuzz/CMakeLists.txt).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root="$PWD"
+out="$root/build-fuzz"
+mkdir -p "$out/obj"
+cxx="${CXX_FUZZ:-clang++-14}"
+launcher="${CMAKE_CXX_COMPILER_LAUNCHER:-}"
+flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
+       -fno-sanitize-recover=all -I"$root/src" -I"$root" -isystem /usr/include/eigen3
+       -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
+# The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
+lib=(src/harness/case.cpp src/harness/limits.cpp src/harness/registry.cpp src/harness/compare.cpp src/harness/shard.cpp
+     src/harness/report.cpp src/harness/junit.cpp
+     src/methods/catalog.cpp src/methods/tableaux.cpp src/methods/exponential_tableaux.cpp
+     src/methods/glm_coefficients.cpp src/methods/coefficient_checks.cpp
+     src/methods/exponential_conditions.cpp
+     reference/gsl_reference.cpp reference/kepler_exact.cpp reference/oscillator_exact.cpp
+     reference/rigid_body_exact.cpp src/diagnostics/order_fit.cpp src/diagnostics/stability.cpp)
+compile() { # source object extra-flags...
+  local src="$1" obj="$2"; shift 2
+  if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ -n "$(find src reference tests/fuzz -name '*.hpp' -newer "$obj" -print -quit)" ]; then
+    echo "fuzz build: $src"
+    nice -n 19 $launcher "$cxx" "${flags[@]}" "$@" -c "$src" -o "$obj"
+  fi
+}
+build() {
+  local objs=()
+  for s in "${lib[@]}"; do
+    local o="$out/obj/$(echo "$s" | tr / _).o"
+    compile "$s" "$o" -fsanitize=fuzzer-no-link
+    objs+=("$o")
+  done
+  for t in case set report; do
+    compile "tests/fuzz/fuzz_$t.cpp" "$out/obj/fuzz_$t.o" -fsanitize=fuzzer-no-link
+    nice -n 19 "$cxx" -fsanitize=fuzzer,address,undefined -o "$out/fuzz_$t" "$out/obj/fuzz_$t.o" \
+      "${objs[@]}" -lgsl -lgslcblas -lquadmath
+  done
+}
+build
+[ "${1:-}" = build ] && exit 0
+seconds="${1:-600}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(case set report)
+for t in "${targets[@]}"; do
+  corpus="tests/fuzz/corpus/$t"
+  mkdir -p "$corpus" "$out/findings/$t" "$out/work/$t"
+  seeds=()
+  case "$t" in
+    case|set) seeds=(verify/cases tests/data/bad tests/data/cases) ;;
+    report)   seeds=(tests/fuzz/seeds/report) ;;
+  esac
+  [ -d tests/fuzz/regressions/$t ] && seeds+=(tests/fuzz/regressions/$t)
+  echo "fuzz: $t for ${seconds} s"
+  # -max_len: cases are small; 64 KiB lets the fuzzer grow deep nesting and long arrays.
+  nice -n 19 "$out/fuzz_$t" "$out/work/$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
+    -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
+    -artifact_prefix="$out/findings/$t/" 2>&1 | tee "$out/fuzz_$t.log" | grep -E "^#|ERROR|finding|stat::" | tail -n 40
+  # Keep the committed corpus small: merge what this run found into it (minimised).
+  nice -n 19 "$out/fuzz_$t" -merge=1 "$corpus" "$out/work/$t" >/dev/null 2>&1 || true
+done

@@ -1,0 +1,256 @@
+// What a run keeps for its figures with `dampsym run --figures` (issue 14; the file format is in
+// docs/reports.md, "Series files"). Called from one hook in TypedCase::integrate_with and one in
+// TypedCase::series() (typed_case.hpp), and only when figures are on: without --figures nothing
+// here runs, so the measured run, its bare-loop timing and every report number are untouched.
+//
+// Per-step series come from a SEPARATE pass with its own stepper (like the conformal-symplectic
+// diagnostic): the measured run keeps its observers and its wall time. They reproduce the formulas
+// of diagnostics/recorder.hpp and conformal_symplectic.hpp exactly, so the maximum of a decimated
+// series equals the maximum the report states (verify/figures/test_figure_data.py checks this).
+// Series on the output grid (state error, energy error and change, temperature, Poincaré points)
+// are read from the measured run's grid and the case's reference, which the diagnostics used.
+#pragma once
+
+#include "core/integrate.hpp"
+#include "diagnostics/capabilities.hpp"
+#include "diagnostics/conformal_symplectic.hpp"
+#include "diagnostics/maxima.hpp"
+#include "diagnostics/recorder.hpp"
+#include "diagnostics/series.hpp"
+#include "diagnostics/stability.hpp"
+#include "harness/case.hpp"
+#include "harness/figure_step_observer.hpp"
+#include "harness/registry.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace dampsym::detail {
+
+// E_n / (e^{−2ΔΓ_n} √d) per step: the loop of conformal_symplectic_defect
+// (conformal_symplectic.hpp) with a decimated series instead of its maxima.
+template <class K, class P>
+nlohmann::json conformal_symplectic_series(const P& problem, const MethodInfo& info,
+                                           const CaseSpec& c, double h, std::int64_t n) {
+    if constexpr (!is_canonical_problem<P>() || !kernel_has_step_jacobian<K>()) {
+        (void)problem, (void)info, (void)c, (void)h, (void)n;
+        return nullptr;
+    } else {
+        Counters counters;
+        K stepper(problem, info, h, counters);
+        Vec z = problem.initial_state();
+        const int d = problem.dim();
+        const Mat Jinv = canonical_J_inverse(d);
+        const double jinv_norm = std::sqrt(static_cast<double>(d));
+        Mat Psi(d, d), JPsi(d, d), W(d, d);
+        MinMaxDecimator rel(n);
+        for (std::int64_t k = 0; k < n; ++k) {
+            const double tk = time_at(c.t0, h, k);
+            if (stepper.step_jacobian(tk, z, Psi) != StepStatus::ok) break;
+            const double cdec = std::exp(-2.0 * problem.dGamma(tk, h));
+            JPsi.noalias() = Jinv * Psi;
+            W.noalias() = Psi.transpose() * JPsi;
+            W -= cdec * Jinv;
+            const double e_rel = W.norm() / (cdec * jinv_norm);
+            if (state_diverged(z) || !std::isfinite(e_rel)) break;
+            rel.push(time_at(c.t0, h, k + 1), e_rel);
+        }
+        return rel.to_json();
+    }
+}
+
+// Everything one run keeps for its figures. grid/ref: the measured run's output grid and the
+// reference on the same grid (ref_on_grid false when the reference is not on it).
+template <class K, class P>
+nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, const MethodInfo& info,
+                                  double h, std::int64_t n, const Mat& grid,
+                                  const std::vector<double>& grid_t, const Mat& ref,
+                                  bool ref_on_grid, const std::vector<Maximum>& maxima) {
+    using json = nlohmann::json;
+    json s = json::object();
+    // the separate per-step pass (the orbit from it only when there is no output grid)
+    const Eigen::Index cols = grid.cols();
+    const bool orbit_steps = figure_wants_orbit<P>() && cols <= 2;
+    FigureStepObserver<P> obs(problem, c, h, n, orbit_steps);
+    if (obs.needed()) {
+        Counters counters;
+        K stepper(problem, info, h, counters);
+        Vec z = problem.initial_state();
+        obs.start(z);
+        integrate(stepper, z, c.t0, h, n, &obs);
+        s = obs.to_json();
+    }
+    if (c.wants("conformal-symplectic")) {
+        json cs = conformal_symplectic_series<K>(problem, info, c, h, n);
+        if (!cs.is_null()) s["conformal-symplectic.rel"] = cs;
+    }
+    // series on the output grid (the formulas of TypedCase's error/energy/temperature metrics)
+    if (cols > 1) {
+        if (ref_on_grid && c.wants("error")) {
+            MinMaxDecimator e(cols - 1);
+            for (Eigen::Index i = 1; i < cols; ++i)
+                e.push(grid_t[static_cast<std::size_t>(i)], (grid.col(i) - ref.col(i)).norm());
+            s["error.abs"] = e.to_json();
+        }
+        if constexpr (P::has_energy) {
+            if (c.wants("energy")) {
+                const double e0 = problem.energy(grid.col(0));
+                const double s0 = problem.energy_scale(grid.col(0));
+                MinMaxDecimator change(cols), err(cols), raw(cols);
+                for (Eigen::Index i = 0; i < cols; ++i) {
+                    const double t = grid_t[static_cast<std::size_t>(i)];
+                    const double en = problem.energy(grid.col(i));
+                    raw.push(t, en);
+                    change.push(t, scale_defined(s0) ? (en - e0) / s0 : 0.0);
+                    if (ref_on_grid) err.push(t, problem.energy(ref.col(i)) - en);
+                }
+                s["energy.value"] = raw.to_json();
+                s["energy.change_res"] = change.to_json();
+                if (ref_on_grid) s["energy.error"] = err.to_json();
+            }
+        }
+        if constexpr (HasTemperature<P>) {
+            if (c.wants("temperature")) {
+                MinMaxDecimator temp(cols);
+                for (Eigen::Index i = 0; i < cols; ++i)
+                    temp.push(grid_t[static_cast<std::size_t>(i)],
+                              problem.temperature(grid.col(i)));
+                s["temperature"] = temp.to_json();
+            }
+        }
+        if (c.wants("poincare")) {
+            auto section = [](const Mat& g) {
+                json q = json::array(), p = json::array();
+                for (Eigen::Index i = 0; i < g.cols(); ++i) {
+                    q.push_back(std::remainder(g(0, i), 2.0 * M_PI));
+                    p.push_back(g(1, i));
+                }
+                return json{{"q", q}, {"p", p}};
+            };
+            s["poincare"] = section(grid);
+            if (ref_on_grid) s["poincare_reference"] = section(ref);
+        }
+        // the orbit and the reference orbit at (at most) kOrbitSamples grid points
+        auto grid_orbit = [&](const Mat& g) {
+            StrideSampler pick(cols);
+            json t = json::array(), st = json::array();
+            for (Eigen::Index i = 0; i < cols; ++i) {
+                if (!pick.wants(i)) continue;
+                t.push_back(grid_t[static_cast<std::size_t>(i)]);
+                std::vector<double> v(static_cast<std::size_t>(g.rows()));
+                for (Eigen::Index r = 0; r < g.rows(); ++r)
+                    v[static_cast<std::size_t>(r)] = g(r, i);
+                st.push_back(v);
+            }
+            return json{{"t", t}, {"states", st}, {"stride", pick.stride()}};
+        };
+        if (figure_wants_orbit<P>() && cols > 2) {
+            s["orbit"] = grid_orbit(grid);
+            if (ref_on_grid) s["orbit_reference"] = grid_orbit(ref);
+        }
+    }
+    auto maxima_json = [](const std::vector<Maximum>& mx) {
+        MinMaxDecimator d(static_cast<std::int64_t>(mx.size()));
+        for (const auto& m : mx) d.push(m.t, m.d);
+        return d.to_json();
+    };
+    if (c.wants("dissipation-drift")) {
+        s["dissipation-drift.d"] = maxima_json(maxima);
+        if constexpr (HasOneDofMaxima<P>) {
+            // the reference's d(t) by the same locator on the reference samples (drift_metrics)
+            if (ref_on_grid && cols > 2) {
+                MaximaFinder<P> finder(problem, c.t0);
+                for (Eigen::Index i = 0; i < cols; ++i)
+                    finder.feed(grid_t[static_cast<std::size_t>(i)], ref.col(i));
+                s["dissipation-drift.d_reference"] = maxima_json(finder.maxima());
+            }
+        }
+    }
+    return s;
+}
+
+// The (γ, h) stability map of one method on the oscillator for its figure: the case's sweep
+// ranges on a grid `refine` times finer, each cell coded 0 = F's condition holds and M is
+// power-bounded, 1 = F fails but M is power-bounded, 2 = F holds but M is not power-bounded,
+// 3 = neither; and F's closed-form boundary (first h where F(3.12)/(3.17)/(3.22) fails, h
+// resolved to 1/2000 of the range) at the map's γ rows, when the method has one.
+// (A template on the linear problem type, so that only the shard holding it compiles it; the
+// grid's problems are problem.with(ω, γ), as in the stability sweep.)
+template <class P>
+nlohmann::json stability_map_series(const P& problem, const CaseSpec& c, const MethodInfo& info,
+                                    int refine = 4) {
+    using json = nlohmann::json;
+    const auto& sw = *c.sweep;
+    const std::vector<double> g0 = sw.gamma.values(), h0 = sw.h.values();
+    auto fine = [&](const std::vector<double>& v) {
+        std::vector<double> out;
+        if (v.size() < 2) return v;
+        for (std::size_t i = 0; i + 1 < v.size(); ++i)
+            for (int k = 0; k < refine; ++k) out.push_back(v[i] + (v[i + 1] - v[i]) * k / refine);
+        out.push_back(v.back());
+        return out;
+    };
+    const std::vector<double> gs = fine(g0), hs = fine(h0);
+    json rows = json::array();
+    for (double g : gs) {
+        std::vector<int> row;
+        for (double h : hs) {
+            const P osc = problem.with(sw.omega, g);
+            OneStepAnalysis a;
+            with_kernel<P>(info, [&]<class K>() {
+                a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
+            });
+            row.push_back((a.F_condition ? 0 : 1) + (a.power_bounded ? 0 : 2));
+        }
+        rows.push_back(row);
+    }
+    json out = {{"omega", sw.omega}, {"gamma", gs}, {"h", hs}, {"code", rows}};
+    if (oscillator_formulas(info.id).F_condition) {
+        json bg = json::array(), bh = json::array();
+        const double hlo = h0.front(), hhi = h0.back();
+        for (double g : gs) {
+            double first = std::numeric_limits<double>::quiet_NaN();
+            for (int j = 0; j <= 2000; ++j) {
+                const double h = hlo + (hhi - hlo) * j / 2000.0;
+                if (!oscillator_formulas(info.id).F_condition(sw.omega, g, h)) {
+                    first = h;
+                    break;
+                }
+            }
+            bg.push_back(g);
+            bh.push_back(std::isnan(first) ? json(nullptr) : json(first));
+        }
+        out["F_formula_boundary"] = {
+            {"gamma", bg}, {"h", bh}, {"source", oscillator_formulas(info.id).source}};
+    }
+    return out;
+}
+
+// The series file of a case: one entry per run (method, dt, status, its series; empty for runs
+// that keep none: figure_series_for_dt).
+inline nlohmann::json case_series_json(const CaseSpec& c, const std::vector<nlohmann::json>& runs,
+                                       const std::vector<nlohmann::json>& series) {
+    using json = nlohmann::json;
+    json out_runs = json::array();
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const json& r = runs[i];
+        out_runs.push_back(
+            {{"method", r.value("method", std::string())},
+             {"dt", r.value("dt", 0.0)},
+             {"status", r.value("status", std::string())},
+             {"series", i < series.size() && series[i].is_object() ? series[i] : json::object()}});
+    }
+    return {{"format", "dampsym-series-1"},
+            {"case", c.id},
+            {"problem", c.problem_id},
+            {"t0", c.t0},
+            {"t_end", c.t_end},
+            {"runs", out_runs}};
+}
+
+} // namespace dampsym::detail

@@ -1,0 +1,187 @@
+// Limits of a run that an unattended CI job must survive (docs/case-keys.md "Time and memory
+// limits", docs/ci.md "Exit status"):
+//
+// - Time: a case's time budget (`--case-timeout SECONDS` or the case key `timeout_seconds`). Its
+//   clock starts when the case's first run starts (its reference, computed before, is not
+//   counted); a run past it stops at the next step boundary with status "timeout" and the step
+//   reached, the case's later runs stop at step 0, its checks on those runs fail, the other cases
+//   go on, and the exit status is 1.
+// - Signals: the first SIGINT/SIGTERM stops every run at its next step boundary (status
+//   "interrupted"); the report of what finished is written, marked "interrupted", and the exit
+//   status is 130/143. A second signal exits at once (the previous report in --out stays intact:
+//   reports are replaced atomically).
+// - Memory: before anything runs, each case's peak memory is estimated (output grid × state size
+//   × the copies held at once, reference grid, stability sweep) and a case above `--max-memory`
+//   (default half the physical memory) is refused, exit 2, naming the estimate and the key to
+//   change.
+//
+// The step loop itself stays the bare loop of core/integrate.hpp: integrate_guarded runs it in
+// chunks and tests the stop state between chunks only (one clock read per chunk; chunks grow
+// until they take ~2 ms, so the overhead is nil and the stop latency a few ms or one step).
+#pragma once
+
+#include "core/integrate.hpp"
+#include "reference/gsl_reference.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace dampsym {
+
+struct CaseSpec;
+
+// ---- command line (dampsym run) -----------------------------------------------------------------
+
+struct CliLimits {
+    double case_timeout = 0.0; // --case-timeout SECONDS (0 = none)
+    std::string max_memory;    // --max-memory SIZE ("" = half the physical memory)
+};
+// Adds --case-timeout and --max-memory to `dampsym run`.
+void add_limit_options(CLI::App& run, CliLimits& limits);
+// Before running: the memory check (exit 2 through InputError) and the stop handlers.
+void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits);
+// After running, before the report is written: marks it "interrupted" (with the signal) if a stop
+// was requested.
+void mark_interrupted(nlohmann::json& report);
+// The exit status: 128 + signal after a stop request (130 SIGINT, 143 SIGTERM), else `status`.
+int exit_status_after_run(int status);
+
+// ---- signals ----------------------------------------------------------------------------------
+
+// Installs the SIGINT/SIGTERM handlers of `dampsym run` (first signal: request a stop; second:
+// _exit(128 + signal) at once).
+void install_stop_handlers();
+// The signal that requested a stop (SIGINT, SIGTERM), or 0.
+int stop_signal() noexcept;
+extern std::atomic<int> g_stop_signal; // set by the handlers; read it through stop_requested()
+inline bool stop_requested() noexcept {
+    return g_stop_signal.load(std::memory_order_relaxed) != 0;
+}
+// For tests: request a stop as the signal would / clear it.
+void request_stop(int signal) noexcept;
+void clear_stop() noexcept;
+
+// ---- a case's time budget -----------------------------------------------------------------------
+
+class CaseGuard {
+public:
+    using Clock = std::chrono::steady_clock;
+    // seconds <= 0: no budget.
+    void set_timeout(double seconds) { timeout_ = seconds; }
+    double timeout() const { return timeout_; }
+    // Starts the case's clock (the first call counts).
+    void start() noexcept;
+    // The status a run of this case must stop with now, if any (interrupted before timeout).
+    std::optional<RunStatus> stop_status() const noexcept;
+
+private:
+    double timeout_ = 0.0;
+    std::atomic<std::int64_t> start_ns_{-1};
+};
+
+// ---- test-only fault injection ------------------------------------------------------------------
+
+// A fault planted in one run (case id and method) by a test (tests/test_limits.cpp); nothing in
+// the command line can set one. Before step `step` (1-based) the state is poisoned with NaN or
+// inf (as a right-hand side returning NaN/inf at that step would: the run diverges at that step),
+// the step's solve is reported failed (as a Newton solve that cannot converge), or an exception is
+// thrown (a fault in one task while the others run).
+// With method "(reference)" and kind reference_nan, the case's numerical reference has a
+// right-hand side that returns NaN from its `step`-th evaluation on (a reference that cannot meet
+// its tolerance: reference-failed, and the checks that read it fail).
+struct FaultPlan {
+    enum class Kind { nan, inf, solve_failed, exception, reference_nan };
+    std::string case_id, method;
+    Kind kind = Kind::nan;
+    std::int64_t step = 1;
+};
+void set_fault_plan(std::optional<FaultPlan> plan); // tests only
+// The plan for this run, or null (always null unless a test set one: one relaxed atomic load).
+const FaultPlan* fault_for(std::string_view case_id, std::string_view method);
+
+// Wraps req.rhs as a reference_nan plan says (no-op for a null plan).
+void poison_reference(ReferenceRequest& req, const FaultPlan* fault);
+
+// Like integrate() (bitwise the same states), in chunks of growing length with guard.stop_status()
+// tested between chunks. A stop gives {timeout|interrupted, steps done, steps done}.
+template <class Stepper, class Observer = NoObserver>
+IntegrateOutcome integrate_guarded(Stepper& stepper, Vec& z, double t0, double h, std::int64_t n,
+                                   Observer* observer, const CaseGuard& guard,
+                                   const FaultPlan* fault = nullptr) {
+    using Clock = std::chrono::steady_clock;
+    std::int64_t k = 0, chunk = 1;
+    while (k < n) {
+        if (const auto stop = guard.stop_status()) return {*stop, k, k};
+        if (fault && k == fault->step - 1) {
+            if (fault->kind == FaultPlan::Kind::solve_failed)
+                return {RunStatus::solve_failed, k, k + 1};
+            if (fault->kind == FaultPlan::Kind::exception)
+                throw std::runtime_error("injected fault: exception before step " +
+                                         std::to_string(fault->step));
+            z[0] = fault->kind == FaultPlan::Kind::nan ? std::numeric_limits<double>::quiet_NaN()
+                                                       : std::numeric_limits<double>::infinity();
+        }
+        const auto chunk_start = Clock::now();
+        std::int64_t end = n - k > chunk ? k + chunk : n;
+        if (fault && k < fault->step - 1 && end > fault->step - 1) end = fault->step - 1;
+        const IntegrateOutcome r = integrate_steps(stepper, z, t0, h, k, end, observer);
+        if (r.status != RunStatus::ok) return r;
+        k = end;
+        if (chunk < (std::int64_t{1} << 24) &&
+            Clock::now() - chunk_start < std::chrono::milliseconds(2))
+            chunk *= 2;
+    }
+    return {RunStatus::ok, n, 0};
+}
+
+// ---- memory ---------------------------------------------------------------------------------
+
+// Half the physical memory (the default of --max-memory), in bytes.
+double default_max_memory();
+// Parses --max-memory: bytes with an optional suffix K, M, G, T (powers of 1024; "8G", "500M").
+// Throws InputError naming --max-memory.
+double parse_memory_size(const std::string& text);
+std::string format_bytes(double bytes);
+
+struct MemoryEstimate {
+    double bytes = 0.0;
+    std::string largest; // what dominates, e.g. "output grid: 1e+07 points x 4 components x 3"
+    std::string key;     // the case key to change, e.g. "output_dt"
+};
+// Peak memory of a case with `jobs` runs at once (a rough upper estimate, docs/case-keys.md).
+MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs);
+// Throws InputError naming the file, the estimate and the key to change for the first case above
+// max_bytes.
+void check_memory(const std::vector<CaseSpec>& cases, int jobs, double max_bytes);
+
+// Validates the case keys of this file (timeout_seconds: a number > 0). Throws InputError naming
+// file and key. Called from parse_case (case.cpp).
+void validate_limit_keys(const nlohmann::json& j, const std::string& file);
+
+// ---- reporting ----------------------------------------------------------------------------------
+
+// The failing check "case completed" for a case record with runs that did not finish (status
+// timeout, interrupted or error) or tasks that threw (task_errors), else null. Appended to the
+// case's checks by the runner, so such a case always fails (exit status 1), whatever its checks.
+nlohmann::json completion_check(const nlohmann::json& case_record,
+                                const std::vector<std::string>& task_errors);
+// The record of a case whose preparation (reference) or assembly threw: no runs, the failing
+// completion check.
+nlohmann::json failed_case_record(const CaseSpec& c, const std::vector<std::string>& task_errors);
+
+// The time budget of a case: its key timeout_seconds, else --case-timeout (0 = none).
+double case_timeout(const CaseSpec& c, double cli_timeout);
+
+} // namespace dampsym

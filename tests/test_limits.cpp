@@ -1,0 +1,430 @@
+// Hostile input and numerical faults (src/harness/limits.hpp): the chunked, guarded step loop is
+// bitwise the bare loop; a case's time budget stops it (status timeout, the step reached, the case
+// fails, the others are intact); SIGINT/SIGTERM stop a run, write the report marked interrupted
+// and exit 130/143, a second signal exits at once and the previous report is never truncated; the
+// memory estimate refuses a case above --max-memory (exit 2 naming the key); faults planted in
+// one run (NaN, inf, a failed solve, an exception) give their status while the other runs and
+// cases finish; I/O errors exit 3.
+#include "cli_support.hpp"
+
+#include "harness/limits.hpp"
+#include "harness/runner.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <thread>
+
+using namespace dampsym_test;
+using dampsym::CaseSpec;
+using dampsym::FaultPlan;
+using nlohmann::json;
+
+extern char** environ;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// z ← A z with a rotation-and-decay A: cheap, and every step's state is distinct.
+struct ToyStepper {
+    int calls = 0;
+    dampsym::StepStatus step(double t, dampsym::Vec& z) {
+        ++calls;
+        const double c = 0.999 * std::cos(0.01 + 1e-3 * t), s = 0.999 * std::sin(0.01);
+        const double q = z[0], p = z[1];
+        z[0] = c * q + s * p;
+        z[1] = -s * q + c * p;
+        return dampsym::StepStatus::ok;
+    }
+};
+
+struct Trace {
+    std::vector<std::int64_t> n;
+    std::vector<double> t, q;
+    void operator()(std::int64_t k, double tk, const dampsym::Vec& z) {
+        n.push_back(k);
+        t.push_back(tk);
+        q.push_back(z[0]);
+    }
+};
+
+// A small oscillator case (tests/data/cases/cli-pass.json's shape).
+json small_case(const std::string& id, double t_end, double dt) {
+    return {{"id", id},
+            {"title", "limits test"},
+            {"problem", {{"id", "oscillator"}, {"omega", 1.0}, {"gamma", 0.1}}},
+            {"methods", {"csv1", "symplectic-euler"}},
+            {"t_end", t_end},
+            {"dt", dt},
+            {"diagnostics", {"error"}},
+            {"expect",
+             {{"small final error",
+               {{"metric", "error.final_abs"}, {"methods", "all"}, {"le", 1.0}}}}}};
+}
+
+CaseSpec spec(const json& j) {
+    return dampsym::parse_case(j, j["id"].get<std::string>() + ".json", {});
+}
+
+const json& run_of(const json& report, std::size_t c, std::size_t r) {
+    return report["cases"][c]["runs"][r];
+}
+
+// Runs the binary with args; returns its pid (stdout/stderr to files in dir).
+pid_t spawn(const std::vector<std::string>& args, const fs::path& dir) {
+    std::vector<std::string> full{DAMPSYM_BINARY};
+    full.insert(full.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : full) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    const std::string out = (dir / "stdout").string(), err = (dir / "stderr").string();
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, full[0].c_str(), &fa, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    REQUIRE(rc == 0);
+    return pid;
+}
+
+int wait_status(pid_t pid) {
+    int raw = 0;
+    REQUIRE(waitpid(pid, &raw, 0) == pid);
+    return WIFEXITED(raw) ? WEXITSTATUS(raw) : 1000 + WTERMSIG(raw);
+}
+
+// Waits until `path` exists (the run has started writing) or the timeout passes.
+void wait_for_text(const fs::path& path, const std::string& text, double seconds) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    while (Clock::now() < end) {
+        std::error_code ec;
+        if (fs::exists(path, ec) && read_text(path).find(text) != std::string::npos) return;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+}
+
+} // namespace
+
+TEST_CASE("limits: the guarded loop is bitwise the bare loop, in any chunking", "[limits]") {
+    for (std::int64_t n : {0, 1, 7, 1000, 100000}) {
+        dampsym::Vec a(2), b(2);
+        a << 1.0, 0.25;
+        b = a;
+        ToyStepper sa, sb;
+        Trace ta, tb;
+        const auto ra = dampsym::integrate(sa, a, 0.5, 0.01, n, &ta);
+        dampsym::CaseGuard guard;
+        guard.start();
+        const auto rb = dampsym::integrate_guarded(sb, b, 0.5, 0.01, n, &tb, guard);
+        CHECK(ra.status == rb.status);
+        CHECK(ra.steps_done == rb.steps_done);
+        CHECK(a[0] == b[0]); // bitwise
+        CHECK(a[1] == b[1]);
+        CHECK(ta.n == tb.n);
+        CHECK(ta.t == tb.t);
+        CHECK(ta.q == tb.q);
+        CHECK(sa.calls == sb.calls);
+    }
+}
+
+TEST_CASE("limits: a time budget stops the loop at a step boundary", "[limits]") {
+    dampsym::Vec z(2);
+    z << 1.0, 0.0;
+    ToyStepper s;
+    dampsym::CaseGuard guard;
+    guard.set_timeout(0.2);
+    guard.start();
+    const auto t0 = Clock::now();
+    const auto r = dampsym::integrate_guarded(s, z, 0.0, 1e-3, std::int64_t{1} << 40,
+                                              static_cast<dampsym::NoObserver*>(nullptr), guard);
+    const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+    CHECK(r.status == dampsym::RunStatus::timeout);
+    CHECK(r.steps_done == s.calls); // z is the state at the step reached
+    CHECK(r.steps_done > 0);
+    CHECK(took < 0.5);
+    // negative control: without a budget the same loop runs to the end
+    dampsym::CaseGuard none;
+    none.start();
+    dampsym::Vec y(2);
+    y << 1.0, 0.0;
+    ToyStepper s2;
+    const auto all = dampsym::integrate_guarded(s2, y, 0.0, 1e-3, 100000,
+                                                static_cast<dampsym::NoObserver*>(nullptr), none);
+    CHECK(all.status == dampsym::RunStatus::ok);
+    CHECK(all.steps_done == 100000);
+}
+
+TEST_CASE("limits: --case-timeout stops a 2e9-step case within 3 s; the other case is intact",
+          "[limits]") {
+    const std::vector<CaseSpec> ok_only{spec(small_case("small", 2.0, 0.01))};
+    const std::vector<CaseSpec> both{spec(small_case("small", 2.0, 0.01)),
+                                     spec(small_case("huge", 1e6, 1e-3))}; // 2 x 1e9 steps
+    dampsym::RunOptions opt;
+    opt.jobs = 2;
+    opt.time_budget = 0.0;
+    opt.case_timeout = 1.0;
+    const json alone = dampsym::run_cases(ok_only, opt);
+    const auto t0 = Clock::now();
+    const json report = dampsym::run_cases(both, opt);
+    const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+    CHECK(took < 3.0);
+    CHECK(report["cases"][0]["runs"] == alone["cases"][0]["runs"]); // intact
+    CHECK(report["cases"][0]["checks"] == alone["cases"][0]["checks"]);
+    for (std::size_t r = 0; r < 2; ++r) {
+        const json& run = run_of(report, 1, r);
+        INFO(run.dump());
+        CHECK(run["status"] == "timeout");
+        CHECK(run["steps"].get<std::int64_t>() < 1000000000);
+        CHECK(run["failed_at_step"] == run["steps"]);
+    }
+    bool completion_failed = false;
+    for (const auto& ck : report["cases"][1]["checks"]) {
+        CHECK_FALSE(ck["passed"].get<bool>()); // its checks fail, never pass
+        if (ck["name"] == "case completed") completion_failed = true;
+    }
+    CHECK(completion_failed);
+    CHECK(report["summary"]["failed_cases"] == 1);
+    // the case key wins over the option
+    json keyed = small_case("keyed", 1e6, 1e-3);
+    keyed["timeout_seconds"] = 0.3;
+    opt.case_timeout = 100.0;
+    const auto t1 = Clock::now();
+    const json r2 = dampsym::run_cases({spec(keyed)}, opt);
+    CHECK(std::chrono::duration<double>(Clock::now() - t1).count() < 2.0);
+    CHECK(run_of(r2, 0, 0)["status"] == "timeout");
+}
+
+TEST_CASE("limits: timeout_seconds is validated (exit 2 naming the key)", "[limits]") {
+    for (const json& bad : {json(0.0), json(-1.0), json("2"), json(nullptr)}) {
+        json j = small_case("bad-timeout", 2.0, 0.01);
+        j["timeout_seconds"] = bad;
+        INFO(bad.dump());
+        CHECK_THROWS_WITH(spec(j), Catch::Contains("timeout_seconds"));
+    }
+}
+
+TEST_CASE("limits: faults planted in one run give their status; the rest finishes",
+          "[limits][faults]") {
+    const std::vector<CaseSpec> cases{spec(small_case("faulty", 2.0, 0.01)),
+                                      spec(small_case("clean", 2.0, 0.01))};
+    dampsym::RunOptions opt;
+    opt.jobs = 2;
+    opt.time_budget = 0.0;
+    const json clean = dampsym::run_cases(cases, opt);
+    REQUIRE(clean["summary"]["checks_failed"] == 0);
+    struct Row {
+        FaultPlan::Kind kind;
+        const char* status;
+        std::int64_t steps, failed_at;
+    };
+    for (const Row& row : {Row{FaultPlan::Kind::nan, "diverged", 37, 37},
+                           Row{FaultPlan::Kind::inf, "diverged", 37, 37},
+                           Row{FaultPlan::Kind::solve_failed, "solve-failed", 36, 37},
+                           Row{FaultPlan::Kind::exception, "error", 0, -1}}) {
+        dampsym::set_fault_plan(FaultPlan{"faulty", "csv1", row.kind, 37});
+        json report;
+        try {
+            report = dampsym::run_cases(cases, opt);
+        } catch (...) {
+            dampsym::set_fault_plan(std::nullopt);
+            throw;
+        }
+        dampsym::set_fault_plan(std::nullopt);
+        INFO(row.status);
+        const json& bad = run_of(report, 0, 0);
+        INFO(bad.dump());
+        CHECK(bad["method"] == "csv1");
+        CHECK(bad["status"] == row.status);
+        CHECK(bad["steps"] == row.steps);
+        if (row.failed_at >= 0) CHECK(bad["failed_at_step"] == row.failed_at);
+        if (row.kind == FaultPlan::Kind::exception)
+            CHECK_THAT(bad["error"].get<std::string>(), Catch::Contains("injected fault"));
+        // the other run of the case and the other case are untouched
+        CHECK(run_of(report, 0, 1) == run_of(clean, 0, 1));
+        CHECK(report["cases"][1] == clean["cases"][1]);
+        // the faulty run's checks fail (never pass), and so does the case
+        for (const auto& ck : report["cases"][0]["checks"])
+            if (ck["method"] == "csv1" || ck["name"] == "case completed")
+                CHECK_FALSE(ck["passed"].get<bool>());
+        CHECK(report["summary"]["failed_cases"] == 1);
+    }
+}
+
+TEST_CASE("limits: a reference that cannot meet its tolerance fails the checks that read it",
+          "[limits][faults]") {
+    // pendulum (no exact solution: a certified GSL reference); parameters unique to this test,
+    // so that the poisoned reference is not shared through the reference cache
+    json j = small_case("ref-fault", 1.0, 0.01);
+    j["problem"] = {{"id", "pendulum"}, {"gamma", 0.0123456789}};
+    j["methods"] = {"csv1"};
+    j["expect"]["no error at all"] = {
+        {"metric", "error.final_abs"}, {"methods", "all"}, {"ge", 0.0}}; // passes if evaluated
+    const std::vector<CaseSpec> cases{spec(j), spec(small_case("clean", 2.0, 0.01))};
+    dampsym::RunOptions opt;
+    opt.time_budget = 0.0;
+    const json clean = dampsym::run_cases({cases[1]}, opt);
+    dampsym::set_fault_plan(
+        FaultPlan{"ref-fault", "(reference)", FaultPlan::Kind::reference_nan, 50});
+    json report;
+    try {
+        report = dampsym::run_cases(cases, opt);
+    } catch (...) {
+        dampsym::set_fault_plan(std::nullopt);
+        throw;
+    }
+    dampsym::set_fault_plan(std::nullopt);
+    const json& c = report["cases"][0];
+    INFO(c["reference"].dump());
+    CHECK(c["reference"]["ok"] == false);
+    CHECK_THAT(c["reference"]["error"].get<std::string>(), Catch::Contains("non-finite"));
+    CHECK(c["runs"][0]["status"] == "ok"); // the run itself finished
+    REQUIRE(c["checks"].size() == 2);
+    for (const auto& ck : c["checks"]) {
+        CHECK_FALSE(ck["passed"].get<bool>()); // never pass, whatever the direction
+        CHECK_THAT(ck["message"].get<std::string>(), Catch::Contains("reference failed"));
+    }
+    CHECK(report["cases"][1] == clean["cases"][0]);
+}
+
+TEST_CASE("limits: a stop request (SIGINT) stops every run at a step boundary", "[limits]") {
+    const std::vector<CaseSpec> cases{spec(small_case("small", 2.0, 0.01))};
+    dampsym::request_stop(SIGINT);
+    const json report = dampsym::run_cases(cases, dampsym::RunOptions{});
+    dampsym::clear_stop();
+    for (const auto& run : report["cases"][0]["runs"]) {
+        CHECK(run["status"] == "interrupted");
+        CHECK(run["steps"] == 0);
+    }
+    CHECK(report["summary"]["checks_failed"].get<int>() > 0);
+    json marked = report;
+    dampsym::request_stop(SIGTERM);
+    dampsym::mark_interrupted(marked);
+    CHECK(dampsym::exit_status_after_run(0) == 143);
+    dampsym::clear_stop();
+    CHECK(marked["interrupted"]["signal"] == "SIGTERM");
+    CHECK(dampsym::exit_status_after_run(1) == 1);
+}
+
+TEST_CASE("limits: memory estimate and --max-memory", "[limits]") {
+    CHECK(dampsym::parse_memory_size("8G") == 8.0 * 1024 * 1024 * 1024);
+    CHECK(dampsym::parse_memory_size("500M") == 500.0 * 1024 * 1024);
+    CHECK(dampsym::parse_memory_size("1.5KiB") == 1536.0);
+    CHECK(dampsym::parse_memory_size("4096") == 4096.0);
+    for (const char* bad : {"", "x", "-1G", "0", "1Q", "nan", "1e999"})
+        CHECK_THROWS_WITH(dampsym::parse_memory_size(bad), Catch::Contains("--max-memory"));
+    CHECK(dampsym::default_max_memory() > 0.0);
+    json big = small_case("big-grid", 1e5, 1e-2); // 1e7 output points
+    big["output_dt"] = 1e-2;
+    const CaseSpec c = spec(big);
+    const auto est = dampsym::estimate_case_memory(c, 2);
+    CHECK(est.key == "output_dt");
+    CHECK(est.bytes > 1e7 * 2 * 8 * 2); // two grids in flight at least
+    CHECK_THROWS_WITH(dampsym::check_memory({c}, 2, 200.0 * 1024 * 1024),
+                      Catch::Contains("output_dt") && Catch::Contains("--max-memory") &&
+                          Catch::Contains("big-grid.json"));
+    // negative control: the small case fits
+    CHECK_NOTHROW(
+        dampsym::check_memory({spec(small_case("s", 2.0, 0.01))}, 2, 200.0 * 1024 * 1024));
+}
+
+TEST_CASE("limits: the issue's memory case is refused in < 1 s naming output_dt", "[limits][cli]") {
+    TempDir dir;
+    // pendulum, t_end = 1e5, dt = output_dt = 1e-4, error over the grid (10^9 points)
+    write_text(dir / "mem.json",
+               R"({"id": "mem", "problem": {"id": "pendulum"}, "methods": ["csv1"],
+                   "t_end": 1e5, "dt": 1e-4, "output_dt": 1e-4, "diagnostics": ["error"],
+                   "no_checks_because": "memory test"})");
+    write_text(dir / "mem2.json",
+               R"({"id": "mem2", "problem": {"id": "pendulum"}, "methods": ["csv1"],
+                   "t_end": 1e3, "dt": 1e-4, "output_dt": 1e-4, "diagnostics": ["error"],
+                   "no_checks_because": "memory test"})"); // 1e7 points: the estimate
+    for (const auto& args :
+         {std::vector<std::string>{"run", (dir / "mem.json").string(), "--out",
+                                   (dir / "out").string()},
+          std::vector<std::string>{"run", (dir / "mem2.json").string(), "--out",
+                                   (dir / "out").string(), "--max-memory", "200M"}}) {
+        const auto t0 = Clock::now();
+        const CliResult r = run(args);
+        const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+        INFO(describe(args, r));
+        CHECK(r.status == 2);
+        CHECK(took < 1.0);
+        CHECK_THAT(r.err, Catch::Contains("output_dt"));
+        CHECK_FALSE(fs::exists(dir / "out" / "report.json"));
+    }
+    // --max-memory is validated
+    const CliResult bad = run({"run", (dir / "mem2.json").string(), "--out", (dir / "out").string(),
+                               "--max-memory", "lots"});
+    CHECK(bad.status == 2);
+    CHECK_THAT(bad.err, Catch::Contains("--max-memory"));
+}
+
+TEST_CASE("limits: I/O errors exit 3 from the executable with one message", "[limits][cli]") {
+    TempDir dir;
+    copy_data("cases/cli-pass.json", dir.path());
+    write_text(dir / "a-file", "x");
+    for (const std::string& out : {std::string("/proc/x"), (dir / "a-file").string()}) {
+        const pid_t pid =
+            spawn({"run", (dir / "cli-pass.json").string(), "--out", out}, dir.path());
+        INFO(out);
+        CHECK(wait_status(pid) == 3);
+        const std::string err = read_text(dir / "stderr");
+        CHECK_THAT(err, Catch::Contains(out));
+        CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+    }
+}
+
+TEST_CASE("limits: SIGINT/SIGTERM write the report marked interrupted; a second signal exits at "
+          "once and the previous report stays whole",
+          "[limits][signals]") {
+    TempDir dir;
+    copy_data("cases/cli-pass.json", dir.path());
+    write_text(dir / "long.json", small_case("long", 1e6, 1e-3).dump()); // 2e9 steps
+    const fs::path out = dir / "out";
+    fs::create_directories(out);
+    const std::string previous = "{\"previous\": \"report\"}\n";
+    for (int sig : {SIGINT, SIGTERM}) {
+        write_text(out / "report.json", previous);
+        const pid_t pid =
+            spawn({"run", (dir / "cli-pass.json").string(), (dir / "long.json").string(), "--out",
+                   out.string(), "--jobs", "2", "--time-budget", "0"},
+                  dir.path());
+        // the note on the long case is printed once the handlers are installed
+        wait_for_text(dir / "stderr", "predicted duration", 20.0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        const auto t0 = Clock::now();
+        kill(pid, sig);
+        const int status = wait_status(pid);
+        const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+        INFO("signal " << sig << ", stderr: " << read_text(dir / "stderr"));
+        CHECK(status == 128 + sig);
+        CHECK(took < 3.0);
+        const json report = read_json(out / "report.json");
+        CHECK(report["interrupted"]["signal"] == (sig == SIGINT ? "SIGINT" : "SIGTERM"));
+        CHECK(report["cases"][0]["id"] == "cli-pass"); // what finished is there
+        for (const auto& run : report["cases"][1]["runs"]) CHECK(run["status"] == "interrupted");
+    }
+    // A second signal: exit at once (status 130, the previous report untouched, never truncated).
+    write_text(out / "report.json", previous);
+    const pid_t pid =
+        spawn({"run", (dir / "long.json").string(), "--out", out.string(), "--time-budget", "0"},
+              dir.path());
+    wait_for_text(dir / "stderr", "predicted duration", 20.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    kill(pid, SIGINT);
+    wait_for_text(dir / "stderr", "stopping at the next step", 5.0);
+    kill(pid, SIGINT);
+    const int status = wait_status(pid);
+    CHECK(status == 130);
+    const std::string now = read_text(out / "report.json");
+    // either the previous report (the second signal came first) or the whole new one
+    if (now != previous) CHECK_NOTHROW(json::parse(now));
+}

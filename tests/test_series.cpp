@@ -1,0 +1,98 @@
+// MinMaxDecimator and StrideSampler (src/diagnostics/series.hpp, issue 14): the series a figure
+// draws keep every bucket's extremes, so the maxima the report states are in the series file.
+#include "diagnostics/series.hpp"
+#include "harness/case.hpp"
+#include "harness/runner.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+using dampsym::MinMaxDecimator;
+using json = nlohmann::json;
+using dampsym::StrideSampler;
+
+TEST_CASE("MinMaxDecimator keeps every bucket's extremes in time order", "[series]") {
+    const std::int64_t n = 100003;
+    std::vector<double> y(static_cast<std::size_t>(n));
+    for (std::int64_t i = 0; i < n; ++i)
+        y[static_cast<std::size_t>(i)] =
+            std::sin(0.01 * static_cast<double>(i)) + 1e-3 * std::sin(7.3 * static_cast<double>(i));
+    y[777] = 5.0;
+    y[50001] = -7.0;
+    MinMaxDecimator d(n, 1000);
+    for (std::int64_t i = 0; i < n; ++i)
+        d.push(0.01 * static_cast<double>(i), y[static_cast<std::size_t>(i)]);
+    const auto j = d.to_json();
+    const auto oy = j["y"].get<std::vector<double>>();
+    const auto ot = j["t"].get<std::vector<double>>();
+    CHECK(oy.size() <= 2000);
+    CHECK(*std::max_element(oy.begin(), oy.end()) == 5.0);
+    CHECK(*std::min_element(oy.begin(), oy.end()) == -7.0);
+    CHECK(std::is_sorted(ot.begin(), ot.end()));
+    const std::int64_t per = d.samples_per_bucket();
+    for (std::int64_t s = 0; s < n; s += per) {
+        const auto b = y.begin() + s, e = y.begin() + std::min(n, s + per);
+        CHECK(std::find(oy.begin(), oy.end(), *std::max_element(b, e)) != oy.end());
+        CHECK(std::find(oy.begin(), oy.end(), *std::min_element(b, e)) != oy.end());
+    }
+    CHECK(j["last"][1].get<double>() == y.back());
+}
+
+TEST_CASE("MinMaxDecimator skips non-finite samples and counts them", "[series]") {
+    MinMaxDecimator d(4, 10);
+    d.push(0.0, 1.0);
+    d.push(1.0, std::numeric_limits<double>::quiet_NaN());
+    d.push(2.0, 3.0);
+    d.push(3.0, std::numeric_limits<double>::infinity());
+    const auto j = d.to_json();
+    CHECK(j["y"] == nlohmann::json({1.0, 3.0}));
+    CHECK(j["nonfinite"] == 2);
+    CHECK(j["last"].is_null());
+}
+
+TEST_CASE("StrideSampler keeps about the asked number of samples and the last", "[series]") {
+    const StrideSampler s(100001, 2000);
+    int kept = 0;
+    for (std::int64_t i = 0; i < 100001; ++i) kept += s.wants(i) ? 1 : 0;
+    CHECK(kept <= 2002);
+    CHECK(kept >= 1900);
+    CHECK(s.wants(100000));
+    CHECK(s.wants(0));
+}
+
+TEST_CASE("--figures keeps series and changes no number of the report", "[series]") {
+    const json spec = {{"id", "series-test"},
+                       {"title", "series hook"},
+                       {"no_checks_because", "a unit test of the figures hook"},
+                       {"problem", {{"id", "oscillator"}, {"omega", 1.0}, {"gamma", 0.1}}},
+                       {"methods", {"csv1", "rk3"}},
+                       {"t_end", 20.0},
+                       {"dt", 0.01},
+                       {"diagnostics", {"error", "energy", "invariants", "dissipation-drift"}}};
+    const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
+    dampsym::RunOptions plain;
+    plain.time_budget = 0.0;
+    const json a = dampsym::run_cases({c}, plain);
+    dampsym::RunOptions with = plain;
+    std::vector<json> got;
+    with.series_sink = [&](const json& s) { got.push_back(s); };
+    const json b = dampsym::run_cases({c}, with);
+    CHECK(a["cases"] == b["cases"]); // the numbers do not move with --figures
+    REQUIRE(got.size() == 1);
+    const json& runs = got[0]["runs"];
+    REQUIRE(runs.size() == 2);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const json& s = runs[i]["series"];
+        const json& m = b["cases"][0]["runs"][i]["metrics"];
+        const auto y = s["invariants.H_gamma.step_res"]["y"].get<std::vector<double>>();
+        CHECK(*std::max_element(y.begin(), y.end()) ==
+              m["invariants"]["H_gamma"]["max_step_res"].get<double>());
+        CHECK(s["error.abs"]["last"][1].get<double>() == m["error"]["final_abs"].get<double>());
+        CHECK(s.contains("dissipation-drift.d"));
+        CHECK(s.contains("energy.error"));
+    }
+}

@@ -1,0 +1,77 @@
+#!/usr/bin/python3
+"""Unit tests of the figure helpers (tools/figures/figdata.py): min/max decimation keeps every
+extreme, the drawn convergence line has the fitted slope and passes through the window's points,
+the method styles are fixed, the paper-figure parser. No matplotlib; well under a second."""
+
+import math
+import os
+import random
+import sys
+import unittest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
+                                "figures"))
+import figdata as fd  # noqa: E402
+
+
+class Decimation(unittest.TestCase):
+    def test_extremes_kept(self):
+        rng = random.Random(1)
+        t = [0.01 * i for i in range(100003)]
+        y = [math.sin(x) + 1e-3 * rng.gauss(0, 1) for x in t]
+        y[777] = 5.0   # a spike
+        y[50001] = -7.0
+        ot, oy = fd.decimate_minmax(t, y, 1000)
+        self.assertLessEqual(len(oy), 2000)
+        self.assertEqual(max(oy), 5.0)
+        self.assertEqual(min(oy), -7.0)
+        self.assertIn(t[777], ot)
+        # every bucket's extremes survive, in time order
+        per = -(-len(y) // 1000)
+        for s in range(0, len(y), per):
+            self.assertIn(max(y[s:s + per]), oy)
+            self.assertIn(min(y[s:s + per]), oy)
+        self.assertEqual(ot, sorted(ot))
+
+    def test_nan_skipped_and_short(self):
+        ot, oy = fd.decimate_minmax([0, 1, 2], [1.0, float("nan"), 3.0], 10)
+        self.assertEqual((ot, oy), ([0, 2], [1.0, 3.0]))
+
+    def test_fails_if_extremes_dropped(self):
+        # the check itself can fail: plain subsampling loses the spike
+        y = [0.0] * 1000
+        y[501] = 1.0
+        self.assertNotIn(1.0, y[::10])
+        self.assertIn(1.0, fd.decimate_minmax(list(range(1000)), y, 100)[1])
+
+
+class SlopeLine(unittest.TestCase):
+    def test_line_has_fitted_slope(self):
+        hs = [0.1, 0.05, 0.025, 0.0125]
+        errs = {h: 3.0 * h ** 2 * (1 + 0.01 * i) for i, h in enumerate(hs)}
+        xs, ys = fd.slope_line(hs, errs, 2.0)
+        self.assertEqual(xs, [0.0125, 0.1])
+        self.assertAlmostEqual(fd.loglog_slope(xs, ys), 2.0, places=12)
+        # through the window's points in the log mean: C between the extremes of e/h^2
+        c = ys[0] / xs[0] ** 2
+        self.assertTrue(min(e / h ** 2 for h, e in errs.items()) <= c
+                        <= max(e / h ** 2 for h, e in errs.items()))
+
+    def test_loglog_slope(self):
+        self.assertAlmostEqual(fd.loglog_slope([1, 2, 4], [3, 24, 192]), 3.0, places=12)
+
+
+class Styles(unittest.TestCase):
+    def test_fixed_and_distinct(self):
+        self.assertEqual(fd.method_style("csv1"), fd.method_style("csv1"))
+        self.assertNotEqual(fd.method_style("csv1")[0], fd.method_style("csv2")[0])
+        self.assertEqual(fd.method_style("new-method"), fd.method_style("new-method"))
+
+    def test_paper_figure(self):
+        self.assertEqual(fd.paper_figure({"source": "F Figs 4.6, 4.7, F(4.4)"}), "F Figs 4.6, 4.7")
+        self.assertEqual(fd.paper_figure({"source": "HLW I.2, Fig 1.2 (pendulum)"}), "HLW Fig 1.2")
+        self.assertEqual(fd.paper_figure({"source": "conventions §2"}), "")
+
+
+if __name__ == "__main__":
+    unittest.main()
