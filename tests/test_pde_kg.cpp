@@ -9,6 +9,8 @@
 #include "pde/klein_gordon.hpp"
 #include "problems/pde/klein_gordon.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -23,13 +25,11 @@ using dampsym::KleinGordon;
 using dampsym::MethodInfo;
 using dampsym::StepStatus;
 using dampsym::Vec;
+using dampsym::test::method;
+using dampsym::test::verbose;
 using namespace dampsym::pde;
 
 namespace {
-
-bool verbose() {
-    return std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-}
 
 KleinGordon kg(int M, double c, double gamma, int K) {
     dampsym::ParamMap m;
@@ -62,12 +62,6 @@ double slope(const std::vector<double>& h, const std::vector<double>& e) {
         sxy += x * y;
     }
     return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
-const MethodInfo& method(const char* id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    REQUIRE(m != nullptr);
-    return *m;
 }
 
 // Runs kernel KR of `id` for n steps from z; returns the final state; `each` sees every state.

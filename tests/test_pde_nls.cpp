@@ -3,6 +3,8 @@
 // (5.29) of §5.3.1 (ii)–(iii) with IMP as negative control, and the soliton collision of Fig 5.9.
 #include "pde/nls.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,14 +14,11 @@
 #include <vector>
 
 using Catch::Matchers::WithinAbs;
+using dampsym::test::verbose;
 using namespace dampsym::pde;
 using cd = std::complex<double>;
 
 namespace {
-
-bool verbose() {
-    return std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-}
 
 double max_diff(const CVec& a, const CVec& b) {
     double m = 0;
