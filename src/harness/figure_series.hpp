@@ -32,6 +32,15 @@
 
 namespace dampsym::detail {
 
+// Whether run (d = index in the ladder) keeps step series: every run of a case with at most two
+// step sizes; on a longer ladder (a convergence case) only the smallest step size.
+inline bool figure_series_for_dt(const CaseSpec& c, std::size_t d) {
+    if (c.dts.size() <= 2) return true;
+    for (double h : c.dts)
+        if (h < c.dts[d]) return false;
+    return true;
+}
+
 // E_n / (e^{−2ΔΓ_n} √d) per step: the loop of conformal_symplectic_defect
 // (conformal_symplectic.hpp) with a decimated series instead of its maxima.
 template <class K, class P>
