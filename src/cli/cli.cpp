@@ -652,7 +652,10 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     json report;
     {
         ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
-        RunOptions ro{jobs, time_budget, limits.case_timeout};
+        RunOptions ro;
+        ro.jobs = jobs;
+        ro.time_budget = time_budget;
+        ro.case_timeout = limits.case_timeout; // issue 17 (limits.hpp)
         if (o.figures) ro.series_sink = series_file_sink(o.out_dir); // figures hook (issue 14)
         report = run_cases(selected.cases, ro, progress.callback());
     }
