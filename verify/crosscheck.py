@@ -88,6 +88,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import xmethods as xm  # noqa: E402
 import xproblems as xp  # noqa: E402
 import xrun  # noqa: E402
+import xjit  # noqa: E402
 import xnewton  # noqa: E402
 import xsweep  # noqa: E402
 from refmath import fit_order  # noqa: E402  (our own asymptotic-window fit)
@@ -1526,6 +1527,9 @@ def main(argv=None):
         # longest cases first (planned steps x dimension) so the pool stays busy
         cost = lambda c: -sum(int(r.get("steps_planned", r.get("steps", 0)) or 0) for r in c["runs"])
         order = sorted(range(len(cases)), key=lambda i: cost(cases[i]))
+        # compile verify/xjit.py's loops once here (or load them from numba's cache); the
+        # forked workers inherit them
+        warm_s = xjit.warm()
         if args.jobs > 1:
             with Pool(args.jobs) as pool:
                 res = pool.map(_worker, [cases[i] for i in order], chunksize=1)
@@ -1545,7 +1549,7 @@ def main(argv=None):
     result = dict(tool="verify/crosscheck.py", report=os.path.abspath(args.report), elapsed_seconds=elapsed,
                   summary=dict(runs=count(runs), orders=count(orders), checks=count(checks)),
                   timing=[(r["case"], r.get("problem", "?"), r["seconds"], r["cpu_seconds"]) for r in res],
-                  cpu_seconds=sum(r["cpu_seconds"] for r in res),
+                  cpu_seconds=sum(r["cpu_seconds"] for r in res), jit_warmup_seconds=warm_s,
                   coefficient_sources=xm.COEFFICIENT_SOURCES,
                   runs=runs, orders=orders, checks=checks)
     out = args.out or os.path.dirname(os.path.abspath(args.report))
@@ -1566,7 +1570,8 @@ def main(argv=None):
         s["orders"]["agree"], s["orders"]["disagree"], s["orders"]["not reproduced"],
         s["checks"]["agree"], s["checks"]["disagree"], s["checks"]["not reproduced"]))
     print("crosscheck: wrote %s/crosscheck.{json,md} in %.2f s wall, %.1f s CPU in the workers"
-          % (out, elapsed, result["cpu_seconds"]))
+          " (compiled loops: %s, %.2f s to compile or load them)"
+          % (out, elapsed, result["cpu_seconds"], "numba" if xjit.HAVE_NUMBA else "off", warm_s))
     return 1 if any(s[k]["disagree"] for k in s) else 0
 
 

@@ -4,6 +4,7 @@ import math
 import numpy as np
 
 import refmath
+import xjit
 import xscalar
 import xmethods as xm
 
@@ -29,6 +30,10 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     # (a fixed rounded M biases round-off-level conservation metrics, so recorded runs step)
     if linear_ok(method, prob) and (not record or nsteps >= 1_000_000):
         return integrate_linear(method, prob, h, nsteps, t0, record, limit, out)
+    # compiled loops (python3-numba) where available: verify/xjit.py, same formulas
+    compiled = xjit.integrate(method, prob, h, nsteps, t0, record, limit, out)
+    if compiled is not None:
+        return compiled
     fast = scalar_stepper(method, prob, h)
     if fast is not None:
         return integrate_scalar(fast, prob, nsteps, record, limit, out)
