@@ -29,7 +29,7 @@ except ImportError:       # the plain-Python loops of xrun.py / xscalar.py are u
 EPS = float(np.finfo(float).eps)
 
 # problem codes of the compiled fields
-KEPLER, RIGID, DRIVEN, NBODY_GRAV, NBODY_LJ = 0, 1, 2, 3, 4
+KEPLER, RIGID, DRIVEN, NBODY_GRAV, NBODY_LJ, DRIVEN_N = 0, 1, 2, 3, 4, 5
 # method codes
 ERK, SEULER, SEULER_ADJ, VERLET, CSV1, CSV2 = 0, 1, 2, 3, 4, 5
 
@@ -76,6 +76,11 @@ if HAVE_NUMBA:
     def _field(code, t, z, P, m, g, out):
         """f(t, z): separable problems [p / m, force - 2 gamma p]; the rigid body B (1.7)."""
         d = z.shape[0]
+        if code == DRIVEN_N:                     # conformal field N = f + gamma z (xscalar)
+            _force(DRIVEN, t, z[:1], P, out[1:])
+            out[1] = out[1] - g * z[1]
+            out[0] = z[1] + g * z[0]
+            return
         if code == RIGID:
             a1, a2, a3, eps = P[0], P[1], P[2], P[3]
             z1, z2, z3 = z[0], z[1], z[2]
@@ -264,6 +269,118 @@ if HAVE_NUMBA:
         return n, 0, tot, mx
 
 
+if HAVE_NUMBA:
+    @jit
+    def _impl_chunk(code, P, m, g, t0, h, n0, nmax, z, Phi, A, b, phi0, c, Mi, traj, limit):
+        """Steps n0+1 .. of an implicit RK-family method with a fixed simplified-Newton inverse
+        (xscalar._implicit, same operations): at most 8 steps, stopping after a slow solve (more
+        than 6 iterations), when the caller refreshes the inverse.  Returns (last step done,
+        status 0 ok / 1 diverged / 2 solve failed, iterations, max iterations, slow)."""
+        d = z.shape[0]
+        s = b.shape[0]
+        Z = np.empty((s, d))
+        K = np.empty((s, d))
+        R = np.empty(s * d)
+        g0 = np.empty(d)
+        tot, mx = 0, 0
+        n = n0
+        for n in range(n0 + 1, min(n0 + 8, nmax) + 1):
+            t = t0 + (n - 1) * h
+            _field(code, t, z, P, m, g, g0)
+            for i in range(s):
+                for k in range(d):
+                    Z[i, k] = Phi[i] * z[k] + h * c[i] * g0[k]
+            last = math.inf
+            it = 0
+            while True:
+                it += 1
+                for j in range(s):
+                    _field(code, t + c[j] * h, Z[j], P, m, g, K[j])
+                for i in range(s):
+                    for k in range(d):
+                        acc = A[i, 0] * K[0, k]
+                        for j in range(1, s):
+                            acc = acc + A[i, j] * K[j, k]
+                        R[i * d + k] = Z[i, k] - Phi[i] * z[k] - h * acc
+                num = 0.0
+                den = 0.0
+                for r in range(s * d):
+                    acc = Mi[r, 0] * R[0]
+                    for q in range(1, s * d):
+                        acc = acc + Mi[r, q] * R[q]
+                    i, k = r // d, r % d
+                    Z[i, k] -= acc
+                    if abs(acc) > num:
+                        num = abs(acc)
+                    if abs(Z[i, k]) > den:
+                        den = abs(Z[i, k])
+                mm = num / max(den, 1e-300)
+                if not math.isfinite(mm):
+                    return n, 2, tot, mx, False
+                if mm <= 2 * EPS or num == 0.0 or (it >= 3 and mm >= 0.5 * last and mm <= 1e-11):
+                    break
+                last = mm
+                if it > 100:
+                    return n, 2, tot, mx, False
+            for j in range(s):
+                _field(code, t + c[j] * h, Z[j], P, m, g, K[j])
+            for k in range(d):
+                acc = b[0] * K[0, k]
+                for i in range(1, s):
+                    acc = acc + b[i] * K[i, k]
+                z[k] = phi0 * z[k] + h * acc
+            tot += it
+            if it > mx:
+                mx = it
+            if traj.shape[0] > 1:
+                traj[n] = z
+            for k in range(d):
+                if not abs(z[k]) < limit:
+                    return n, 1, tot, mx, it > 6
+            if it > 6:
+                return n, 0, tot, mx, True
+        return n, 0, tot, mx, False
+
+
+def _integrate_implicit(method, prob, code, P, m, g, h, nsteps, t0, record, limit, out):
+    """Gauss / implicit midpoint (plain tableaux) and cimp / glifrk (B (2.5) with constant
+    gamma, so constant coefficients) as xscalar._implicit: each Newton inverse, refreshed every 8
+    steps and after a slow solve, in Python; the steps in between compiled."""
+    A0, b0, c0 = xm.GAUSS[1 if method in ("implicit-midpoint", "cimp") else int(method[-1])]
+    if method in ("cimp", "glifrk1", "glifrk2", "glifrk3"):
+        if code != DRIVEN or prob.t_dependent_gamma:
+            return None
+        coef, fcode, F = xm.ifrk_coef(prob, A0, b0, c0, h), DRIVEN_N, prob.N
+    else:
+        if code not in (KEPLER, DRIVEN, RIGID):
+            return None
+        coef, fcode, F = xm.plain_coef(A0, b0, c0), code, prob.f
+    Phi, A, b, phi0, c = coef(t0)
+    Phi, A, b, c = (np.ascontiguousarray(x, dtype=float) for x in (Phi, A, b, c))
+    s, d = len(b), prob.d
+    z = np.array(prob.z0, float)
+    traj = np.empty((nsteps + 1 if record else 1, d))
+    traj[0] = z
+    n = 0
+    while n < nsteps:
+        J = xm.jac_cs(F, t0 + n * h, np.array(z))
+        Mi = np.linalg.inv(np.eye(s * d) - h * np.kron(A, J))
+        n1, status, its, mx, slow = _impl_chunk(fcode, P, m, g, float(t0), float(h), n, nsteps, z,
+                                                Phi, A, b, float(phi0), c, Mi, traj, float(limit))
+        out["newton"] += its              # the steps before a failed one count, as in xrun
+        out["newton_max"] = max(out["newton_max"], mx)
+        if status == 2:
+            out.update(status="solve-failed", message="Newton did not converge at step %d" % n1)
+            n = n1
+            break
+        n = n1
+        if status == 1:
+            out.update(status="diverged", message="diverged at step %d" % n)
+            break
+    out.update(steps=n, z=z, traj=traj[:n + 1] if record else None, compiled=True)
+    return out
+
+
 def _setup(prob):
     """(problem code, parameter vector, mass vector, gamma) or None."""
     kind = type(prob).__name__
@@ -311,6 +428,9 @@ def integrate(method, prob, h, nsteps, t0, record, limit, out):
     code, P, m, g = su
     if method == "glm4" and code == RIGID:
         return _integrate_glm(prob, code, P, m, h, nsteps, t0, record, limit, out)
+    if method in ("implicit-midpoint", "gauss1", "gauss2", "gauss3", "cimp", "glifrk1", "glifrk2",
+                  "glifrk3"):
+        return _integrate_implicit(method, prob, code, P, m, g, h, nsteps, t0, record, limit, out)
     mt = _method(method, prob)
     if mt is None:
         return None
