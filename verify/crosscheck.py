@@ -178,7 +178,10 @@ def metric_invariants(prob, traj, times):
     if not hasattr(prob, "invariants"):
         return out
     scales = prob.invariant_scales()
-    G = np.array([prob.Gamma(t) for t in times]) - prob.Gamma(times[0])
+    if type(prob).Gamma is xp.Problem.Gamma:    # gamma t: the same products, elementwise
+        G = prob.Gamma(np.asarray(times, float)) - prob.Gamma(times[0])
+    else:
+        G = np.array([prob.Gamma(t) for t in times]) - prob.Gamma(times[0])
     two_g = 2.0 * G
     for name, fn in prob.invariants().items():
         I = fn(traj)
