@@ -113,16 +113,16 @@ def integrate_linear(method, prob, h, nsteps, t0, record, limit, out):
         PB = Ml @ PB
     S = np.empty((K, prob.d), dtype=ld)
     S[0] = np.asarray(prob.z0, dtype=ld)
+    full = np.empty((K * B + 1, prob.d))     # z_{kB + j} (rounded to double) at row kB + j
     with np.errstate(over="ignore", invalid="ignore"):
         for k in range(1, K):
             S[k] = PB @ S[k - 1]
-        Z = np.empty((K, B + 1, prob.d), dtype=ld)
-        Z[:, 0] = S
+        Zj = S                               # z_{kB + j} for all k, j = 0 .. B
         for j in range(B):
-            Z[:, j + 1] = Z[:, j] @ Ml.T
-    full = np.concatenate([Z[:, :B].reshape(-1, prob.d), Z[-1:, B]], axis=0)[:nsteps + 1]
-    with np.errstate(over="ignore"):
-        full = full.astype(float)
+            full[j:K * B:B] = Zj
+            Zj = Zj @ Ml.T
+        full[K * B] = Zj[-1]
+    full = full[:nsteps + 1]
     bad = ~np.all(np.abs(full) < limit, axis=-1)
     n = nsteps
     if bad.any():
