@@ -345,14 +345,16 @@ if HAVE_NUMBA:
 def _integrate_implicit(method, prob, code, P, m, g, h, nsteps, t0, record, limit, out):
     """Gauss / implicit midpoint (plain tableaux) and cimp / glifrk (B (2.5) with constant
     gamma, so constant coefficients) as xscalar._implicit: each Newton inverse, refreshed every 8
-    steps and after a slow solve, in Python; the steps in between compiled."""
+    steps and after a slow solve, in Python; the steps in between compiled.  On the N-body
+    problems this replaces xmethods.rk_family_step (same initial guess, residual, convergence
+    test and refresh rule; sums in another order: round-off only)."""
     A0, b0, c0 = xm.GAUSS[1 if method in ("implicit-midpoint", "cimp") else int(method[-1])]
     if method in ("cimp", "glifrk1", "glifrk2", "glifrk3"):
         if code != DRIVEN or prob.t_dependent_gamma:
             return None
         coef, fcode, F = xm.ifrk_coef(prob, A0, b0, c0, h), DRIVEN_N, prob.N
     else:
-        if code not in (KEPLER, DRIVEN, RIGID):
+        if code not in (KEPLER, DRIVEN, RIGID, NBODY_GRAV, NBODY_LJ):
             return None
         coef, fcode, F = xm.plain_coef(A0, b0, c0), code, prob.f
     Phi, A, b, phi0, c = coef(t0)
