@@ -29,6 +29,11 @@ CASES = [   # problem, parameters, methods, h, steps, t0
     ("outer-solar-system", {"gamma": 0.0}, ["euler", "symplectic-euler", "stormer-verlet",
                                             "implicit-midpoint"], 10.0, 1000, 0.0),
     ("outer-solar-system", {"gamma": 0.001}, ["implicit-midpoint"], 10.0, 300, 0.0),  # solve fails
+    ("pendulum", {"gamma": 0.05, "q0": 2.5, "p0": 0.0}, ["euler", "heun", "rk3", "rk4", "csv1", "csv2",
+                                                          "cimp"], 0.1, 3000, 0.0),
+    ("oscillator", {"omega": 1.0, "gamma": 0.1, "q0": 1.0, "p0": 0.0}, ["euler", "heun", "rk3", "rk4",
+                                                                         "csv1", "csv2", "cimp"], 0.3, 2000, 0.0),
+    ("pendulum", {"gamma": 0.0, "q0": 1.0, "p0": 0.5}, ["euler"], 1.9, 400, 0.0),     # diverges
     ("argon", {"gamma": 0.0}, ["euler", "symplectic-euler", "stormer-verlet", "implicit-midpoint"],
      1e-5, 500, 0.0),
 ]

@@ -383,6 +383,128 @@ def _integrate_implicit(method, prob, code, P, m, g, h, nsteps, t0, record, limi
     return out
 
 
+S_EULER, S_HEUN, S_RK3, S_RK4, S_CSV1, S_CSV2, S_CIMP = 0, 1, 2, 3, 4, 5, 6
+SCALAR_METHODS = {"euler": S_EULER, "heun": S_HEUN, "rk3": S_RK3, "rk4": S_RK4, "csv1": S_CSV1,
+                  "csv2": S_CSV2, "cimp": S_CIMP}
+
+if HAVE_NUMBA:
+    @jit
+    def _dv(pend, w2, q):          # V'(q): sin q (pendulum) or omega^2 q
+        return math.sin(q) if pend else w2 * q
+
+    @jit
+    def _ddv(pend, w2, q):
+        return math.cos(q) if pend else w2
+
+    @jit
+    def _scalar_run(meth, pend, w2, g, h, q, p, nsteps, record, limit):
+        """verify/refmath.py's one-degree-of-freedom steppers (the second, scalar implementation
+        of xrun.scalar_stepper), same operations: returns (steps, status 0 ok / 1 diverged /
+        2 solve failed, q, p, trajectory)."""
+        traj = np.empty((nsteps + 1 if record else 1, 2))
+        traj[0, 0], traj[0, 1] = q, p
+        g2 = 2.0 * g
+        e1 = math.exp(-g * h)
+        a2, b2, e2 = 1.0 + 0.5 * g * h, 1.0 - 0.5 * g * h, math.exp(-0.5 * g * h)
+        hh = 0.5 * h
+        n = 0
+        for n in range(1, nsteps + 1):
+            if meth == S_EULER:                  # HLW (1.4)
+                kq, kp = p, -_dv(pend, w2, q) - g2 * p
+                q, p = q + h * kq, p + h * kp
+            elif meth == S_HEUN:                 # B (3.8)
+                k1q, k1p = p, -_dv(pend, w2, q) - g2 * p
+                xq, xp = q + h * k1q, p + h * k1p
+                k2q, k2p = xp, -_dv(pend, w2, xq) - g2 * xp
+                q, p = q + 0.5 * h * (k1q + k2q), p + 0.5 * h * (k1p + k2p)
+            elif meth == S_RK3:                  # Kutta
+                k1q, k1p = p, -_dv(pend, w2, q) - g2 * p
+                xq, xp = q + 0.5 * h * k1q, p + 0.5 * h * k1p
+                k2q, k2p = xp, -_dv(pend, w2, xq) - g2 * xp
+                xq, xp = q + h * (-k1q + 2.0 * k2q), p + h * (-k1p + 2.0 * k2p)
+                k3q, k3p = xp, -_dv(pend, w2, xq) - g2 * xp
+                q, p = q + h * (k1q + 4.0 * k2q + k3q) / 6.0, p + h * (k1p + 4.0 * k2p + k3p) / 6.0
+            elif meth == S_RK4:
+                k1q, k1p = p, -_dv(pend, w2, q) - g2 * p
+                xq, xp = q + 0.5 * h * k1q, p + 0.5 * h * k1p
+                k2q, k2p = xp, -_dv(pend, w2, xq) - g2 * xp
+                xq, xp = q + 0.5 * h * k2q, p + 0.5 * h * k2p
+                k3q, k3p = xp, -_dv(pend, w2, xq) - g2 * xp
+                xq, xp = q + h * k3q, p + h * k3p
+                k4q, k4p = xp, -_dv(pend, w2, xq) - g2 * xp
+                q, p = (q + h * (k1q + 2.0 * k2q + 2.0 * k3q + k4q) / 6.0,
+                        p + h * (k1p + 2.0 * k2p + 2.0 * k3p + k4p) / 6.0)
+            elif meth == S_CSV1:                 # F (2.12)
+                ph = e1 * p - 0.5 * h * _dv(pend, w2, q)
+                q1 = q + h * ph
+                q, p = q1, e1 * (ph - 0.5 * h * _dv(pend, w2, q1))
+            elif meth == S_CSV2:                 # F (2.16)
+                ph = (e2 * p - 0.5 * h * _dv(pend, w2, q)) / a2
+                q1 = e2 * (a2 * e2 * q + h * ph) / b2
+                q, p = q1, e2 * (b2 * ph - 0.5 * h * _dv(pend, w2, q1))
+            else:                                # CIMP, F (2.3), Newton with the exact Jacobian
+                aq, ap = e2 * q, e2 * p
+                wq, wp = aq + h * (ap + g * aq), ap + h * (-_dv(pend, w2, aq) - g * ap)
+                last = math.inf
+                ok = False
+                for _ in range(60):
+                    mq, mp = 0.5 * (wq + aq), 0.5 * (wp + ap)
+                    rq = wq - aq - h * (mp + g * mq)
+                    rp = wp - ap - h * (-_dv(pend, w2, mq) - g * mp)
+                    j11, j12 = 1.0 - hh * g, -hh
+                    j21, j22 = hh * _ddv(pend, w2, mq), 1.0 + hh * g
+                    det = j11 * j22 - j12 * j21
+                    dq = (rq * j22 - rp * j12) / det
+                    dp = (rp * j11 - rq * j21) / det
+                    wq, wp = wq - dq, wp - dp
+                    size = abs(dq) + abs(dp)
+                    scale = abs(wq) + abs(wp)
+                    if size <= 4.0 * EPS * scale or size == 0.0:
+                        ok = True
+                        break
+                    if size >= last and size <= 1e-10 * scale:
+                        ok = True
+                        break
+                    last = size
+                if not ok:
+                    return n, 2, q, p, traj
+                if not (math.isfinite(wq) and math.isfinite(wp)):
+                    return n, 3, q, p, traj
+                q, p = e2 * wq, e2 * wp
+            if record:
+                traj[n, 0], traj[n, 1] = q, p
+            if not abs(q) < limit or not abs(p) < limit:
+                return n, 1, q, p, traj
+        return n, 0, q, p, traj
+
+
+def integrate_scalar(method, prob, h, nsteps, record, limit, out):
+    """xrun.integrate_scalar (refmath's steppers on the oscillator and the pendulum) compiled, or
+    None."""
+    if not HAVE_NUMBA or method not in SCALAR_METHODS:
+        return None
+    kind = type(prob).__name__
+    if kind == "Oscillator":
+        pend, w2 = False, float(prob.w) ** 2
+    elif kind == "Pendulum":
+        pend, w2 = True, 0.0
+    else:
+        return None
+    g = float(prob.g)
+    if method == "csv2" and not (1.0 - 0.5 * g * h > 0.0):
+        return None                      # refmath raises NotApplicable: let the plain path say so
+    n, status, q, p, traj = _scalar_run(SCALAR_METHODS[method], pend, w2, g, float(h), float(prob.z0[0]),
+                                        float(prob.z0[1]), int(nsteps), bool(record), float(limit))
+    if status == 1:
+        out.update(status="diverged", message="diverged at step %d" % n)
+    elif status >= 2:
+        out.update(status="solve-failed", message="%s at step %d" % (
+            "Newton did not converge" if status == 2 else "Newton produced a non-finite iterate", n))
+    out.update(steps=n, z=np.array([q, p]), traj=traj[:n + (0 if status >= 2 else 1)].copy() if record else None,
+               compiled=True)
+    return out
+
+
 def _setup(prob):
     """(problem code, parameter vector, mass vector, gamma) or None."""
     kind = type(prob).__name__
@@ -497,4 +619,5 @@ def warm():
         M = np.eye(3)
         _glm_chunk(RIGID, np.array([0.25, 1 / 3, 0.5, 0.0]), np.ones(3), 0.0, 0.01, 0, 1, yv, M, M,
                    xm.GLM_A, xm.GLM_U, xm.GLM_B, xm.GLM_V, np.empty((1, 2, 3)), math.inf)
+        _scalar_run(S_EULER, True, 0.0, 0.1, 0.01, 1.0, 0.0, 1, True, math.inf)
     return time.perf_counter() - t

@@ -36,6 +36,9 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
         return compiled
     fast = scalar_stepper(method, prob, h)
     if fast is not None:
+        compiled = xjit.integrate_scalar(method, prob, h, nsteps, record, limit, out)
+        if compiled is not None:
+            return compiled
         return integrate_scalar(fast, prob, nsteps, record, limit, out)
     small = xscalar.make(method, prob, h)
     if small is not None:
