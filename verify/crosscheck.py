@@ -1530,6 +1530,16 @@ def main(argv=None):
         # longest cases first (planned steps x dimension) so the pool stays busy
         cost = lambda c: -sum(int(r.get("steps_planned", r.get("steps", 0)) or 0) for r in c["runs"])
         order = sorted(range(len(cases)), key=lambda i: cost(cases[i]))
+        # the 10^7-step runs allocate many 80 MB temporaries: keep freed memory in the heap
+        # (glibc mallopt M_MMAP_MAX = 0, M_TRIM_THRESHOLD large) instead of returning it to the
+        # kernel and page-faulting it back (a third of that case's time); inherited by the workers
+        try:
+            import ctypes
+            libc = ctypes.CDLL("libc.so.6")
+            libc.mallopt(-4, 0)
+            libc.mallopt(-1, 1 << 40)
+        except (OSError, AttributeError):
+            pass
         # compile verify/xjit.py's loops once here (or load them from numba's cache); the
         # forked workers inherit them
         warm_s = xjit.warm()
