@@ -655,7 +655,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
         RunOptions ro;
         ro.jobs = jobs;
         ro.time_budget = time_budget;
-        ro.case_timeout = limits.case_timeout; // issue 17 (limits.hpp)
+        ro.case_timeout = limits.case_timeout;                       // issue 17 (limits.hpp)
         if (o.figures) ro.series_sink = series_file_sink(o.out_dir); // figures hook (issue 14)
         report = run_cases(selected.cases, ro, progress.callback());
     }
