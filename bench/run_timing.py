@@ -1,16 +1,23 @@
 #!/usr/bin/python3
 """Kernel speed through `dampsym run`: each method alone (one `dampsym run` per method, --jobs 1),
-10^7 pendulum steps (gamma = 0.1), no diagnostic, timed by the run's own wall_seconds in
-report.json. Prints ns per step and per force evaluation and the acceptance ratios of the data
-kernels against the hand-written and implicit references (same limits as the bench_report.py
-rows); with --out-json writes them. Exit status 1 if a ratio fails, 2 on a usage or input error.
+10^7 pendulum steps (gamma = 0.1), no diagnostic, timed by the run's own wall time in report.json
+(timings.cases[0].runs[0].wall_seconds). Prints ns per step and per force evaluation and the
+acceptance ratios of the data kernels against the hand-written and implicit references (same
+limits as the bench_report.py rows); with --out-json writes them. Exit status 1 if a ratio fails,
+2 on a usage or input error.
 
-Usage: bench/run_timing.py DAMPSYM_BINARY [--repeats N] [--out-json FILE]
-Each method is run --repeats times (default 3) and its minimum wall time is used (shared machine).
+Usage: bench/run_timing.py DAMPSYM_BINARY [--repeats N] [--bench-json RAW.json] [--out-json FILE]
+The methods are run in --repeats rounds (default 5), every method once per round, so that a change
+of the machine's load falls on all of them; each ratio is the median over the rounds of the ratio
+measured within the round (shared machine). With --bench-json (dampsym_bench's raw output of the
+same ci/bench.sh invocation) the rk4 row divides rk4's ns per step through `dampsym run` (median
+over the rounds) by Boost.Odeint runge_kutta4's (peer/pendulum/odeint-rk4, the minimum CPU time
+of its repetitions): odeint cannot be run through `dampsym run`.
 """
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -39,42 +46,68 @@ def run_once(binary, method, out_dir):
     if p.returncode == 2:
         sys.exit(f"run_timing.py: {' '.join(cmd)}: bad input: {p.stderr.strip()}")
     with open(os.path.join(out_dir, "report.json")) as f:
-        run = json.load(f)["cases"][0]["runs"][0]
+        report = json.load(f)
+    run = report["cases"][0]["runs"][0]
     if run["status"] != "ok" or not run["observed"]["bare_loop"]:
         sys.exit(f"run_timing.py: {method}: status {run['status']}, bare loop "
                  f"{run['observed']['bare_loop']}")
-    return run
+    wall = report["timings"]["cases"][0]["runs"][0]["wall_seconds"]
+    return {"wall_seconds": wall, "steps": run["steps"], "rhs_evals": run["rhs_evals"],
+            "ns_per_step": 1e9 * wall / run["steps"],
+            "ns_per_force_eval": 1e9 * wall / run["rhs_evals"]}
+
+
+def odeint_rk4_ns_per_step(path):
+    """Minimum over repetitions of peer/pendulum/odeint-rk4's ns_per_step in dampsym_bench's JSON."""
+    try:
+        with open(path) as f:
+            data = json.load(f)
+    except (OSError, json.JSONDecodeError) as e:
+        sys.exit(f"run_timing.py: cannot read {path}: {e}")
+    vals = [b["ns_per_step"] for b in data.get("benchmarks", [])
+            if b.get("run_type", "iteration") == "iteration" and "ns_per_step" in b
+            and b.get("run_name", b["name"]).split("/")[:3] == ["peer", "pendulum", "odeint-rk4"]]
+    if not vals:
+        sys.exit(f"run_timing.py: {path}: no peer/pendulum/odeint-rk4 benchmark")
+    return min(vals)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("binary")
-    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--bench-json")
     ap.add_argument("--out-json")
     a = ap.parse_args()
     if a.repeats < 1:
         sys.exit(2)
-    timing = {}
+    rounds = []
     with tempfile.TemporaryDirectory() as tmp:
-        for m in METHODS:
-            best = None
-            for r in range(a.repeats):
-                run = run_once(a.binary, m, os.path.join(tmp, f"{m}-{r}"))
-                if best is None or run["wall_seconds"] < best["wall_seconds"]:
-                    best = run
-            timing[m] = {"wall_seconds": best["wall_seconds"], "steps": best["steps"],
-                         "rhs_evals": best["rhs_evals"],
-                         "ns_per_step": 1e9 * best["wall_seconds"] / best["steps"],
-                         "ns_per_force_eval": 1e9 * best["wall_seconds"] / best["rhs_evals"]}
-    print(f"{'method':16} {'wall s':>8} {'ns/step':>9} {'ns/force':>9}")
+        for r in range(a.repeats):
+            rounds.append({m: run_once(a.binary, m, os.path.join(tmp, f"{m}-{r}"))
+                           for m in METHODS})
+    timing = {m: {k: statistics.median(rd[m][k] for rd in rounds)
+                  for k in ("wall_seconds", "ns_per_step", "ns_per_force_eval")}
+              | {"steps": rounds[0][m]["steps"], "rhs_evals": rounds[0][m]["rhs_evals"],
+                 "wall_seconds_all": [rd[m]["wall_seconds"] for rd in rounds]}
+              for m in METHODS}
+    print(f"{'method':16} {'wall s':>8} {'ns/step':>9} {'ns/force':>9}   (medians of {a.repeats} rounds)")
     for m, t in timing.items():
         print(f"{m:16} {t['wall_seconds']:8.3f} {t['ns_per_step']:9.2f} "
               f"{t['ns_per_force_eval']:9.2f}")
     acc = []
     for name, num, den, per, limit in ROWS:
         key = "ns_per_step" if per == "step" else "ns_per_force_eval"
-        r = timing[num][key] / timing[den][key]
-        acc.append({"name": name, "ratio": r, "limit": limit, "passed": r <= limit})
+        per_round = [rd[num][key] / rd[den][key] for rd in rounds]
+        r = statistics.median(per_round)
+        acc.append({"name": name, "ratio": r, "limit": limit, "passed": r <= limit,
+                    "ratio_per_round": per_round})
+    if a.bench_json:
+        odeint = odeint_rk4_ns_per_step(a.bench_json)
+        r = timing["rk4"]["ns_per_step"] / odeint
+        acc.append({"name": "rk4 through dampsym run / odeint runge_kutta4 in dampsym_bench "
+                            "(ns per step)", "ratio": r, "limit": 1.10, "passed": r <= 1.10,
+                    "odeint_ns_per_step": odeint})
     w = max(len(r["name"]) for r in acc)
     print(f"\n{'dampsym run acceptance'.ljust(w)}  {'ratio':>7}  limit  result")
     for r in acc:
@@ -82,7 +115,8 @@ def main():
               f"{'PASS' if r['passed'] else 'FAIL'}")
     if a.out_json:
         with open(a.out_json, "w") as f:
-            json.dump({"case": CASE, "timing": timing, "acceptance": acc}, f, indent=2)
+            json.dump({"case": CASE, "rounds": a.repeats, "statistic": "median over rounds",
+                       "timing": timing, "acceptance": acc}, f, indent=2)
     return 0 if all(r["passed"] for r in acc) else 1
 
 

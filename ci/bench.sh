@@ -31,6 +31,7 @@ status=0
 if [ "$status" -eq 2 ]; then exit 2; fi
 # The same kernel ratios through `dampsym run` (each method alone, 10^7 pendulum steps, no
 # diagnostic, the run's own wall time): reports/run-timing.json.
-/usr/bin/python3 bench/run_timing.py "$build/dampsym" --out-json reports/run-timing.json || {
+/usr/bin/python3 bench/run_timing.py "$build/dampsym" --bench-json reports/bench-raw.json \
+  --out-json reports/run-timing.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 exit "$status"

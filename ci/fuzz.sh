@@ -56,7 +56,7 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(case set report)
 for t in "${targets[@]}"; do
   corpus="tests/fuzz/corpus/$t"
-  mkdir -p "$corpus" "$out/findings/$t" "$out/work/$t"
+  mkdir -p "$corpus" "$out/findings/$t" "$out/scratch/$t"
   seeds=()
   case "$t" in
     case|set) seeds=(verify/cases tests/data/bad tests/data/cases) ;;
@@ -65,9 +65,9 @@ for t in "${targets[@]}"; do
   [ -d tests/fuzz/regressions/$t ] && seeds+=(tests/fuzz/regressions/$t)
   echo "fuzz: $t for ${seconds} s"
   # -max_len: cases are small; 64 KiB lets the fuzzer grow deep nesting and long arrays.
-  nice -n 19 "$out/fuzz_$t" "$out/work/$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
+  nice -n 19 "$out/fuzz_$t" "$out/scratch/$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
     -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
     -artifact_prefix="$out/findings/$t/" 2>&1 | tee "$out/fuzz_$t.log" | grep -E "^#|ERROR|finding|stat::" | tail -n 40
   # Keep the committed corpus small: merge what this run found into it (minimised).
-  nice -n 19 "$out/fuzz_$t" -merge=1 "$corpus" "$out/work/$t" >/dev/null 2>&1 || true
+  nice -n 19 "$out/fuzz_$t" -merge=1 "$corpus" "$out/scratch/$t" >/dev/null 2>&1 || true
 done

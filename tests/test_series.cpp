@@ -64,7 +64,7 @@ TEST_CASE("StrideSampler keeps about the asked number of samples and the last", 
     CHECK(s.wants(0));
 }
 
-TEST_CASE("--figures keeps series and changes no number of the report", "[series]") {
+TEST_CASE("figures: the series hook keeps series and changes no number of the report", "[series]") {
     const json spec = {{"id", "series-test"},
                        {"title", "series hook"},
                        {"no_checks_because", "a unit test of the figures hook"},

@@ -88,6 +88,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import xmethods as xm  # noqa: E402
 import xproblems as xp  # noqa: E402
 import xrun  # noqa: E402
+import xjit  # noqa: E402
 import xnewton  # noqa: E402
 import xsweep  # noqa: E402
 from refmath import fit_order  # noqa: E402  (our own asymptotic-window fit)
@@ -177,7 +178,10 @@ def metric_invariants(prob, traj, times):
     if not hasattr(prob, "invariants"):
         return out
     scales = prob.invariant_scales()
-    G = np.array([prob.Gamma(t) for t in times]) - prob.Gamma(times[0])
+    if type(prob).Gamma is xp.Problem.Gamma:    # gamma t: the same products, elementwise
+        G = prob.Gamma(np.asarray(times, float)) - prob.Gamma(times[0])
+    else:
+        G = np.array([prob.Gamma(t) for t in times]) - prob.Gamma(times[0])
     two_g = 2.0 * G
     for name, fn in prob.invariants().items():
         I = fn(traj)
@@ -1526,6 +1530,19 @@ def main(argv=None):
         # longest cases first (planned steps x dimension) so the pool stays busy
         cost = lambda c: -sum(int(r.get("steps_planned", r.get("steps", 0)) or 0) for r in c["runs"])
         order = sorted(range(len(cases)), key=lambda i: cost(cases[i]))
+        # the 10^7-step runs allocate many 80 MB temporaries: keep freed memory in the heap
+        # (glibc mallopt M_MMAP_MAX = 0, M_TRIM_THRESHOLD large) instead of returning it to the
+        # kernel and page-faulting it back (a third of that case's time); inherited by the workers
+        try:
+            import ctypes
+            libc = ctypes.CDLL("libc.so.6")
+            libc.mallopt(-4, 0)
+            libc.mallopt(-1, 1 << 40)
+        except (OSError, AttributeError):
+            pass
+        # compile verify/xjit.py's loops once here (or load them from numba's cache); the
+        # forked workers inherit them
+        warm_s = xjit.warm()
         if args.jobs > 1:
             with Pool(args.jobs) as pool:
                 res = pool.map(_worker, [cases[i] for i in order], chunksize=1)
@@ -1545,7 +1562,7 @@ def main(argv=None):
     result = dict(tool="verify/crosscheck.py", report=os.path.abspath(args.report), elapsed_seconds=elapsed,
                   summary=dict(runs=count(runs), orders=count(orders), checks=count(checks)),
                   timing=[(r["case"], r.get("problem", "?"), r["seconds"], r["cpu_seconds"]) for r in res],
-                  cpu_seconds=sum(r["cpu_seconds"] for r in res),
+                  cpu_seconds=sum(r["cpu_seconds"] for r in res), jit_warmup_seconds=warm_s,
                   coefficient_sources=xm.COEFFICIENT_SOURCES,
                   runs=runs, orders=orders, checks=checks)
     out = args.out or os.path.dirname(os.path.abspath(args.report))
@@ -1566,7 +1583,8 @@ def main(argv=None):
         s["orders"]["agree"], s["orders"]["disagree"], s["orders"]["not reproduced"],
         s["checks"]["agree"], s["checks"]["disagree"], s["checks"]["not reproduced"]))
     print("crosscheck: wrote %s/crosscheck.{json,md} in %.2f s wall, %.1f s CPU in the workers"
-          % (out, elapsed, result["cpu_seconds"]))
+          " (compiled loops: %s, %.2f s to compile or load them)"
+          % (out, elapsed, result["cpu_seconds"], "numba" if xjit.HAVE_NUMBA else "off", warm_s))
     return 1 if any(s[k]["disagree"] for k in s) else 0
 
 

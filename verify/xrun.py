@@ -4,6 +4,7 @@ import math
 import numpy as np
 
 import refmath
+import xjit
 import xscalar
 import xmethods as xm
 
@@ -29,8 +30,15 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     # (a fixed rounded M biases round-off-level conservation metrics, so recorded runs step)
     if linear_ok(method, prob) and (not record or nsteps >= 1_000_000):
         return integrate_linear(method, prob, h, nsteps, t0, record, limit, out)
+    # compiled loops (python3-numba) where available: verify/xjit.py, same formulas
+    compiled = xjit.integrate(method, prob, h, nsteps, t0, record, limit, out)
+    if compiled is not None:
+        return compiled
     fast = scalar_stepper(method, prob, h)
     if fast is not None:
+        compiled = xjit.integrate_scalar(method, prob, h, nsteps, record, limit, out)
+        if compiled is not None:
+            return compiled
         return integrate_scalar(fast, prob, nsteps, record, limit, out)
     small = xscalar.make(method, prob, h)
     if small is not None:
@@ -108,16 +116,16 @@ def integrate_linear(method, prob, h, nsteps, t0, record, limit, out):
         PB = Ml @ PB
     S = np.empty((K, prob.d), dtype=ld)
     S[0] = np.asarray(prob.z0, dtype=ld)
+    full = np.empty((K * B + 1, prob.d))     # z_{kB + j} (rounded to double) at row kB + j
     with np.errstate(over="ignore", invalid="ignore"):
         for k in range(1, K):
             S[k] = PB @ S[k - 1]
-        Z = np.empty((K, B + 1, prob.d), dtype=ld)
-        Z[:, 0] = S
+        Zj = S                               # z_{kB + j} for all k, j = 0 .. B
         for j in range(B):
-            Z[:, j + 1] = Z[:, j] @ Ml.T
-    full = np.concatenate([Z[:, :B].reshape(-1, prob.d), Z[-1:, B]], axis=0)[:nsteps + 1]
-    with np.errstate(over="ignore"):
-        full = full.astype(float)
+            full[j:K * B:B] = Zj
+            Zj = Zj @ Ml.T
+        full[K * B] = Zj[-1]
+    full = full[:nsteps + 1]
     bad = ~np.all(np.abs(full) < limit, axis=-1)
     n = nsteps
     if bad.any():
