@@ -271,10 +271,12 @@ private:
 template <int K, int N>
 std::unique_ptr<CaseJob> make_case_shard(const CaseSpec& c) {
     std::unique_ptr<CaseJob> job;
-    int index = 0;
-    for_each_type(ProblemList{}, [&]<class P>() {
-        if (index++ % N == K && !job && P::id == c.problem_id)
-            job = std::make_unique<TypedCase<P>>(c);
+    // Only the problems of this shard are instantiated here (the index test is compile-time:
+    // a runtime test would instantiate every problem's runner in every shard).
+    for_each_type_indexed(ProblemList{}, [&]<std::size_t I, class P>() {
+        if constexpr (static_cast<int>(I) % N == K) {
+            if (!job && P::id == c.problem_id) job = std::make_unique<TypedCase<P>>(c);
+        }
     });
     return job;
 }
