@@ -1,13 +1,17 @@
-// Internals of the dampsym command line shared by its files (cli.cpp: run_cli and the run,
-// compare and merge commands; cli_select.cpp: case selection; cli_list.cpp: list and methods;
-// cli_github.cpp: GitHub annotations and step summary).
+// Internals of the dampsym command line shared by its files: cli.cpp (run_cli: global options,
+// parsing, dispatch; the plot command), cli_run.cpp (run, merge), cli_compare.cpp (compare),
+// cli_list.cpp (list, methods), cli_select.cpp (case selection), cli_github.cpp (GitHub
+// annotations and step summary). Adding a subcommand = one add_*_command function in its own file
+// and one line in run_cli.
 #pragma once
 
 #include "harness/case.hpp"
 #include "harness/shard.hpp"
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -40,8 +44,35 @@ std::string describe_selection(const Selection& sel, bool default_suite);
 Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
                       const std::string& cases_dir, bool default_suite, bool sharding);
 
-int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, std::ostream& out);
-int cmd_methods(bool check, bool as_json, std::ostream& out);
+// The --suite, --filter, --problem, --method, --shard and --costs options of list and run.
+void add_selection_options(CLI::App& sub, Selection& sel);
+
+// What every subcommand sees: the global options (bound before parsing, read by the actions
+// after it) and the output streams.
+struct CliContext {
+    std::string cases_dir;                 // --cases
+    std::vector<std::string> command_line; // argv, for the report's provenance
+    std::ostream& out;
+    std::ostream& err;
+};
+
+// A subcommand: its CLI11 app, whose options are bound to state the action owns, and the action
+// (run after a successful parse when this subcommand was given), which returns the exit status.
+struct Command {
+    CLI::App* app;
+    std::function<int()> action;
+};
+
+extern const char* const kExitCodes; // the exit-status paragraph of the help texts
+
+Command add_list_command(CLI::App& app, CliContext& ctx);    // cli_list.cpp
+Command add_methods_command(CLI::App& app, CliContext& ctx); // cli_list.cpp
+Command add_run_command(CLI::App& app, CliContext& ctx);     // cli_run.cpp
+Command add_merge_command(CLI::App& app, CliContext& ctx);   // cli_run.cpp
+Command add_compare_command(CLI::App& app, CliContext& ctx); // cli_compare.cpp
+
+// A report.json (or the report.json in a directory); InputError if unreadable or not JSON.
+json read_report(const std::string& arg);
 
 void github_annotations(const json& report, std::ostream& out);
 void github_step_summary(const json& report, std::ostream& err);

@@ -1,41 +1,62 @@
+// `dampsym list` (cases, problems, diagnostics, methods) and `dampsym methods` (the methods and
+// their coefficient-level checks).
 #include "cli/cli_detail.hpp"
 
 #include "harness/case.hpp"
-#include "harness/compare.hpp"
-#include "harness/junit.hpp"
 #include "harness/problem_info.hpp"
-#include "harness/progress.hpp"
-#include "harness/provenance.hpp"
-#include "harness/report.hpp"
-#include "harness/runner.hpp"
-#include "harness/shard.hpp"
 #include "methods/coefficient_checks.hpp"
 
-#include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fnmatch.h>
-#include <fstream>
-#include <iostream>
-#include <map>
-#include <mutex>
-#include <optional>
+#include <memory>
 #include <ostream>
 #include <sstream>
-#include <thread>
-#include <unistd.h>
 
 namespace dampsym::cli_detail {
 
 namespace fs = std::filesystem;
 
-int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, std::ostream& out) {
-    const Selected selected = select_cases(sel, {}, cases_dir, false, !sel.shard.empty());
+namespace {
+
+// One problem of `list --json`: parameters (type, default, range), invariants, diagnostics.
+json problem_json(const ProblemInfo& p) {
+    json params = json::array();
+    for (const auto& ps : p.params) {
+        json row = {{"name", ps.name}, {"doc", ps.doc}};
+        if (!ps.choices.empty()) {
+            row["type"] = "choice";
+            row["choices"] = ps.choices;
+            row["default"] = ps.choices[static_cast<std::size_t>(ps.default_value)];
+        } else {
+            row["type"] = ps.is_array ? "array" : ps.integer ? "integer" : "number";
+            row["default"] = ps.is_array  ? json(ps.default_array)
+                             : ps.integer ? json(static_cast<int>(ps.default_value))
+                                          : json(ps.default_value);
+            row["range"] = {{"min", ps.range.lo},
+                            {"max", ps.range.hi},
+                            {"min_exclusive", ps.range.lo_open},
+                            {"max_exclusive", ps.range.hi_open}};
+            if (ps.is_array) {
+                row["max_entries"] = ps.max_size;
+                if (ps.size_multiple > 1) row["length_multiple_of"] = ps.size_multiple;
+            }
+        }
+        params.push_back(row);
+    }
+    json diagnostics = json::array();
+    for (const auto& d : known_diagnostics())
+        if (diagnostic_applies(d, p) && (d != "invariants" || !p.invariants.empty()))
+            diagnostics.push_back(d);
+    return {{"id", p.id},
+            {"title", p.title},
+            {"params", params},
+            {"invariants", p.invariants},
+            {"exact_solution", p.has_exact},
+            {"diagnostics", diagnostics}};
+}
+
+// Everything `list --json` prints: the selected cases, problems, diagnostics and methods.
+json list_json(const Selected& selected) {
     json cases = json::array();
     for (const auto& c : selected.cases)
         cases.push_back({{"id", c.id},
@@ -45,41 +66,7 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
                          {"suites", c.suites},
                          {"diagnostics", c.diagnostics}});
     json problems = json::array();
-    for (const auto& p : problem_catalog()) {
-        json params = json::array();
-        for (const auto& ps : p.params) {
-            json row = {{"name", ps.name}, {"doc", ps.doc}};
-            if (!ps.choices.empty()) {
-                row["type"] = "choice";
-                row["choices"] = ps.choices;
-                row["default"] = ps.choices[static_cast<std::size_t>(ps.default_value)];
-            } else {
-                row["type"] = ps.is_array ? "array" : ps.integer ? "integer" : "number";
-                row["default"] = ps.is_array  ? json(ps.default_array)
-                                 : ps.integer ? json(static_cast<int>(ps.default_value))
-                                              : json(ps.default_value);
-                row["range"] = {{"min", ps.range.lo},
-                                {"max", ps.range.hi},
-                                {"min_exclusive", ps.range.lo_open},
-                                {"max_exclusive", ps.range.hi_open}};
-                if (ps.is_array) {
-                    row["max_entries"] = ps.max_size;
-                    if (ps.size_multiple > 1) row["length_multiple_of"] = ps.size_multiple;
-                }
-            }
-            params.push_back(row);
-        }
-        json diagnostics = json::array();
-        for (const auto& d : known_diagnostics())
-            if (diagnostic_applies(d, p) && (d != "invariants" || !p.invariants.empty()))
-                diagnostics.push_back(d);
-        problems.push_back({{"id", p.id},
-                            {"title", p.title},
-                            {"params", params},
-                            {"invariants", p.invariants},
-                            {"exact_solution", p.has_exact},
-                            {"diagnostics", diagnostics}});
-    }
+    for (const auto& p : problem_catalog()) problems.push_back(problem_json(p));
     json diagnostics = json::array();
     for (const auto& d : known_diagnostics())
         diagnostics.push_back({{"id", d},
@@ -97,72 +84,73 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
                            {"form", form_name(m.form)},
                            {"kernel", kernel_name(m)},
                            {"citation", m.citation}});
-    if (as_json) {
-        out << json{{"cases", cases},
-                    {"problems", problems},
-                    {"diagnostics", diagnostics},
-                    {"methods", methods},
-                    {"case_keys_doc", "docs/case-keys.md"}}
-                   .dump(2)
-            << "\n";
-        return 0;
+    return {{"cases", cases},
+            {"problems", problems},
+            {"diagnostics", diagnostics},
+            {"methods", methods},
+            {"case_keys_doc", "docs/case-keys.md"}};
+}
+
+std::string joined(const json& words, const char* sep) {
+    std::string s;
+    for (const auto& w : words) s += (s.empty() ? "" : sep) + w.get<std::string>();
+    return s;
+}
+
+void print_problem(const json& p, std::ostream& out) {
+    out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
+    for (const auto& ps : p["params"]) {
+        out << "      " << ps["name"].get<std::string>() << " = ";
+        if (ps["type"] == "choice") {
+            out << '"' << ps["default"].get<std::string>() << "\"  (one of "
+                << joined(ps["choices"], " | ") << ")";
+        } else {
+            const json& r = ps["range"];
+            std::ostringstream range;
+            range << (r["min_exclusive"].get<bool>() ? "(" : "[") << r["min"].get<double>() << ", "
+                  << r["max"].get<double>() << (r["max_exclusive"].get<bool>() ? ")" : "]");
+            if (ps["type"] == "array")
+                out << "array of <= " << ps["max_entries"].get<int>() << " numbers in "
+                    << range.str() << " (default " << ps["default"].size() << " entries)";
+            else
+                out << ps["default"].dump() << "  in " << range.str()
+                    << (ps["type"] == "integer" ? ", whole number" : "");
+        }
+        out << "  " << ps["doc"].get<std::string>() << "\n";
     }
+    const std::string inv = joined(p["invariants"], ", ");
+    out << "      invariants: " << (inv.empty() ? "none" : inv)
+        << (p["exact_solution"].get<bool>() ? "; exact solution" : "; certified GSL reference")
+        << "\n      diagnostics: " << joined(p["diagnostics"], ", ") << "\n";
+}
+
+void print_list(const json& doc, const std::string& cases_dir, std::ostream& out) {
     out << "Cases (" << cases_dir << "):\n";
-    for (const auto& c : cases) {
-        std::string suites, methods_s;
-        for (const auto& s : c["suites"])
-            suites += (suites.empty() ? "" : ",") + s.get<std::string>();
-        for (const auto& m : c["methods"])
-            methods_s += (methods_s.empty() ? "" : ",") + m.get<std::string>();
+    for (const auto& c : doc["cases"]) {
+        const std::string suites = joined(c["suites"], ",");
         out << "  " << c["id"].get<std::string>() << "  [" << c["problem"].get<std::string>()
-            << "; " << methods_s << "; suites: " << (suites.empty() ? "-" : suites) << "]\n";
+            << "; " << joined(c["methods"], ",") << "; suites: " << (suites.empty() ? "-" : suites)
+            << "]\n";
     }
     out << "Problems (parameters: default, valid range, meaning; set as problem.NAME):\n";
-    for (const auto& p : problems) {
-        out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
-        for (const auto& ps : p["params"]) {
-            out << "      " << ps["name"].get<std::string>() << " = ";
-            if (ps["type"] == "choice") {
-                std::string list;
-                for (const auto& ch : ps["choices"])
-                    list += (list.empty() ? "" : " | ") + ch.get<std::string>();
-                out << '"' << ps["default"].get<std::string>() << "\"  (one of " << list << ")";
-            } else {
-                const json& r = ps["range"];
-                std::ostringstream range;
-                range << (r["min_exclusive"].get<bool>() ? "(" : "[") << r["min"].get<double>()
-                      << ", " << r["max"].get<double>()
-                      << (r["max_exclusive"].get<bool>() ? ")" : "]");
-                if (ps["type"] == "array")
-                    out << "array of <= " << ps["max_entries"].get<int>() << " numbers in "
-                        << range.str() << " (default " << ps["default"].size() << " entries)";
-                else
-                    out << ps["default"].dump() << "  in " << range.str()
-                        << (ps["type"] == "integer" ? ", whole number" : "");
-            }
-            out << "  " << ps["doc"].get<std::string>() << "\n";
-        }
-        std::string inv, diags;
-        for (const auto& i : p["invariants"])
-            inv += (inv.empty() ? "" : ", ") + i.get<std::string>();
-        for (const auto& d : p["diagnostics"])
-            diags += (diags.empty() ? "" : ", ") + d.get<std::string>();
-        out << "      invariants: " << (inv.empty() ? "none" : inv)
-            << (p["exact_solution"].get<bool>() ? "; exact solution" : "; certified GSL reference")
-            << "\n      diagnostics: " << diags << "\n";
-    }
+    for (const auto& p : doc["problems"]) print_problem(p, out);
     out << "Diagnostics (metrics, for \"expect\": \"<diagnostic>.<metric>\"):\n";
-    for (const auto& d : diagnostics) {
-        std::string metrics;
-        for (const auto& m : d["metrics"])
-            metrics += (metrics.empty() ? "" : ", ") + m.get<std::string>();
+    for (const auto& d : doc["diagnostics"])
         out << "  " << d["id"].get<std::string>()
-            << (d["per_method"].get<bool>() ? " (per method)" : "") << ": " << metrics << "\n";
-    }
+            << (d["per_method"].get<bool>() ? " (per method)" : "") << ": "
+            << joined(d["metrics"], ", ") << "\n";
     out << "Case file keys: docs/case-keys.md\nMethods:\n";
     for (const auto& m : method_catalog())
         out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
             << ", " << form_name(m.form) << " form, " << m.citation << "\n";
+}
+
+int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, std::ostream& out) {
+    const json doc = list_json(select_cases(sel, {}, cases_dir, false, !sel.shard.empty()));
+    if (as_json)
+        out << doc.dump(2) << "\n";
+    else
+        print_list(doc, cases_dir, out);
     return 0;
 }
 
@@ -247,6 +235,37 @@ int cmd_methods(bool check, bool as_json, std::ostream& out) {
         out << "Coefficient checks: " << agree << " agree with the declarations, " << disagree
             << " disagree; " << unchecked << " methods without a coefficient-level check\n";
     return disagree == 0 ? 0 : 1;
+}
+
+} // namespace
+
+Command add_list_command(CLI::App& app, CliContext& ctx) {
+    struct State {
+        Selection sel;
+        bool as_json = false;
+    };
+    auto s = std::make_shared<State>();
+    auto* list = app.add_subcommand("list", "list registered cases (filtered), problems, methods");
+    list->add_flag("--json", s->as_json, "machine-readable output");
+    add_selection_options(*list, s->sel);
+    list->footer("\nExamples:\n  dampsym list --suite stress\n  dampsym list --filter 'osc-*' "
+                 "--json\n  dampsym list --shard 1/3 --suite default\n\n" +
+                 std::string(kExitCodes));
+    return {list, [s, &ctx] { return cmd_list(s->as_json, s->sel, ctx.cases_dir, ctx.out); }};
+}
+
+Command add_methods_command(CLI::App& app, CliContext& ctx) {
+    struct State {
+        bool check = false, as_json = false;
+    };
+    auto s = std::make_shared<State>();
+    auto* methods =
+        app.add_subcommand("methods", "list every registered method; --check verifies its "
+                                      "coefficients (order conditions, symplecticity, GLM)");
+    methods->add_flag("--check", s->check,
+                      "run the coefficient-level checks; exit 1 if one disagrees");
+    methods->add_flag("--json", s->as_json, "machine-readable output");
+    return {methods, [s, &ctx] { return cmd_methods(s->check, s->as_json, ctx.out); }};
 }
 
 } // namespace dampsym::cli_detail
