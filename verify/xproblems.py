@@ -602,6 +602,8 @@ class KleinGordon(Problem):
         self.nq, self.d, self.m = self.M, 2 * self.M, 1.0
         self.dx = 2.0 * math.pi / self.M
         self.x = -math.pi + self.dx * np.arange(self.M)
+        if not self.K ** 2 + self.c > self.g ** 2:
+            raise TypeError("K^2 + c must exceed gamma^2 (real W in B (5.1))")
         W = math.sqrt(self.K ** 2 + self.c - self.g ** 2)
         ph = self.K * self.x
         self.z0 = np.concatenate([np.cos(ph), -self.g * np.cos(ph) + W * np.sin(ph)])
