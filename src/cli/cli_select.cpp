@@ -36,7 +36,7 @@ namespace fs = std::filesystem;
 
 std::string default_cases_dir() {
     if (const char* env = std::getenv("DAMPSYM_CASES")) return env;
-    return std::string(DAMPSYM_SOURCE_DIR) + "/verify/cases";
+    return source_dir() + "/verify/cases";
 }
 
 // A case file found in the cases directory, with the id, suites and problem read from it.

@@ -1,4 +1,5 @@
-// Helpers shared by the unit tests: verbose output switch, catalog lookup, and the damped pendulum
+// Helpers shared by the unit tests: observed-order slope, max norm, verbose output switch, catalog
+// lookup, and the damped pendulum
 // with its certified GSL reference (the orders tests of test_method_families.cpp and
 // test_exponential_rk.cpp measure against the same reference).
 #pragma once
@@ -9,11 +10,31 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace dampsym::test {
+
+// Least-squares slope of log e against log h (an observed order).
+inline double log_log_slope(const std::vector<double>& h, const std::vector<double>& e) {
+    const int n = static_cast<int>(h.size());
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int i = 0; i < n; ++i) {
+        const double x = std::log(h[i]), y = std::log(e[i]);
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+inline double max_abs(const Vec& v) {
+    return v.cwiseAbs().maxCoeff();
+}
 
 // DAMPSYM_TEST_VERBOSE set (and not "" or "0"): the tests print what they measure.
 inline bool verbose() {
