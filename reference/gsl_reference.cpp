@@ -13,13 +13,13 @@
 
 namespace dampsym {
 
-namespace {
-
 // GSL's default handler aborts; we check every status instead. Switched off once, process-wide.
 void gsl_errors_off() {
     static std::once_flag once;
     std::call_once(once, [] { gsl_set_error_handler_off(); });
 }
+
+namespace {
 
 const char* gsl_status_name(int s) {
     switch (s) {

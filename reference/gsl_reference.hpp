@@ -60,6 +60,9 @@ struct ReferenceSolution {
 // One solve, no certification.
 ReferenceSolution solve_reference(const ReferenceRequest& req);
 
+// Switches GSL's aborting error handler off, once per process (every GSL status is checked).
+void gsl_errors_off();
+
 // solve_reference(req), then the same problem with rk8pd at epsrel = min(1e-14, req.epsrel/10),
 // epsabs = min(1e-15, req.epsabs/10); states come from the main solve. ok = false if either solve
 // fails.

@@ -1,5 +1,7 @@
 #include "reference/rigid_body_exact.hpp"
 
+#include "reference/gsl_reference.hpp"
+
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
 #include <gsl/gsl_sf_ellint.h>
@@ -16,11 +18,6 @@ namespace {
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 constexpr double pi_hi = 3.141592653589793116;      // double(π)
 constexpr double pi_lo = 1.2246467991473532072e-16; // π − double(π)
-
-void gsl_errors_off() {
-    static std::once_flag once;
-    std::call_once(once, [] { gsl_set_error_handler_off(); });
-}
 
 // 20-point Gauss–Legendre nodes and weights (GSL's precomputed table), allocated once.
 const gsl_integration_glfixed_table* gauss_legendre20() {

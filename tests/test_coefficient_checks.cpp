@@ -18,6 +18,8 @@
 #include "methods/glm_coefficients.hpp"
 #include "methods/tableaux.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -42,16 +44,8 @@ using dampsym::Vec;
 
 namespace {
 
-bool verbose() {
-    static const bool v = std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-    return v;
-}
-
-const MethodInfo& method(std::string_view id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    if (m == nullptr) FAIL("method not in the catalog: " << std::string(id));
-    return *m;
-}
+using dampsym::test::method;
+using dampsym::test::verbose;
 
 // The Butcher tableau of an RK or IFRK row (the RK checks apply to it), else nullptr.
 const dampsym::ButcherTableau* rk_tableau(const MethodInfo& m) {

@@ -14,6 +14,8 @@
 #include "harness/registry.hpp"
 #include "methods/cimp.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -41,16 +43,8 @@ constexpr double h = 0.1;
 constexpr std::int64_t n_steps = 1000;
 const std::vector<std::string> method_ids{"cimp", "csv1", "csv2", "rk3", "heun", "rk4"};
 
-bool verbose() {
-    const char* v = std::getenv("DAMPSYM_TEST_VERBOSE");
-    return v != nullptr && v[0] != '\0' && v[0] != '0';
-}
-
-const MethodInfo& method(const std::string& id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    REQUIRE(m != nullptr);
-    return *m;
-}
+using dampsym::test::method;
+using dampsym::test::verbose;
 
 bool conformal_method(const std::string& id) {
     return id == "cimp" || id == "csv1" || id == "csv2";

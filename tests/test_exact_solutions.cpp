@@ -10,6 +10,7 @@
 // = Γ(t+h) − Γ(t); periodic forcing of period T; d(t) of the maxima counted from t0; the output
 // grid of a case that does not start at 0. Random problems: each scalar parameter drawn around its
 // default (redrawn until from_params accepts it); random states around initial_state().
+#include "diagnostics/capabilities.hpp"
 #include "diagnostics/maxima.hpp"
 #include "harness/case_job.hpp"
 #include "harness/registry.hpp"

@@ -24,6 +24,8 @@
 #include "methods/tableaux.hpp"
 #include "reference/gsl_reference.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -47,19 +49,9 @@ using dampsym::Vec;
 
 namespace {
 
-bool verbose() {
-    static const bool v = [] {
-        const char* e = std::getenv("DAMPSYM_TEST_VERBOSE");
-        return e != nullptr && e[0] != '\0' && e[0] != '0';
-    }();
-    return v;
-}
-
-const MethodInfo& method(std::string_view id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    if (m == nullptr) FAIL("method not in the catalog: " << std::string(id));
-    return *m;
-}
+using dampsym::test::method;
+using dampsym::test::pendulum;
+using dampsym::test::verbose;
 
 const std::vector<std::string> conformal_ids{"etdrk2", "cse-if", "cse-etd", "csv1-perk",
                                              "csv2-perk"};
@@ -67,13 +59,6 @@ const std::vector<std::string> conformal_ids{"etdrk2", "cse-if", "cse-etd", "csv
 dampsym::Oscillator oscillator(double gamma = 0.1, double omega = 1.0) {
     dampsym::Oscillator p;
     p.omega = omega;
-    p.gamma = gamma;
-    p.q0 = 1.0;
-    p.p0 = 0.0;
-    return p;
-}
-dampsym::Pendulum pendulum(double gamma = 0.1) {
-    dampsym::Pendulum p;
     p.gamma = gamma;
     p.q0 = 1.0;
     p.p0 = 0.0;
@@ -434,22 +419,7 @@ TEST_CASE("exponential methods: orders on the damped pendulum against the certif
           "[exponential]") {
     const dampsym::Pendulum prob = pendulum(); // q'' + 2γq' + sin q = 0, γ = 0.1, q0 = 1
     const double t_end = 10.0;
-    dampsym::ReferenceRequest req;
-    req.dim = 2;
-    req.y0 = prob.initial_state();
-    req.times = {t_end};
-    req.stepper = "rk8pd";
-    req.epsabs = 1e-15;
-    req.epsrel = 1e-14;
-    req.rhs = [prob](double t, const double* y, double* f) {
-        const Vec z = Eigen::Map<const Vec>(y, 2);
-        Vec out(2);
-        prob.rhs(t, z, out);
-        f[0] = out[0];
-        f[1] = out[1];
-    };
-    const dampsym::ReferenceSolution ref = dampsym::certified_reference(req);
-    REQUIRE(ref.ok);
+    const dampsym::ReferenceSolution ref = dampsym::test::pendulum_reference(prob, t_end);
     const Vec zref = ref.states.col(0);
     const double floor = std::max(100.0 * ref.error_estimate, 1e-13);
 

@@ -19,7 +19,7 @@ using json = nlohmann::json;
 
 namespace {
 
-json run_case(json spec, double time_budget = 0.0) {
+json run_lazy_case(json spec, double time_budget = 0.0) {
     if (!spec.contains("id")) spec["id"] = "lazy";
     if (!spec.contains("title")) spec["title"] = "lazy diagnostics test";
     if (!spec.contains("expect"))
@@ -55,7 +55,7 @@ json oscillator_case(const json& diagnostics) {
 
 TEST_CASE("lazy: a final-error-only case runs the bare loop against the exact final state only",
           "[lazy]") {
-    const json c = run_case(oscillator_case({"error"}));
+    const json c = run_lazy_case(oscillator_case({"error"}));
     CHECK(c["reference"]["kind"] == "exact");
     CHECK(c["reference"]["points"] == 1);
     const json& r = c["runs"][0];
@@ -77,7 +77,7 @@ TEST_CASE("lazy: without the error diagnostic no reference is computed", "[lazy]
                  {"t_end", 2.0},
                  {"dt", 0.01},
                  {"diagnostics", {"energy"}}};
-    const json c = run_case(spec);
+    const json c = run_lazy_case(spec);
     CHECK(c["reference"]["kind"] == "none"); // no certified GSL integration was run
     const json& r = c["runs"][0];
     CHECK(r["observed"]["bare_loop"] == false); // the energy diagnostic reads the grid
@@ -86,11 +86,11 @@ TEST_CASE("lazy: without the error diagnostic no reference is computed", "[lazy]
     CHECK(r["metrics"].contains("energy"));
     // asking for the error as well brings the certified reference in
     spec["diagnostics"] = {"energy", "error"};
-    CHECK(run_case(spec)["reference"]["kind"] == "gsl-certified");
+    CHECK(run_lazy_case(spec)["reference"]["kind"] == "gsl-certified");
 }
 
 TEST_CASE("lazy: invariants and step Jacobians only when asked", "[lazy]") {
-    const json inv = run_case(oscillator_case({"invariants"}));
+    const json inv = run_lazy_case(oscillator_case({"invariants"}));
     const json& r1 = inv["runs"][0];
     CHECK(r1["observed"]["bare_loop"] == false);
     CHECK(r1["observed"]["invariants"] == true);
@@ -100,7 +100,7 @@ TEST_CASE("lazy: invariants and step Jacobians only when asked", "[lazy]") {
     CHECK(r1["metrics"].contains("invariants"));
     CHECK_FALSE(r1["metrics"].contains("conformal-symplectic"));
 
-    const json cs = run_case(oscillator_case({"conformal-symplectic"}));
+    const json cs = run_lazy_case(oscillator_case({"conformal-symplectic"}));
     const json& r2 = cs["runs"][0];
     CHECK(r2["observed"]["step_jacobians"] == true);
     CHECK(r2["observed"]["bare_loop"] == true); // the Jacobian pass is separate from the run
@@ -113,7 +113,7 @@ TEST_CASE("lazy: work-precision timing only for step ladders with the budget on"
     json ladder = oscillator_case({"error"});
     ladder.erase("dt");
     ladder["dt_ladder"] = {0.02, 0.01};
-    const json timed = run_case(ladder, 0.002);
+    const json timed = run_lazy_case(ladder, 0.002);
     for (const auto& r : timed["runs"]) {
         REQUIRE(r.contains("timing"));
         CHECK(r["timing"]["repetitions"].get<int>() >= 1);
@@ -122,16 +122,17 @@ TEST_CASE("lazy: work-precision timing only for step ladders with the budget on"
         CHECK(r["timing"]["wall_seconds_min"].get<double>() <=
               r["timing"]["repetitions_wall_seconds"].get<double>());
     }
-    const json untimed = run_case(ladder, 0.0); // (a named report: the loop must not outlive it)
+    const json untimed =
+        run_lazy_case(ladder, 0.0); // (a named report: the loop must not outlive it)
     for (const auto& r : untimed["runs"]) CHECK_FALSE(r.contains("timing"));
-    CHECK_FALSE(run_case(oscillator_case({"error"}), 0.002)["runs"][0].contains("timing"));
+    CHECK_FALSE(run_lazy_case(oscillator_case({"error"}), 0.002)["runs"][0].contains("timing"));
     // a diverged run is recorded as failed, not timed (explicit Euler, h·ω = 3 on γ = 0.1)
     json diverging = ladder;
     diverging["methods"] = {"euler"};
     diverging["t_end"] = 6000.0;
     diverging["output_dt"] = 6000.0;
     diverging["dt_ladder"] = {3.0, 1.5};
-    const json failed = run_case(diverging, 0.002);
+    const json failed = run_lazy_case(diverging, 0.002);
     for (const auto& r : failed["runs"]) {
         CHECK(r["status"] == "diverged");
         CHECK_FALSE(r.contains("timing"));
@@ -139,8 +140,9 @@ TEST_CASE("lazy: work-precision timing only for step ladders with the budget on"
 }
 
 TEST_CASE("lazy: the local error is computed only when asked", "[lazy]") {
-    CHECK_FALSE(run_case(oscillator_case({"error"}))["runs"][0]["metrics"].contains("local-error"));
-    const json c = run_case(oscillator_case({"local-error"}));
+    CHECK_FALSE(
+        run_lazy_case(oscillator_case({"error"}))["runs"][0]["metrics"].contains("local-error"));
+    const json c = run_lazy_case(oscillator_case({"local-error"}));
     const json& m = c["runs"][0]["metrics"];
     REQUIRE(m.contains("local-error"));
     // csv1 is second order: one step of h = 0.01 errs by O(h³) (non-zero, far below h²)

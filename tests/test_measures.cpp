@@ -18,7 +18,7 @@ using Catch::Matchers::WithinRel;
 
 namespace {
 
-json run_case(json spec) {
+json run_measures_case(json spec) {
     if (!spec.contains("id")) spec["id"] = "measures";
     const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_measures.cpp", {});
     dampsym::RunOptions options;
@@ -74,7 +74,7 @@ json two_point_case() {
 
 TEST_CASE("measures: component, norm and statistic as stated, recomputed from the exact solution",
           "[measures]") {
-    const json c = run_case(two_point_case());
+    const json c = run_measures_case(two_point_case());
     const json& run = c["runs"][0]; // csv1
     REQUIRE(run["method"] == "csv1");
     const json& m = run["metrics"]["measure"];
@@ -94,7 +94,7 @@ TEST_CASE("measures: component, norm and statistic as stated, recomputed from th
     first.erase("expect");
     first.erase("measures"); // one output point: only the final state is read
     first["no_checks_because"] = "reads the run's final state only";
-    const json c1 = run_case(first);
+    const json c1 = run_measures_case(first);
     const json& r1 = c1["runs"][0];
     const dampsym::Vec u1 = exact_at(1.0, 0.1, 1.0, 0.0, 1.0);
     const double dq1 = std::abs(r1["final_state"][0].get<double>() - u1[0]);
@@ -112,7 +112,7 @@ TEST_CASE("measures: component, norm and statistic as stated, recomputed from th
 
 TEST_CASE("measures: ratio and spread checks use the listed methods' values; a wrong one fails",
           "[measures]") {
-    const json c = run_case(two_point_case());
+    const json c = run_measures_case(two_point_case());
     auto value_of = [&](const std::string& method, const char* measure) {
         for (const auto& r : c["runs"])
             if (r["method"] == method) return r["metrics"]["measure"][measure].get<double>();
@@ -156,7 +156,7 @@ TEST_CASE("measures: growth rates on log-log (bounded, O(t h^2), O(t))", "[measu
            {{"metric", "measure.energy"}, {"methods", {"csv1"}}, {"le", 0.05}}},
           {"rk3 energy error grows linearly",
            {{"metric", "measure.energy"}, {"methods", {"rk3"}}, {"near", 1.0}, {"tol", 0.1}}}}}};
-    const json c = run_case(spec);
+    const json c = run_measures_case(spec);
     for (const auto& ck : c["checks"]) {
         INFO(ck.dump());
         CHECK(ck["passed"] == true);
@@ -183,7 +183,7 @@ TEST_CASE("measures: across_dt gives the log-log slope over the ladder", "[measu
             {"across_dt", "loglog-slope"},
             {"near", 1.0},
             {"tol", 0.1}}}}}};
-    const json c = run_case(spec);
+    const json c = run_measures_case(spec);
     REQUIRE(c["checks"].size() == 2);
     for (const auto& ck : c["checks"]) {
         INFO(ck.dump());

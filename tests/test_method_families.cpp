@@ -17,6 +17,8 @@
 #include "methods/tableaux.hpp"
 #include "reference/gsl_reference.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -39,10 +41,9 @@ using dampsym::Vec;
 
 namespace {
 
-bool verbose() {
-    static const bool v = std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-    return v;
-}
+using dampsym::test::method;
+using dampsym::test::pendulum;
+using dampsym::test::verbose;
 
 // The (q) Butcher tableau of a row of the RK, IFRK or partitioned RK families.
 const ButcherTableau* tableau_of(const MethodInfo& m) {
@@ -66,19 +67,6 @@ const MethodInfo& gauss2_pair() {
     return m;
 }
 
-const MethodInfo& method(std::string_view id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    if (m == nullptr) FAIL("method not in the catalog: " << std::string(id));
-    return *m;
-}
-
-dampsym::Pendulum pendulum() {
-    dampsym::Pendulum p;
-    p.gamma = 0.1;
-    p.q0 = 1.0;
-    p.p0 = 0.0;
-    return p;
-}
 dampsym::Hill hill(double epsilon) {
     dampsym::Hill p;
     p.epsilon = epsilon;
@@ -324,22 +312,7 @@ TEST_CASE("observed orders on the damped pendulum against the certified GSL refe
           "[families]") {
     const dampsym::Pendulum prob = pendulum(); // q'' + 2γq' + sin q = 0, γ = 0.1, q0 = 1
     const double t_end = 10.0;
-    dampsym::ReferenceRequest req;
-    req.dim = 2;
-    req.y0 = prob.initial_state();
-    req.times = {t_end};
-    req.stepper = "rk8pd";
-    req.epsabs = 1e-15;
-    req.epsrel = 1e-14;
-    req.rhs = [prob](double t, const double* y, double* f) {
-        const Vec z = Eigen::Map<const Vec>(y, 2);
-        Vec out(2);
-        prob.rhs(t, z, out);
-        f[0] = out[0];
-        f[1] = out[1];
-    };
-    const dampsym::ReferenceSolution ref = dampsym::certified_reference(req);
-    REQUIRE(ref.ok);
+    const dampsym::ReferenceSolution ref = dampsym::test::pendulum_reference(prob, t_end);
     const Vec zref = ref.states.col(0);
     const double floor = std::max(100.0 * ref.error_estimate, 1e-13);
     if (verbose()) std::printf("GSL reference error estimate %.1e\n", ref.error_estimate);

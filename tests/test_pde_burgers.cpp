@@ -4,6 +4,8 @@
 // control, and the handling of the kernel of A_x (even M) in the box scheme (5.12).
 #include "pde/burgers.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -14,13 +16,11 @@
 
 using Catch::Matchers::WithinAbs;
 using dampsym::Vec;
+using dampsym::test::verbose;
 using namespace dampsym::pde;
 
 namespace {
 
-bool verbose() {
-    return std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-}
 double max_abs(const Vec& v) {
     return v.cwiseAbs().maxCoeff();
 }

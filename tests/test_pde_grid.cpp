@@ -2,6 +2,8 @@
 // (src/pde/periodic_grid.hpp).
 #include "pde/periodic_grid.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -28,10 +30,6 @@ Vec random_vec(int M, std::mt19937_64& rng) {
     return v;
 }
 
-double max_abs(const Vec& v) {
-    return v.cwiseAbs().maxCoeff();
-}
-
 } // namespace
 
 TEST_CASE("pde grid: the operators of B (1.14) act on Fourier modes by their exact symbols",
@@ -43,25 +41,25 @@ TEST_CASE("pde grid: the operators of B (1.14) act on Fourier modes by their exa
         Vec out;
         const double hd = 0.5 * k * g.dx;
         forward_difference(g, s, out);
-        CHECK(max_abs(out - sample(g, [&](double x) {
-                          return 2.0 * std::sin(hd) / g.dx * std::cos(k * x + hd);
-                      })) <= 1e-13);
+        CHECK(dampsym::test::max_abs(out - sample(g, [&](double x) {
+                                         return 2.0 * std::sin(hd) / g.dx * std::cos(k * x + hd);
+                                     })) <= 1e-13);
         forward_average(g, s, out);
-        CHECK(max_abs(out - sample(g, [&](double x) {
-                          return std::cos(hd) * std::sin(k * x + hd);
-                      })) <= 1e-13);
+        CHECK(dampsym::test::max_abs(out - sample(g, [&](double x) {
+                                         return std::cos(hd) * std::sin(k * x + hd);
+                                     })) <= 1e-13);
         central_difference(g, s, out);
-        CHECK(max_abs(out - sample(g, [&](double x) {
-                          return std::sin(k * g.dx) / g.dx * std::cos(k * x);
-                      })) <= 1e-13);
+        CHECK(dampsym::test::max_abs(out - sample(g, [&](double x) {
+                                         return std::sin(k * g.dx) / g.dx * std::cos(k * x);
+                                     })) <= 1e-13);
         second_difference(g, s, out);
-        CHECK(max_abs(out - sample(g, [&](double x) {
-                          return -4.0 * std::sin(hd) * std::sin(hd) / (g.dx * g.dx) *
-                                 std::sin(k * x);
-                      })) <= 1e-12);
+        CHECK(dampsym::test::max_abs(out - sample(g, [&](double x) {
+                                         return -4.0 * std::sin(hd) * std::sin(hd) / (g.dx * g.dx) *
+                                                std::sin(k * x);
+                                     })) <= 1e-12);
         shift(g, s, out);
-        CHECK(max_abs(out - sample(g, [&](double x) { return std::sin(k * (x - g.dx)); })) <=
-              1e-13);
+        CHECK(dampsym::test::max_abs(
+                  out - sample(g, [&](double x) { return std::sin(k * (x - g.dx)); })) <= 1e-13);
     }
 }
 
@@ -73,12 +71,12 @@ TEST_CASE("pde grid: delta_x and delta_x^2 are second order (error ratio 4 per h
         Vec d1, d2;
         central_difference(g, f, d1);
         second_difference(g, f, d2);
-        const double e1 =
-            max_abs(d1 - sample(g, [](double x) { return std::cos(x) * std::exp(std::sin(x)); }));
-        const double e2 =
-            max_abs(d2 - sample(g, [](double x) {
-                        return (std::cos(x) * std::cos(x) - std::sin(x)) * std::exp(std::sin(x));
-                    }));
+        const double e1 = dampsym::test::max_abs(
+            d1 - sample(g, [](double x) { return std::cos(x) * std::exp(std::sin(x)); }));
+        const double e2 = dampsym::test::max_abs(
+            d2 - sample(g, [](double x) {
+                return (std::cos(x) * std::cos(x) - std::sin(x)) * std::exp(std::sin(x));
+            }));
         if (prev1 > 0) {
             CHECK_THAT(std::log2(prev1 / e1), WithinAbs(2.0, 0.1));
             CHECK_THAT(std::log2(prev2 / e2), WithinAbs(2.0, 0.1));
@@ -100,7 +98,8 @@ TEST_CASE("pde grid: Lemma 1.8 (ii) product rule and (iii) summation by parts", 
         forward_average(g, a, aa);
         forward_average(g, b, ab);
         forward_difference(g, Vec(a.cwiseProduct(b)), dab);
-        CHECK(max_abs(dab - da.cwiseProduct(ab) - aa.cwiseProduct(db)) <= 1e-13 / g.dx);
+        CHECK(dampsym::test::max_abs(dab - da.cwiseProduct(ab) - aa.cwiseProduct(db)) <=
+              1e-13 / g.dx);
         // (iii) Σ a δ_x b = −Σ δ_x a b and Σ a δ_x² b = Σ δ_x² a b.
         Vec ca, cb, sa, sb;
         central_difference(g, a, ca);
@@ -123,10 +122,10 @@ TEST_CASE("pde grid: A_x has the alternating mode as kernel exactly when M is ev
         for (int j = 0; j < M; ++j)
             smallest = std::min(smallest, std::abs(std::cos(std::numbers::pi * j / M)));
         if (M % 2 == 0) {
-            CHECK(max_abs(out) == 0.0);
+            CHECK(dampsym::test::max_abs(out) == 0.0);
             CHECK(smallest < 1e-15);
         } else {
-            CHECK(max_abs(out) > 0.0); // one wrap-around pair does not cancel
+            CHECK(dampsym::test::max_abs(out) > 0.0); // one wrap-around pair does not cancel
             CHECK(smallest >= std::sin(std::numbers::pi / (2.0 * M)) * 0.999);
         }
     }
@@ -140,9 +139,9 @@ TEST_CASE("pde grid: spectral derivative is exact on trigonometric polynomials (
             sample(g, [](double x) { return std::sin(3 * x) + 0.5 * std::cos(5 * x) + 1.0; });
         Vec df;
         D.apply(f, df);
-        CHECK(max_abs(df - sample(g, [](double x) {
-                          return 3 * std::cos(3 * x) - 2.5 * std::sin(5 * x);
-                      })) <= 1e-12);
+        CHECK(dampsym::test::max_abs(df - sample(g, [](double x) {
+                                         return 3 * std::cos(3 * x) - 2.5 * std::sin(5 * x);
+                                     })) <= 1e-12);
         std::vector<std::complex<double>> e(M), de;
         for (int n = 0; n < M; ++n) e[n] = std::exp(std::complex<double>(0, 4 * g.x(n)));
         D.apply(e, de);
@@ -154,7 +153,7 @@ TEST_CASE("pde grid: spectral derivative is exact on trigonometric polynomials (
             Vec alt(M), da;
             for (int n = 0; n < M; ++n) alt[n] = (n % 2 == 0) ? 1.0 : -1.0;
             D.apply(alt, da);
-            CHECK(max_abs(da) <= 1e-13);
+            CHECK(dampsym::test::max_abs(da) <= 1e-13);
         }
     }
     // On a half-length L ≠ π the wavenumbers scale by π/L.
@@ -163,7 +162,8 @@ TEST_CASE("pde grid: spectral derivative is exact on trigonometric polynomials (
     const double k = std::numbers::pi / 10.0 * 2;
     Vec df;
     D.apply(sample(g, [&](double x) { return std::sin(k * x); }), df);
-    CHECK(max_abs(df - sample(g, [&](double x) { return k * std::cos(k * x); })) <= 1e-12);
+    CHECK(dampsym::test::max_abs(df - sample(g, [&](double x) { return k * std::cos(k * x); })) <=
+          1e-12);
 }
 
 TEST_CASE("pde grid: cyclic tridiagonal solver against a dense solve", "[pde]") {
@@ -181,7 +181,7 @@ TEST_CASE("pde grid: cyclic tridiagonal solver against a dense solve", "[pde]") 
             A(n, (n + M - 1) % M) += lo[n];
             A(n, (n + 1) % M) += up[n];
         }
-        CHECK(max_abs(A * x - r) <= 1e-14 * M);
+        CHECK(dampsym::test::max_abs(A * x - r) <= 1e-14 * M);
         Vec y;
         solve_cyclic_tridiagonal(0.3, -1.0, r, y); // constant coefficients
         dampsym::Mat B = dampsym::Mat::Zero(M, M);
@@ -190,6 +190,6 @@ TEST_CASE("pde grid: cyclic tridiagonal solver against a dense solve", "[pde]") 
             B(n, (n + M - 1) % M) += 0.3;
             B(n, (n + 1) % M) += 0.3;
         }
-        CHECK(max_abs(B * y - r) <= 1e-14 * M);
+        CHECK(dampsym::test::max_abs(B * y - r) <= 1e-14 * M);
     }
 }

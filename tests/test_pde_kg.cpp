@@ -9,6 +9,10 @@
 #include "pde/klein_gordon.hpp"
 #include "problems/pde/klein_gordon.hpp"
 
+#include "support/helpers.hpp"
+
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -23,13 +27,11 @@ using dampsym::KleinGordon;
 using dampsym::MethodInfo;
 using dampsym::StepStatus;
 using dampsym::Vec;
+using dampsym::test::method;
+using dampsym::test::verbose;
 using namespace dampsym::pde;
 
 namespace {
-
-bool verbose() {
-    return std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-}
 
 KleinGordon kg(int M, double c, double gamma, int K) {
     dampsym::ParamMap m;
@@ -44,30 +46,6 @@ Vec cat(const Vec& a, const Vec& b) {
     Vec z(a.size() + b.size());
     z << a, b;
     return z;
-}
-
-double max_abs(const Vec& v) {
-    return v.cwiseAbs().maxCoeff();
-}
-
-// Least-squares slope of log e against log h.
-double slope(const std::vector<double>& h, const std::vector<double>& e) {
-    const int n = static_cast<int>(h.size());
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (int i = 0; i < n; ++i) {
-        const double x = std::log(h[i]), y = std::log(e[i]);
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
-const MethodInfo& method(const char* id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    REQUIRE(m != nullptr);
-    return *m;
 }
 
 // Runs kernel KR of `id` for n steps from z; returns the final state; `each` sees every state.
@@ -128,8 +106,8 @@ TEST_CASE("pde kg: exact solutions of the PDE (5.1) and of the semi-discrete sys
     for (double t : {0.3, 2.0, 11.0}) {
         kg_semidiscrete_exact(g, p.c, p.gamma, 0.0, u0, v0, t, u, v);
         kg_plane_wave(g, p.gamma, 2, Wd, t, ue, ve);
-        CHECK(max_abs(u - ue) <= 1e-14);
-        CHECK(max_abs(v - ve) <= 1e-14);
+        CHECK(dampsym::test::max_abs(u - ue) <= 1e-14);
+        CHECK(dampsym::test::max_abs(v - ve) <= 1e-14);
     }
     // The semi-discrete solution from the PDE's initial data satisfies u' = v, v' = F(u) − 2γv
     // (6th-order central difference in t).
@@ -145,7 +123,7 @@ TEST_CASE("pde kg: exact solutions of the PDE (5.1) and of the semi-discrete sys
                    (60.0 * h);
     Vec f(p.dim());
     p.rhs(t, zt(t), f);
-    CHECK(max_abs(dz - f) <= 1e-9);
+    CHECK(dampsym::test::max_abs(dz - f) <= 1e-9);
     // (5.1) solves the PDE: u_tt − u_xx + c u + 2γ u_t = 0 with W² = K² + c − γ² (checked by
     // the same differences in t and x at one point).
     const double W = p.W(), K = 2, x = 0.7;
@@ -174,7 +152,8 @@ TEST_CASE("pde kg: csv1 and csv2 on the semi-discrete problem are B's schemes (5
                                       b53(p, h, u, v);
                                   else
                                       b54(p, h, u, v);
-                                  worst = std::max(worst, max_abs(z - cat(u, v)) / max_abs(z));
+                                  worst = std::max(worst, dampsym::test::max_abs(z - cat(u, v)) /
+                                                              dampsym::test::max_abs(z));
                               });
         INFO("scheme (5." << which << ")");
         CHECK(worst <= 1e-13);
@@ -195,14 +174,16 @@ TEST_CASE("pde kg: consistency and orders of (5.3), (5.4) against the semi-discr
             p.exact(0.5, za, 0.5 + h, ze);
             const Vec z1 = run_id(p, id, h, 1, za, [](int, const Vec&) {});
             hs.push_back(h);
-            loc.push_back(max_abs(z1 - ze));
+            loc.push_back(dampsym::test::max_abs(z1 - ze));
             // Global error at T = 2.
             const int n = static_cast<int>(std::lround(2.0 / h));
             Vec zT;
             p.exact(0.0, z0, 2.0, zT);
-            glob.push_back(max_abs(run_id(p, id, h, n, z0, [](int, const Vec&) {}) - zT));
+            glob.push_back(
+                dampsym::test::max_abs(run_id(p, id, h, n, z0, [](int, const Vec&) {}) - zT));
         }
-        const double sl = slope(hs, loc), sg = slope(hs, glob);
+        const double sl = dampsym::test::log_log_slope(hs, loc),
+                     sg = dampsym::test::log_log_slope(hs, glob);
         if (verbose())
             std::printf("[pde kg] %s: local-error slope %.3f, global order %.3f\n", id, sl, sg);
         INFO(id << " local slope " << sl << ", global order " << sg);
@@ -222,9 +203,9 @@ TEST_CASE("pde kg: space order 2 of the semi-discretisation against the PDE solu
         Vec ue, ve;
         kg_plane_wave(p.grid, p.gamma, p.K, p.W(), T, ue, ve);
         dxs.push_back(p.grid.dx);
-        errs.push_back(max_abs(z.head(M) - ue));
+        errs.push_back(dampsym::test::max_abs(z.head(M) - ue));
     }
-    const double s = slope(dxs, errs);
+    const double s = dampsym::test::log_log_slope(dxs, errs);
     if (verbose())
         std::printf("[pde kg] csv1 space order %.3f (error at M=128: %.2e)\n", s, errs.back());
     CHECK_THAT(s, WithinAbs(2.0, 0.1));
@@ -247,7 +228,8 @@ TEST_CASE("pde kg: the box scheme (5.5) against its own exact discrete plane wav
         for (int i = 1; i < 500; ++i) {
             box.step();
             kg_plane_wave(g, gamma, K, Om, (i + 1) * h, a, va);
-            worst = std::max(worst, max_abs(box.u_curr() - a) * std::exp(gamma * (i + 1) * h));
+            worst = std::max(worst, dampsym::test::max_abs(box.u_curr() - a) *
+                                        std::exp(gamma * (i + 1) * h));
         }
         INFO("M = " << M << ", max relative error " << worst);
         CHECK(worst <= 1e-11);
@@ -272,7 +254,7 @@ TEST_CASE("pde kg: box scheme (5.5) consistency, time order 2 and space order 2"
         box.set_state(a, b);
         box.step();
         hs.push_back(h);
-        loc.push_back(max_abs(box.u_curr() - e));
+        loc.push_back(dampsym::test::max_abs(box.u_curr() - e));
         // Global: second-order start from (u, u_t) at 0, error at T = 2.
         Vec u0, v0;
         kg_plane_wave(g, gamma, K, Wt, 0.0, u0, v0);
@@ -281,9 +263,10 @@ TEST_CASE("pde kg: box scheme (5.5) consistency, time order 2 and space order 2"
         const int n = static_cast<int>(std::lround(2.0 / h));
         for (int i = 1; i < n; ++i) run.step();
         kg_plane_wave(g, gamma, K, Wt, n * h, e, va);
-        glob.push_back(max_abs(run.u_curr() - e));
+        glob.push_back(dampsym::test::max_abs(run.u_curr() - e));
     }
-    const double sl = slope(hs, loc), sg = slope(hs, glob);
+    const double sl = dampsym::test::log_log_slope(hs, loc),
+                 sg = dampsym::test::log_log_slope(hs, glob);
     INFO("box local slope " << sl << ", global order " << sg);
     CHECK_THAT(sl, WithinAbs(4.0, 0.1)); // two-level scheme: O(Δt⁴) per step, order 2
     CHECK_THAT(sg, WithinAbs(2.0, 0.1));
@@ -299,9 +282,9 @@ TEST_CASE("pde kg: box scheme (5.5) consistency, time order 2 and space order 2"
         for (int i = 1; i < 1000; ++i) run.step();
         kg_plane_wave(gm, gamma, K, W, 1.0, ue, ve);
         dxs.push_back(gm.dx);
-        errs.push_back(max_abs(run.u_curr() - ue));
+        errs.push_back(dampsym::test::max_abs(run.u_curr() - ue));
     }
-    const double ss = slope(dxs, errs);
+    const double ss = dampsym::test::log_log_slope(dxs, errs);
     if (verbose())
         std::printf("[pde kg] box: local slope %.3f, time order %.3f, space order %.3f\n", sl, sg,
                     ss);

@@ -3,6 +3,10 @@
 // (5.29) of §5.3.1 (ii)–(iii) with IMP as negative control, and the soliton collision of Fig 5.9.
 #include "pde/nls.hpp"
 
+#include "support/helpers.hpp"
+
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,32 +16,16 @@
 #include <vector>
 
 using Catch::Matchers::WithinAbs;
+using dampsym::test::verbose;
 using namespace dampsym::pde;
 using cd = std::complex<double>;
 
 namespace {
 
-bool verbose() {
-    return std::getenv("DAMPSYM_TEST_VERBOSE") != nullptr;
-}
-
 double max_diff(const CVec& a, const CVec& b) {
     double m = 0;
     for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
     return m;
-}
-
-double slope(const std::vector<double>& h, const std::vector<double>& e) {
-    const int n = static_cast<int>(h.size());
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (int i = 0; i < n; ++i) {
-        const double x = std::log(h[i]), y = std::log(e[i]);
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 CVec run(const PeriodicGrid& g, const NLSParams& p, NLSScheme s, double h, int n, CVec psi) {
@@ -71,7 +59,7 @@ TEST_CASE("pde nls: plane waves (5.3.2.1, 5.3.2.2): time order 2 and space order
                     errs.push_back(
                         max_diff(run(g, p, s, T / n, n, nls_plane_wave(g, p, 0.8, k, 0, true)), e));
                 }
-                const double o = slope(hs, errs);
+                const double o = dampsym::test::log_log_slope(hs, errs);
                 if (verbose())
                     std::printf("[pde nls] %s %s k=%d: time order %.3f (error %.2e at h=%.4f)\n",
                                 cubic ? "cubic" : "linear", name(s), k, o, errs.back(), hs.back());
@@ -89,7 +77,7 @@ TEST_CASE("pde nls: plane waves (5.3.2.1, 5.3.2.2): time order 2 and space order
             dxs.push_back(gm.dx);
             errs.push_back(max_diff(u, nls_plane_wave(gm, p, 0.8, 3, T, false)));
         }
-        const double so = slope(dxs, errs);
+        const double so = dampsym::test::log_log_slope(dxs, errs);
         if (verbose())
             std::printf("[pde nls] %s IF: space order %.3f\n", cubic ? "cubic" : "linear", so);
         CHECK_THAT(so, WithinAbs(2.0, 0.1));

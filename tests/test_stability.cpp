@@ -10,6 +10,8 @@
 #include "methods/explicit_rk.hpp"
 #include "problems/oscillator.hpp"
 
+#include "support/helpers.hpp"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <quadmath.h>
@@ -30,11 +32,7 @@ Oscillator make_oscillator(double omega, double gamma) {
     return o;
 }
 
-const MethodInfo& method(const char* id) {
-    const MethodInfo* m = dampsym::find_method(id);
-    REQUIRE(m != nullptr);
-    return *m;
-}
+using dampsym::test::method;
 
 // The method's own one-step matrix, by its kernel.
 Mat kernel_matrix(const std::string& id, double w, double g, double h) {

@@ -6,6 +6,7 @@
 // go stale silently. Also: the stability function R(z) behind the stress maps' RK comparison.
 #include "core/method.hpp"
 #include "diagnostics/stability.hpp"
+#include "harness/provenance.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -144,7 +145,7 @@ json read_case(const fs::path& p) {
 
 TEST_CASE("stress threshold cases hold dt = 0.99 h* and 1.01 h* of the recomputed threshold",
           "[stress][stability]") {
-    const fs::path dir = fs::path(DAMPSYM_SOURCE_DIR) / "verify" / "cases";
+    const fs::path dir = fs::path(dampsym::source_dir()) / "verify" / "cases";
     std::size_t seen = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
         const std::string name = entry.path().filename().string();

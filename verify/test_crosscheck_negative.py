@@ -24,6 +24,10 @@ corrupted item (and nothing outside the corrupted case):
              range), osc-fig31-k1 cse-etd measure.theta_mean_abs x (1 + 1e-3), osc-stability-sweep
              csv1 stability-sweep.F_violations + 5, osc-trace-fig34 cimp trace-taylor.h4_coeff
              x 1.1, osc-stability-det rk3 stability.det_abs_err x 3 (factor 2): each must be named
+  kg       : the damped Klein-Gordon cases (issue 15): pde-kg-momentum csv2's final state x (1 + 1e-10)
+             (100x the explicit tolerance 1e-12), pde-kg-cs rk4's conformal-symplectic.max_rel x 3
+             (outside factor 2), pde-kg-orders csv1's order slope + 0.05 (outside abs 0.01) and the
+             verdict of its check "second order" flipped: each must be named
   badinput : not a dampsym report -> exit 2
 """
 import copy
@@ -181,6 +185,26 @@ def main():
         compare(base, bad, workdir, names, ["cost.newton_iters_per_step", "measure.theta_mean_abs",
                                             "stability-sweep.F_violations", "trace-taylor.h4_coeff",
                                             "stability.det_abs_err"])
+    elif mode == "kg":
+        ids = ["pde-kg-momentum", "pde-kg-cs", "pde-kg-orders"]
+        base = dict(report, cases=[copy.deepcopy(c) for c in report["cases"] if c["id"] in ids])
+        if len(base["cases"]) != len(ids):
+            fail("cases %s not in the report" % ids)
+        bad = copy.deepcopy(base)
+        cs = {c["id"]: c for c in bad["cases"]}
+        names = []
+        r = next(r for r in cs["pde-kg-momentum"]["runs"] if r["method"] == "csv2")
+        r["final_state"] = [x * (1 + 1e-10) for x in r["final_state"]]
+        names.append("pde-kg-momentum / csv2 / dt=%g" % r["dt"])
+        r = next(r for r in cs["pde-kg-cs"]["runs"] if r["method"] == "rk4")
+        r["metrics"]["conformal-symplectic"]["max_rel"] *= 3.0
+        names.append("pde-kg-cs / rk4 / dt=%g" % r["dt"])
+        cs["pde-kg-orders"]["method_metrics"]["csv1"]["order"]["slope"] += 0.05
+        names.append("pde-kg-orders / csv1")
+        chk = next(k for k in cs["pde-kg-orders"]["checks"] if k["method"] == "csv1" and k["metric"] == "order.slope")
+        chk["passed"] = not chk["passed"]
+        names.append("pde-kg-orders / csv1 / check '%s'" % chk["name"])
+        compare(base, bad, workdir, names, ["final_state", "conformal-symplectic.max_rel", "order.slope", "verdict"])
     elif mode == "wrongcoef":
         base = slice_of(report, "families-orders-3-4")
         bad = copy.deepcopy(base)

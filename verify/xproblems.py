@@ -580,8 +580,103 @@ class LotkaVolterra(Problem):
         return {"I": lambda z: np.abs(self.invariants()["I"](z))}
 
 
+class KleinGordon(Problem):
+    """Damped Klein-Gordon u_tt = u_xx - c u - 2 gamma u_t (B (4.3); B's gamma is ours,
+    docs/pde.md 1.) on [-pi, pi), periodic, semi-discretised as in B (5.2) with the central
+    second difference of B (1.14): M points x_n = -pi + n dx, dx = 2 pi / M,
+        u' = v,  v' = (delta_x^2 - c) u - 2 gamma v,  (delta_x^2 u)_n = (u_{n+1} - 2 u_n + u_{n-1})/dx^2,
+    a separable damped Hamiltonian system with q = u, p = v (docs/pde.md "Damped Klein-Gordon"):
+    H = sum_n [v_n^2/2 + (u_{n+1} - u_n)^2/(2 dx^2) + c u_n^2/2], since -dH/du_n = (delta_x^2 u)_n - c u_n.
+    Initial state: B (5.1) u = e^{-gamma t} cos(K x - W t), W = sqrt(K^2 + c - gamma^2), at t = 0:
+    u = cos K x, v = u_t = -gamma cos K x + W sin K x.  Invariant: the momentum I = dx sum v delta_x u
+    (B (5.7) on the grid, delta_x u = (u_{n+1} - u_{n-1})/(2 dx)), conformal with e^{-2 gamma t}
+    (B (5.8), Theorem 5.1), on the scale dx sum |v| |delta_x u| (docs/pde.md)."""
+    pid = "klein-gordon"
+    params = ("M", "c", "gamma", "K")
+    exact_available = True
+
+    def __init__(self, M, c, gamma, K):
+        if M != int(M) or K != int(K) or M < 2:
+            raise TypeError("M and K must be whole numbers, M >= 2")
+        self.M, self.c, self.g, self.K = int(M), float(c), float(gamma), int(K)
+        self.nq, self.d, self.m = self.M, 2 * self.M, 1.0
+        self.dx = 2.0 * math.pi / self.M
+        self.x = -math.pi + self.dx * np.arange(self.M)
+        if not self.K ** 2 + self.c > self.g ** 2:
+            raise TypeError("K^2 + c must exceed gamma^2 (real W in B (5.1))")
+        W = math.sqrt(self.K ** 2 + self.c - self.g ** 2)
+        ph = self.K * self.x
+        self.z0 = np.concatenate([np.cos(ph), -self.g * np.cos(ph) + W * np.sin(ph)])
+        # Fourier symbol of -delta_x^2 + c on mode j (theta_j = 2 pi j / M = j dx):
+        # omega_j^2 = c + 4 sin^2(theta_j / 2) / dx^2 (the stencil applied to e^{i j x_n})
+        j = np.arange(self.M // 2 + 1)
+        self.w2 = self.c + (2.0 * np.sin(0.5 * j * self.dx) / self.dx) ** 2
+
+    def force(self, t, q):
+        return (np.roll(q, 1, axis=-1) - 2.0 * q + np.roll(q, -1, axis=-1)) / self.dx ** 2 - self.c * q
+
+    def V(self, q):
+        du = np.roll(q, -1, axis=-1) - q
+        return np.sum(0.5 * du * du / self.dx ** 2 + 0.5 * self.c * q * q, axis=-1)
+
+    def _dxu(self, z):
+        u = z[..., :self.M]
+        return (np.roll(u, -1, axis=-1) - np.roll(u, 1, axis=-1)) / (2.0 * self.dx)
+
+    def invariants(self):
+        return {"momentum": lambda z: self.dx * np.sum(z[..., self.M:] * self._dxu(z), axis=-1)}
+
+    def invariant_scales(self):
+        return {"momentum": lambda z: self.dx * np.sum(np.abs(z[..., self.M:]) * np.abs(self._dxu(z)), axis=-1)}
+
+    def exact(self, t0, t):
+        """Exact solution of the semi-discrete system from (t0, z0): the real DFT diagonalises the
+        circulant delta_x^2, each mode j is the damped oscillator a'' + 2 gamma a' + omega_j^2 a = 0:
+            a(tau) = e^{-gamma tau} [a0 C + (b0 + gamma a0) S],  b(tau) = e^{-gamma tau} [b0 C - (gamma b0 + omega^2 a0) S],
+        C = cos(beta tau), S = sin(beta tau)/beta, beta^2 = omega_j^2 - gamma^2 (cosh/sinh for beta^2 < 0;
+        the even series of both for |beta^2 tau^2| <= 1, exact at beta = 0).  Estimate (round-off of
+        this evaluation): 8 eps [(log2 M + 4) |z(t)| + |z(t)|_{(1 + |beta| tau)}], the second the
+        amplitude-weighted phase error eps |beta| tau of each mode (Parseval), maximised over t."""
+        tau = np.atleast_1d(np.asarray(t, float)) - t0
+        M, g = self.M, self.g
+        A0 = np.fft.rfft(self.z0[:M])
+        B0 = np.fft.rfft(self.z0[M:])
+        w = np.sqrt(self.w2)
+        b2 = (w - g) * (w + g)
+        x = b2[None, :] * tau[:, None] ** 2
+        T = np.broadcast_to(tau[:, None], x.shape)
+        # |x| <= 1: cos / cosh and sin/beta / sinh/kappa as one even series in x (14 terms: the
+        # next term is below eps); else the closed forms
+        C, S = np.zeros_like(x), np.zeros_like(x)
+        tc, ts = np.ones_like(x), np.array(T)
+        for i in range(14):
+            C += tc
+            S += ts
+            tc = tc * (-x / ((2 * i + 1) * (2 * i + 2)))
+            ts = ts * (-x / ((2 * i + 2) * (2 * i + 3)))
+        be = np.sqrt(np.abs(b2))[None, :]
+        osc = (np.abs(x) > 1.0) & (b2[None, :] > 0)
+        ovd = (np.abs(x) > 1.0) & (b2[None, :] < 0)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            C = np.where(osc, np.cos(be * T), np.where(ovd, np.cosh(be * T), C))
+            S = np.where(osc, np.sin(be * T) / be, np.where(ovd, np.sinh(be * T) / be, S))
+        e = np.exp(-g * tau)[:, None]
+        A = e * (A0 * C + (B0 + g * A0) * S)
+        B = e * (B0 * C - (g * B0 + self.w2 * A0) * S)
+        u = np.fft.irfft(A, n=M, axis=-1)
+        v = np.fft.irfft(B, n=M, axis=-1)
+        Z = np.concatenate([u, v], axis=-1)
+        Z[tau == 0.0] = self.z0          # z(t0) = z0 exactly
+        wgt = 1.0 + be * np.abs(T)
+        ph = np.sqrt(np.sum(np.fft.irfft(np.abs(A) * wgt, n=M, axis=-1) ** 2
+                            + np.fft.irfft(np.abs(B) * wgt, n=M, axis=-1) ** 2, axis=-1))
+        zn = np.linalg.norm(Z, axis=-1)
+        self.exact_estimate = float(8 * EPS * np.max((math.log2(M) + 4) * zn + ph))
+        return Z
+
+
 PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
-                               NBody, OuterSolarSystem, Argon, LotkaVolterra)}
+                               NBody, OuterSolarSystem, Argon, LotkaVolterra, KleinGordon)}
 
 
 def make_problem(pid, params):

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace dampsym {
 
@@ -29,6 +30,17 @@ struct TypeList {};
 template <class... Ts, class F>
 constexpr void for_each_type(TypeList<Ts...>, F&& f) {
     (f.template operator()<Ts>(), ...);
+}
+
+// As for_each_type, with each type's position in the list as a compile-time constant: calls
+// f.template operator()<I, T>() for the I-th type T (lets a caller instantiate code for a
+// subset of the list only, e.g. one shard of the problems).
+template <class... Ts, class F>
+constexpr void for_each_type_indexed(TypeList<Ts...>, F&& f) {
+    [&]<std::size_t... Is>(std::index_sequence<Is...>) {
+        (f.template operator()<Is, Ts>(), ...);
+    }
+    (std::index_sequence_for<Ts...>{});
 }
 
 // Exact time of step n: t0 + n*h, never accumulated.

@@ -8,11 +8,13 @@
 #include "core/types.hpp"
 #include "diagnostics/capabilities.hpp"
 #include "diagnostics/maxima.hpp"
+#include "diagnostics/metric_json.hpp"
 
 #include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 namespace dampsym {
@@ -20,11 +22,9 @@ namespace dampsym {
 // Law residuals are measured against a scale S(z) ≥ |I(z)| that does not vanish with the invariant
 // (the problem declares it next to the invariant: invariant_scales; docs/conventions.md, "Law
 // residuals and their scales"). A residual is undefined where its scale is not a normal positive
-// number (the state has underflowed to zero, or is not finite); one undefined point makes the run's
-// metric undefined (reported with its reason, and a check on it fails with that reason).
-inline bool scale_defined(double s) {
-    return s >= std::numeric_limits<double>::min();
-}
+// number (scale_defined, metric_json.hpp: the state has underflowed to zero, or is not finite); one
+// undefined point makes the run's metric undefined (reported with its reason, and a check on it
+// fails with that reason).
 
 struct InvariantStats {
     double max_step_res = 0.0;   // max_n |I_{n+1} − e^{−2ΔΓ} I_n| / S(z_n)
@@ -105,6 +105,14 @@ public:
         table_factor_ = table_factor;
     }
     void track_energy_balance() { eb_on_ = true; }
+    // The part a diagnostic names as its observer_part (diagnostics/diagnostic.hpp): "invariants",
+    // "maxima", "momentum" (with the method's table factor) or "energy-balance".
+    void enable(std::string_view part, double table_factor) {
+        if (part == "invariants") track_invariants();
+        if (part == "maxima") track_maxima();
+        if (part == "momentum") track_momentum(table_factor);
+        if (part == "energy-balance") track_energy_balance();
+    }
 
     void start(const Vec& z0) {
         if (stride_ > 0) grid_.col(0) = z0;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/problem.hpp"
+#include "diagnostics/diagnostic.hpp"
 
 #include <cstdint>
 #include <nlohmann/json.hpp>

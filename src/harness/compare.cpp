@@ -1,6 +1,7 @@
 #include "harness/compare.hpp"
 
 #include "harness/case.hpp"
+#include "harness/compare_input.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 #include <map>
 #include <set>
 #include <sstream>
-#include <utility>
 #include <vector>
 
 namespace dampsym {
@@ -20,70 +20,6 @@ using json = nlohmann::json;
 // Clock-dependent keys inside a case record (schema_version 1 kept them there).
 bool clock_key(const std::string& k) {
     return k == "wall_seconds" || k == "timing";
-}
-
-// Nesting depth of a document, without recursion (a report nests ~10 deep; the comparison below
-// recurses, so a hostile document must not nest deeper than kMaxReportDepth).
-constexpr std::size_t kMaxReportDepth = 64;
-std::size_t nesting_depth(const json& root) {
-    std::size_t deepest = 0;
-    std::vector<std::pair<const json*, std::size_t>> stack{{&root, 1}};
-    while (!stack.empty()) {
-        const auto [node, depth] = stack.back();
-        stack.pop_back();
-        deepest = std::max(deepest, depth);
-        if (depth > kMaxReportDepth) break;
-        if (node->is_structured())
-            for (const auto& child : *node) stack.emplace_back(&child, depth + 1);
-    }
-    return deepest;
-}
-
-void require_report(const json& r, const std::string& which) {
-    if (nesting_depth(r) > kMaxReportDepth)
-        throw InputError(which + ": nested deeper than " + std::to_string(kMaxReportDepth) +
-                         " levels; not a dampsym report");
-    if (!r.is_object() || !r.contains("cases") || !r["cases"].is_array() ||
-        !r.contains("schema_version"))
-        throw InputError(which + ": not a dampsym report (no schema_version or cases)");
-    for (std::size_t i = 0; i < r["cases"].size(); ++i) {
-        const json& c = r["cases"][i];
-        const std::string where = which + ": cases[" + std::to_string(i) + "]";
-        if (!c.is_object() || !c.contains("id") || !c["id"].is_string())
-            throw InputError(where + ".id: missing or not a string");
-        for (const char* k : {"runs", "checks"})
-            if (!c.contains(k) || !c[k].is_array())
-                throw InputError(where + "." + k + ": missing or not an array");
-        for (const auto& run : c["runs"])
-            if (!run.is_object() || !run.contains("method") || !run["method"].is_string() ||
-                !run.contains("dt"))
-                throw InputError(where + ".runs: a run without method (a string) or dt");
-        for (const auto& ck : c["checks"])
-            if (!ck.is_object() || !ck.contains("name") || !ck["name"].is_string() ||
-                !ck.contains("method") || !ck["method"].is_string() || !ck.contains("passed"))
-                throw InputError(where +
-                                 ".checks: a check without name, method (strings) or passed");
-        if (c.contains("method_metrics")) {
-            const json& mm = c["method_metrics"];
-            bool ok = mm.is_object();
-            for (auto it = mm.begin(); ok && it != mm.end(); ++it) ok = it.value().is_object();
-            if (!ok)
-                throw InputError(where + ".method_metrics: not an object of objects (per method)");
-        }
-    }
-    // timings (schema 2): only read for the information-only wall-time table
-    if (r.contains("timings") && r["timings"].is_object() && r["timings"].contains("cases")) {
-        const json& tc = r["timings"]["cases"];
-        bool ok = tc.is_array();
-        for (std::size_t i = 0; ok && i < tc.size(); ++i) {
-            const json& c = tc[i];
-            ok = c.is_object() && (!c.contains("id") || c["id"].is_string()) &&
-                 (!c.contains("runs_wall_seconds") || c["runs_wall_seconds"].is_number());
-        }
-        if (!ok)
-            throw InputError(which + ": timings.cases: not an array of {id (string), "
-                                     "runs_wall_seconds (number)}");
-    }
 }
 
 // The shortest of %.15g..%.17g that reads back as the same double (dt=0.05, not
@@ -171,8 +107,8 @@ std::string kind_of_run_field(const std::string& k) {
     return "run field";
 }
 
-void compare_case(const json& a, const json& b, Walker& w) {
-    // Case fields other than runs, checks and method metrics (problem, reference, grid, ...).
+// Case fields other than runs, checks and method metrics (problem, reference, grid, ...).
+void compare_case_fields(const json& a, const json& b, Walker& w) {
     for (auto it = a.begin(); it != a.end(); ++it) {
         const std::string& k = it.key();
         // "file" is where the case file was read from, not a result.
@@ -185,7 +121,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
     for (auto it = b.begin(); it != b.end(); ++it)
         if (!a.contains(it.key()) && it.key() != "method_metrics" && it.key() != "file")
             w.row("case field added", it.key(), nullptr, it.value());
-    // Runs, matched by method and dt.
+}
+
+// Runs, matched by method and dt: final states, metrics, statuses.
+void compare_runs(const json& a, const json& b, Walker& w) {
     std::map<std::string, const json*> ra, rb;
     std::vector<std::string> order;
     for (const auto& r : a["runs"]) {
@@ -221,7 +160,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
         }
     }
     w.run.clear();
-    // Method-level metrics (order fits, stability sweeps).
+}
+
+// Method-level metrics (order fits, stability sweeps).
+void compare_method_metrics(const json& a, const json& b, Walker& w) {
     const json empty = json::object();
     const json& ma = a.contains("method_metrics") ? a["method_metrics"] : empty;
     const json& mb = b.contains("method_metrics") ? b["method_metrics"] : empty;
@@ -248,7 +190,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
         }
     }
     w.run.clear();
-    // Checks: verdicts, matched by name, method and dt.
+}
+
+// Checks: verdicts, matched by name, method and dt.
+void compare_checks(const json& a, const json& b, Walker& w) {
     std::map<std::string, const json*> ca, cb;
     std::vector<std::string> corder;
     for (const auto& ck : a["checks"]) {
@@ -280,6 +225,13 @@ void compare_case(const json& a, const json& b, Walker& w) {
             }
         }
     }
+}
+
+void compare_case(const json& a, const json& b, Walker& w) {
+    compare_case_fields(a, b, w);
+    compare_runs(a, b, w);
+    compare_method_metrics(a, b, w);
+    compare_checks(a, b, w);
 }
 
 // Wall seconds per case id from a report's timings (schema 2) or its runs (schema 1).
@@ -328,8 +280,8 @@ std::string md_cell(std::string s) {
 } // namespace
 
 json compare_reports(const json& base, const json& next, const CompareOptions& options) {
-    require_report(base, "BASE");
-    require_report(next, "NEW");
+    compare_detail::require_report(base, "BASE");
+    compare_detail::require_report(next, "NEW");
     json rows = json::array();
     Walker w{options, rows, "", ""};
     std::map<std::string, const json*> ca, cb;

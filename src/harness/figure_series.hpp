@@ -19,6 +19,7 @@
 #include "diagnostics/series.hpp"
 #include "diagnostics/stability.hpp"
 #include "harness/case.hpp"
+#include "harness/figure_step_observer.hpp"
 #include "harness/registry.hpp"
 
 #include <nlohmann/json.hpp>
@@ -31,14 +32,6 @@
 
 namespace dampsym::detail {
 
-// Problems whose figures include the orbit (state samples over time).
-template <class P>
-constexpr bool figure_wants_orbit() {
-    constexpr std::string_view id = P::id;
-    return id == "kepler" || id == "lotka-volterra" || id == "outer-solar-system" ||
-           id == "pendulum" || id == "rigid-body" || id == "oscillator" || id == "hill";
-}
-
 // Whether run (d = index in the ladder) keeps step series: every run of a case with at most two
 // step sizes; on a longer ladder (a convergence case) only the smallest step size.
 inline bool figure_series_for_dt(const CaseSpec& c, std::size_t d) {
@@ -47,184 +40,6 @@ inline bool figure_series_for_dt(const CaseSpec& c, std::size_t d) {
         if (h < c.dts[d]) return false;
     return true;
 }
-
-template <class P>
-class FigureStepObserver {
-public:
-    FigureStepObserver(const P& p, const CaseSpec& c, double h, std::int64_t n, bool orbit)
-        : p_(p), t0_(c.t0), h_(h), n_(n), orbit_on_(orbit), orbit_(n + 1) {
-        inv_on_ = c.wants("invariants") && !P::invariant_names.empty();
-        mom_on_ = c.wants("momentum");
-        for (std::size_t k = 0; inv_on_ && k < P::invariant_names.size(); ++k) {
-            inv_res_.emplace_back(n);
-            inv_ratio_.emplace_back(n);
-        }
-        if (mom_on_) {
-            lin_res_.emplace(n);
-            lin_factor_.emplace(n);
-            ang_res_.emplace(n);
-        }
-        if constexpr (HasEnergyBalance<P>) {
-            if (c.wants("energy-balance")) eb_.emplace(n);
-        }
-    }
-    bool needed() const { return inv_on_ || mom_on_ || orbit_on_ || eb_.has_value(); }
-
-    void start(const Vec& z0) {
-        if (inv_on_) {
-            p_.invariants(t0_, z0, inv_prev_.data());
-            p_.invariant_scales(t0_, z0, scale_prev_.data());
-            inv0_ = inv_prev_;
-        }
-        if constexpr (HasMomentum<P>) {
-            if (mom_on_) {
-                const int k = p_.space_dim() == 3 ? 3 : 1;
-                lin_prev_.resize(p_.space_dim());
-                lin_now_.resize(p_.space_dim());
-                ang_prev_.resize(k);
-                ang_now_.resize(k);
-                p_.linear_momentum(z0, lin_prev_);
-                p_.angular_momentum(z0, ang_prev_);
-                lin_scale_prev_ = p_.linear_momentum_scale(z0);
-                ang_scale_prev_ = p_.angular_momentum_scale(z0);
-            }
-        }
-        sample(0, t0_, z0);
-        if (eb_) eb_push(0, t0_, z0);
-    }
-
-    void operator()(std::int64_t n, double t, const Vec& z) {
-        if (eb_) eb_push(n, t, z);
-        if (inv_on_) invariants_step(n, t, z);
-        if constexpr (HasMomentum<P>)
-            if (mom_on_) momentum_step(n, t, z);
-        sample(n, t, z);
-    }
-
-    nlohmann::json to_json() {
-        using json = nlohmann::json;
-        json s = json::object();
-        for (std::size_t k = 0; k < inv_res_.size(); ++k) {
-            const std::string name(P::invariant_names[k]);
-            s["invariants." + name + ".step_res"] = inv_res_[k].to_json();
-            s["invariants." + name + ".ratio_dev"] = inv_ratio_[k].to_json();
-        }
-        if (mom_on_ && lin_res_) {
-            s["momentum.linear.law_res"] = lin_res_->to_json();
-            s["momentum.linear.factor"] = lin_factor_->to_json();
-            s["momentum.angular.law_res"] = ang_res_->to_json();
-        }
-        if (eb_) s["energy-balance.residual"] = eb_->to_json();
-        if (!orbit_t_.empty())
-            s["orbit"] = {{"t", orbit_t_}, {"states", orbit_z_}, {"stride", orbit_.stride()}};
-        return s;
-    }
-
-private:
-    void sample(std::int64_t n, double t, const Vec& z) {
-        if constexpr (figure_wants_orbit<P>()) {
-            if (!orbit_on_ || !orbit_.wants(n)) return;
-            orbit_t_.push_back(t);
-            std::vector<double> v(static_cast<std::size_t>(z.size()));
-            for (Eigen::Index i = 0; i < z.size(); ++i) v[static_cast<std::size_t>(i)] = z[i];
-            orbit_z_.push_back(std::move(v));
-        } else {
-            (void)n, (void)t, (void)z;
-        }
-    }
-
-    // The formulas of Recorder::eb_push (recorder.hpp): R = |D_t H − Ḣ| at the window centre.
-    void eb_push(std::int64_t n, double t, const Vec& z) {
-        if constexpr (HasEnergyBalance<P>) {
-            const int nq = p_.n();
-            if (grad_t_.size() != nq) grad_t_.resize(nq);
-            const std::size_t slot = static_cast<std::size_t>(n % 9);
-            eb_energy_[slot] = p_.energy(z);
-            p_.grad_T(z.tail(nq), grad_t_);
-            eb_rate_[slot] = -2.0 * p_.gamma_at(t) * z.tail(nq).dot(grad_t_);
-            if (n < 8) return;
-            static constexpr std::array<double, 4> c{4.0 / 5.0, -1.0 / 5.0, 4.0 / 105.0,
-                                                     -1.0 / 280.0};
-            const std::int64_t m = n - 4;
-            double d = 0.0;
-            for (std::int64_t k = 4; k >= 1; --k)
-                d += c[static_cast<std::size_t>(k - 1)] *
-                     (eb_energy_[static_cast<std::size_t>((m + k) % 9)] -
-                      eb_energy_[static_cast<std::size_t>((m - k) % 9)]);
-            eb_->push(time_at(t0_, h_, m),
-                      std::abs(d / h_ - eb_rate_[static_cast<std::size_t>(m % 9)]));
-        } else {
-            (void)n, (void)t, (void)z;
-        }
-    }
-
-    // The formulas of Recorder::invariants_step (recorder.hpp).
-    void invariants_step(std::int64_t n, double t, const Vec& z) {
-        std::array<double, 8> now{}, scale_now{};
-        p_.invariants(t, z, now.data());
-        p_.invariant_scales(t, z, scale_now.data());
-        const double decay_step = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
-        const double two_gamma = 2.0 * (p_.Gamma(t) - p_.Gamma(t0_));
-        for (std::size_t k = 0; k < inv_res_.size(); ++k) {
-            const double abs = std::abs(now[k] - decay_step * inv_prev_[k]);
-            const double res = abs / scale_prev_[k];
-            inv_res_[k].push(
-                t, scale_defined(scale_prev_[k]) ? res : std::numeric_limits<double>::quiet_NaN());
-            double ratio = 0.0;
-            if (now[k] != 0.0) {
-                const double sign = (now[k] > 0) == (inv0_[k] > 0) ? 1.0 : -1.0;
-                ratio = sign * std::exp(std::log(std::abs(now[k])) - std::log(std::abs(inv0_[k])) +
-                                        two_gamma);
-            }
-            inv_ratio_[k].push(t, ratio - 1.0);
-            inv_prev_[k] = now[k];
-            scale_prev_[k] = scale_now[k];
-        }
-    }
-
-    // The formulas of Recorder::vector_law / momentum_step (recorder.hpp).
-    void momentum_step(std::int64_t n, double t, const Vec& z) {
-        if constexpr (HasMomentum<P>) {
-            const double law = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
-            p_.linear_momentum(z, lin_now_);
-            p_.angular_momentum(z, ang_now_);
-            const double nan = std::numeric_limits<double>::quiet_NaN();
-            lin_res_->push(t, scale_defined(lin_scale_prev_)
-                                  ? (lin_now_ - law * lin_prev_).norm() / lin_scale_prev_
-                                  : nan);
-            ang_res_->push(t, scale_defined(ang_scale_prev_)
-                                  ? (ang_now_ - law * ang_prev_).norm() / ang_scale_prev_
-                                  : nan);
-            const double norm2 = lin_prev_.squaredNorm();
-            const bool factor_defined =
-                std::sqrt(norm2) >= VectorLawStats::factor_floor * lin_scale_prev_ &&
-                scale_defined(lin_scale_prev_);
-            lin_factor_->push(t, factor_defined ? lin_now_.dot(lin_prev_) / norm2 : nan);
-            lin_prev_.swap(lin_now_);
-            ang_prev_.swap(ang_now_);
-            lin_scale_prev_ = p_.linear_momentum_scale(z);
-            ang_scale_prev_ = p_.angular_momentum_scale(z);
-        } else {
-            (void)n, (void)t, (void)z;
-        }
-    }
-
-    const P& p_;
-    double t0_, h_;
-    std::int64_t n_;
-    bool inv_on_ = false, mom_on_ = false, orbit_on_ = false;
-    std::array<double, 8> inv_prev_{}, inv0_{}, scale_prev_{};
-    std::vector<MinMaxDecimator> inv_res_, inv_ratio_;
-    std::optional<MinMaxDecimator> lin_res_, lin_factor_, ang_res_;
-    Vec lin_prev_, lin_now_, ang_prev_, ang_now_;
-    double lin_scale_prev_ = 0.0, ang_scale_prev_ = 0.0;
-    std::optional<MinMaxDecimator> eb_;
-    std::array<double, 9> eb_energy_{}, eb_rate_{};
-    Vec grad_t_;
-    StrideSampler orbit_;
-    std::vector<double> orbit_t_;
-    std::vector<std::vector<double>> orbit_z_;
-};
 
 // E_n / (e^{−2ΔΓ_n} √d) per step: the loop of conformal_symplectic_defect
 // (conformal_symplectic.hpp) with a decimated series instead of its maxima.
@@ -373,9 +188,11 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, const Met
 // power-bounded, 1 = F fails but M is power-bounded, 2 = F holds but M is not power-bounded,
 // 3 = neither; and F's closed-form boundary (first h where F(3.12)/(3.17)/(3.22) fails, h
 // resolved to 1/2000 of the range) at the map's γ rows, when the method has one.
-// (A template on the linear problem type, so that only the shard holding it compiles it.)
+// (A template on the linear problem type, so that only the shard holding it compiles it; the
+// grid's problems are problem.with(ω, γ), as in the stability sweep.)
 template <class P>
-nlohmann::json stability_map_series(const CaseSpec& c, const MethodInfo& info, int refine = 4) {
+nlohmann::json stability_map_series(const P& problem, const CaseSpec& c, const MethodInfo& info,
+                                    int refine = 4) {
     using json = nlohmann::json;
     const auto& sw = *c.sweep;
     const std::vector<double> g0 = sw.gamma.values(), h0 = sw.h.values();
@@ -392,9 +209,7 @@ nlohmann::json stability_map_series(const CaseSpec& c, const MethodInfo& info, i
     for (double g : gs) {
         std::vector<int> row;
         for (double h : hs) {
-            P osc;
-            osc.omega = sw.omega;
-            osc.gamma = g;
+            const P osc = problem.with(sw.omega, g);
             OneStepAnalysis a;
             with_kernel<P>(info, [&]<class K>() {
                 a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);

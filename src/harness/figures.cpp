@@ -1,5 +1,6 @@
 #include "harness/figures.hpp"
 
+#include "harness/provenance.hpp"
 #include "harness/report.hpp"
 
 #include <cstdlib>
@@ -51,7 +52,7 @@ int make_figures(const std::string& dir, int jobs, std::ostream& err) {
     }
     const char* py_env = std::getenv("DAMPSYM_PYTHON");
     const std::string python = py_env && *py_env ? py_env : "/usr/bin/python3";
-    const fs::path script = fs::path(DAMPSYM_SOURCE_DIR) / "tools" / "figures" / "plot.py";
+    const fs::path script = fs::path(source_dir()) / "tools" / "figures" / "plot.py";
     if (!fs::exists(script)) {
         err << "dampsym: " << script.string() << ": figure script not found\n";
         return 3;

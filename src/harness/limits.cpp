@@ -1,5 +1,6 @@
 #include "harness/limits.hpp"
 
+#include "diagnostics/diagnostic.hpp"
 #include "harness/case.hpp"
 
 #include <CLI/CLI.hpp>
@@ -161,9 +162,13 @@ MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs) {
     MemoryEstimate est;
     const double dim = std::max(1, c.dim);
     const double points = c.output_dt ? std::round((c.t_end - c.t0) / *c.output_dt) + 1.0 : 20001.0;
-    const bool grid =
-        c.wants("energy") || c.wants("poincare") || c.wants("temperature") || c.wants("error");
-    const bool reference = c.wants("error") || c.wants("poincare");
+    // what the case's diagnostics need, from the registry (a grid whatever its size, at most)
+    bool grid = false, reference = false;
+    for (const std::string& name : c.diagnostics)
+        if (const DiagnosticInfo* d = find_diagnostic(name)) {
+            grid = grid || d->needs.grid || d->needs.grid_if_points;
+            reference = reference || d->needs.reference;
+        }
     const double runs = static_cast<double>(c.methods.size() * c.dts.size());
     const double at_once = std::max(1.0, std::min<double>(std::max(1, jobs), runs));
     double grid_bytes = 0.0, ref_bytes = 0.0, sweep_bytes = 0.0;

@@ -26,6 +26,10 @@ const BuildInfo& build_info();
 // "dampsym 0.1.0 (git 1a2b3c4d5e6f, dirty)".
 std::string version_string();
 
+// The source tree this binary was built from (the default cases directory and the figure
+// scripts live there).
+std::string source_dir();
+
 // The provenance section: build, libraries, host, start time (UTC), command line and jobs.
 nlohmann::json make_provenance(const std::vector<std::string>& command_line, int jobs,
                                std::chrono::system_clock::time_point start);

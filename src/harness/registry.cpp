@@ -1,5 +1,9 @@
 #include "harness/registry.hpp"
 
+#include "diagnostics/diagnostic_list.hpp"
+
+#include <algorithm>
+
 namespace dampsym {
 
 const std::vector<ProblemInfo>& problem_catalog() {
@@ -9,12 +13,23 @@ const std::vector<ProblemInfo>& problem_catalog() {
             std::vector<std::string> inv(P::invariant_names.begin(), P::invariant_names.end());
             out.push_back({std::string(P::id), std::string(P::title), P::param_specs(), inv,
                            P::is_linear, P::has_exact, P::has_energy, P::constant_gamma,
-                           HasMomentum<P>, HasEnergyBalance<P>, HasTemperature<P>,
-                           HasForcingPeriod<P>, HasOneDofMaxima<P>});
+                           supported_diagnostics<P>(), [](const ParamMap& m) {
+                               const P p = P::from_params(m);
+                               ProblemFacts f;
+                               f.dim = p.dim();
+                               if constexpr (requires { p.n(); }) f.dof = p.n();
+                               if constexpr (HasForcingPeriod<P>)
+                                   f.forcing_period = p.forcing_period();
+                               return f;
+                           }});
         });
         return out;
     }();
     return catalog;
+}
+
+bool ProblemInfo::supports(std::string_view d) const {
+    return std::find(diagnostics.begin(), diagnostics.end(), d) != diagnostics.end();
 }
 
 const ProblemInfo* find_problem(std::string_view id) {
@@ -22,6 +37,13 @@ const ProblemInfo* find_problem(std::string_view id) {
         if (p.id == id) return &p;
     return nullptr;
 }
+
+namespace {
+template <class First, class... Rest>
+First first_type(TypeList<First, Rest...>);
+// Any registered problem type: kernel_name asks only what does not depend on it.
+using AnyProblem = decltype(first_type(ProblemList{}));
+} // namespace
 
 std::string_view kernel_name(const MethodInfo& info) {
     std::string_view name;
@@ -31,7 +53,7 @@ std::string_view kernel_name(const MethodInfo& info) {
                 (
                     [&] {
                         // Data, accepts and kernel_id do not depend on the problem type.
-                        using K = Ks<Oscillator>;
+                        using K = Ks<AnyProblem>;
                         if constexpr (std::is_same_v<typename K::Data, D>)
                             if (name.empty() && K::accepts(data)) name = K::kernel_id;
                     }(),

@@ -7,7 +7,8 @@
 
 #include "core/method.hpp"
 #include "core/problem.hpp"
-#include "diagnostics/capabilities.hpp"
+#include "core/problem_concepts.hpp"
+#include "harness/problem_info.hpp"
 #include "methods/cimp.hpp"
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
@@ -43,32 +44,19 @@ using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBo
                              NBody, Kepler, OuterSolarSystem, Argon,
                              KleinGordon>; // KleinGordon: issue 15 (B (4.3), docs/pde.md)
 
-// Every registered problem with an exact solution takes its start (t0, z0) (core/problem.hpp).
+// Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
 template <class... Ps>
-constexpr bool exact_solutions_take_start(TypeList<Ps...>) {
-    return (exact_solution_contract<Ps>() && ...);
+constexpr bool all_problems(TypeList<Ps...>) {
+    return (Problem<Ps> && ...);
 }
-static_assert(exact_solutions_take_start(ProblemList{}),
-              "a problem with has_exact must provide exact(t0, z0, t, out) and autonomous, and no "
-              "exact(t, out) (core/problem.hpp ExactSolution)");
+static_assert(all_problems(ProblemList{}),
+              "every problem in ProblemList must satisfy dampsym::Problem "
+              "(core/problem_concepts.hpp; an exact solution takes its start (t0, z0))");
 
 template <template <class> class... Ks>
 struct KernelList {};
 using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
                            GeneralLinear, ExponentialRK, PartitionedExponentialRK>;
-
-// Runtime facts about a problem type, for validation, `dampsym list` and reports.
-struct ProblemInfo {
-    std::string id, title;
-    std::vector<ParamSpec> params;
-    std::vector<std::string> invariants;
-    bool is_linear, has_exact, has_energy, constant_gamma;
-    // Optional diagnostics the problem supports (src/diagnostics/capabilities.hpp).
-    bool has_momentum = false, has_energy_balance = false, has_temperature = false,
-         has_forcing_period = false, has_maxima = false;
-};
-const std::vector<ProblemInfo>& problem_catalog();
-const ProblemInfo* find_problem(std::string_view id);
 
 // Calls f.template operator()<P>() for the problem type with this id; false if none.
 template <class F>
@@ -114,11 +102,5 @@ KernelMatch with_kernel(const MethodInfo& info, F&& f) {
         },
         info.data);
 }
-
-// The kernel_id of the kernel that steps `info` (for listings and reports; "" if none).
-std::string_view kernel_name(const MethodInfo& info);
-
-// Whether `method` can run on problem `problem_id` (false if not applicable).
-bool method_applies(std::string_view method_id, std::string_view problem_id);
 
 } // namespace dampsym

@@ -74,9 +74,14 @@ std::int64_t output_points(const CaseSpec& c) {
     return 1;
 }
 
+// From the diagnostic registry: a diagnostic that reads the grid, or "error" with a grid of more
+// than one point (src/diagnostics/diagnostic.hpp DiagnosticNeeds).
 bool case_needs_grid(const CaseSpec& c, std::int64_t points) {
-    return c.wants("energy") || c.wants("poincare") || c.wants("temperature") ||
-           (c.wants("error") && points > 1);
+    for (const std::string& name : c.diagnostics) {
+        const DiagnosticInfo* d = find_diagnostic(name);
+        if (d && (d->needs.grid || (d->needs.grid_if_points && points > 1))) return true;
+    }
+    return false;
 }
 
 std::vector<double> reference_times(const CaseSpec& c, std::int64_t points, bool grid) {

@@ -2,6 +2,7 @@
 // f ≠ 0 but conformal symplectic; V(q, t) = −λ² cos q − f q sin t. Numerical reference.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 
 #include <array>
@@ -10,7 +11,10 @@
 
 namespace dampsym {
 
-struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamma<DrivenPendulum> {
+struct DrivenPendulum : SeparableProblem<DrivenPendulum>,
+                        UnitMass,
+                        ConstantGamma<DrivenPendulum>,
+                        ParamTable<DrivenPendulum> {
     static constexpr std::string_view id = "driven-pendulum";
     static constexpr std::string_view title = "damped driven pendulum q''+2γq'+λ² sin q=f sin t";
     static constexpr bool is_linear = false;
@@ -22,21 +26,14 @@ struct DrivenPendulum : SeparableProblem<DrivenPendulum>, UnitMass, ConstantGamm
     double gamma = 0.1, lambda = 1.0, f = 1.0, q0 = 0.0, p0 = 0.0;
 
     // Ranges: γ, λ ≤ 1e3 keep the certified reference non-stiff enough to finish.
-    static std::vector<ParamSpec> param_specs() {
-        return {{"gamma", 0.1, Range::closed(0.0, 1e3), "damping γ"},
-                {"lambda", 1.0, Range::closed(1e-6, 1e3), "λ, λ² = g/(lΩ²)"},
-                {"f", 1.0, Range::symmetric(1e6), "driving amplitude f of f sin t"},
-                {"q0", 0.0, Range::symmetric(1e6), "initial angle"},
-                {"p0", 0.0, Range::symmetric(1e6), "initial angular velocity"}};
-    }
-    static DrivenPendulum from_params(const ParamMap& m) {
-        DrivenPendulum o;
-        o.gamma = m.at("gamma");
-        o.lambda = m.at("lambda");
-        o.f = m.at("f");
-        o.q0 = m.at("q0");
-        o.p0 = m.at("p0");
-        return o;
+    static std::vector<Param<DrivenPendulum>> param_table() {
+        return {
+            {{"gamma", 0.1, Range::closed(0.0, 1e3), "damping γ"}, &DrivenPendulum::gamma},
+            {{"lambda", 1.0, Range::closed(1e-6, 1e3), "λ, λ² = g/(lΩ²)"}, &DrivenPendulum::lambda},
+            {{"f", 1.0, Range::symmetric(1e6), "driving amplitude f of f sin t"},
+             &DrivenPendulum::f},
+            {{"q0", 0.0, Range::symmetric(1e6), "initial angle"}, &DrivenPendulum::q0},
+            {{"p0", 0.0, Range::symmetric(1e6), "initial angular velocity"}, &DrivenPendulum::p0}};
     }
 
     static constexpr int static_n = 1; // degrees of freedom (core/problem.hpp)

@@ -3,6 +3,7 @@
 // Conformal symplectic structure with time-dependent γ. Numerical reference.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 
 #include <array>
@@ -11,8 +12,9 @@
 
 namespace dampsym {
 
-struct Hill : SeparableProblem<Hill>, UnitMass {
+struct Hill : SeparableProblem<Hill>, UnitMass, ParamTable<Hill> {
     static constexpr std::string_view id = "hill";
+    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title = "Hill equation q''+2γ(t)q'+κ²q=0, γ(t)=½ε cos 2t";
     static constexpr bool constant_gamma = false;
     static constexpr bool is_linear =
@@ -26,19 +28,11 @@ struct Hill : SeparableProblem<Hill>, UnitMass {
 
     // Ranges: |ε| ≤ 1e3 bounds the conformal factor e^{±2Γ(t)} ≤ e^{500} (e^{709} overflows);
     // κ ≤ 1e3 keeps the certified reference non-stiff enough to finish.
-    static std::vector<ParamSpec> param_specs() {
-        return {{"epsilon", 0.1, Range::symmetric(1e3), "ε in γ(t) = ½ε cos 2t"},
-                {"kappa", 1.0, Range::closed(1e-6, 1e3), "frequency κ"},
-                {"q0", 1.0, Range::symmetric(1e6), "initial position"},
-                {"p0", 0.0, Range::symmetric(1e6), "initial momentum"}};
-    }
-    static Hill from_params(const ParamMap& m) {
-        Hill o;
-        o.epsilon = m.at("epsilon");
-        o.kappa = m.at("kappa");
-        o.q0 = m.at("q0");
-        o.p0 = m.at("p0");
-        return o;
+    static std::vector<Param<Hill>> param_table() {
+        return {{{"epsilon", 0.1, Range::symmetric(1e3), "ε in γ(t) = ½ε cos 2t"}, &Hill::epsilon},
+                {{"kappa", 1.0, Range::closed(1e-6, 1e3), "frequency κ"}, &Hill::kappa},
+                {{"q0", 1.0, Range::symmetric(1e6), "initial position"}, &Hill::q0},
+                {{"p0", 0.0, Range::symmetric(1e6), "initial momentum"}, &Hill::p0}};
     }
 
     static constexpr int static_n = 1; // degrees of freedom (core/problem.hpp)

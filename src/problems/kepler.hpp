@@ -12,6 +12,7 @@
 // false and a momentum diagnostic must not check Σp on this problem.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 #include "reference/kepler_exact.hpp"
 
@@ -25,8 +26,9 @@
 
 namespace dampsym {
 
-struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
+struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler>, ParamTable<Kepler> {
     static constexpr std::string_view id = "kepler";
+    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title = "Kepler's problem q''=-q/|q|^3, HLW(2.1), HLW(2.9)";
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = true;
@@ -45,17 +47,14 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler> {
 
     // Range: e ≤ 0.99 (HLW(2.9) needs e < 1; near 1 the initial speed √((1+e)/(1−e)) and Kepler's
     // equation lose accuracy).
-    static std::vector<ParamSpec> param_specs() {
-        return {{"e", 0.6, Range::closed(0.0, 0.99), "eccentricity, 0 <= e <= 0.99 (HLW(2.9))"}};
+    static std::vector<Param<Kepler>> param_table() {
+        return {{{"e", 0.6, Range::closed(0.0, 0.99), "eccentricity, 0 <= e <= 0.99 (HLW(2.9))"},
+                 &Kepler::e}};
     }
-    // Throws std::invalid_argument ("kepler: ...") unless 0 <= e < 1.
-    static Kepler from_params(const ParamMap& m) {
-        Kepler o;
-        o.e = m.at("e");
-        if (!(o.e >= 0.0 && o.e < 1.0))
+    void check_params() const {
+        if (!(e >= 0.0 && e < 1.0))
             throw std::invalid_argument("kepler: e must satisfy 0 <= e < 1, got " +
-                                        std::to_string(o.e));
-        return o;
+                                        std::to_string(e));
     }
 
     // H0 = −½, L0 = √(1 − e²), period 2π (HLW I.2).

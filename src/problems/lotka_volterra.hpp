@@ -7,6 +7,7 @@
 // implicit Euler, (4, 2) and (6, 2) for symplectic Euler. Numerical (certified GSL) reference.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 
 #include <array>
@@ -15,8 +16,9 @@
 
 namespace dampsym {
 
-struct LotkaVolterra {
+struct LotkaVolterra : ParamTable<LotkaVolterra> {
     static constexpr std::string_view id = "lotka-volterra";
+    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title = "Lotka–Volterra u'=u(v−2), v'=v(1−u) (HLW(1.1))";
     static constexpr bool has_separable = false;
     static constexpr bool has_conformal = false;
@@ -35,17 +37,13 @@ struct LotkaVolterra {
 
     // Ranges: populations in [1e-3, 1e3]; beyond, the orbit's excursions (e^{±u0}, e^{±v0} along
     // the level set of I) leave the range where the certified reference finishes.
-    static std::vector<ParamSpec> param_specs() {
+    static std::vector<Param<LotkaVolterra>> param_table() {
         return {
-            {"u0", 2.0, Range::closed(1e-3, 1e3),
-             "initial predator population u(0) (HLW: 2, 4 or 6)"},
-            {"v0", 2.0, Range::closed(1e-3, 1e3), "initial prey population v(0) (HLW: 2 or 8)"}};
-    }
-    static LotkaVolterra from_params(const ParamMap& m) {
-        LotkaVolterra o;
-        o.u0 = m.at("u0");
-        o.v0 = m.at("v0");
-        return o;
+            {{"u0", 2.0, Range::closed(1e-3, 1e3),
+              "initial predator population u(0) (HLW: 2, 4 or 6)"},
+             &LotkaVolterra::u0},
+            {{"v0", 2.0, Range::closed(1e-3, 1e3), "initial prey population v(0) (HLW: 2 or 8)"},
+             &LotkaVolterra::v0}};
     }
 
     int dim() const { return 2; }

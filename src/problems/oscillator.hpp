@@ -3,6 +3,7 @@
 // e^{-2γt}; energy H = ½(p² + ω²q²) (F Figs 4.2–4.5). Exact solution in all three regimes.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 #include "reference/oscillator_exact.hpp"
 
@@ -12,8 +13,12 @@
 
 namespace dampsym {
 
-struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscillator> {
+struct Oscillator : SeparableProblem<Oscillator>,
+                    UnitMass,
+                    ConstantGamma<Oscillator>,
+                    ParamTable<Oscillator> {
     static constexpr std::string_view id = "oscillator";
+    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title = "damped harmonic oscillator q''+2γq'+ω²q=0";
     static constexpr bool is_linear = true;
     static constexpr bool has_exact = true;
@@ -32,18 +37,21 @@ struct Oscillator : SeparableProblem<Oscillator>, UnitMass, ConstantGamma<Oscill
     // Ranges: with ω, γ, |q0|, |p0| ≤ 1e6 every product in the exact solution and the invariant
     // (ω²q0, γ², (ω−γ)(ω+γ), γq0p0) stays below 1e24, far from overflow; beyond, γ² overflows
     // near γ = 1.3e154 and the "exact" solution is wrong.
-    static std::vector<ParamSpec> param_specs() {
-        return {{"omega", 1.0, Range::closed(1e-6, 1e6), "natural frequency ω"},
-                {"gamma", 0.0, Range::closed(0.0, 1e6), "damping γ (q'' + 2γq' + ω²q = 0)"},
-                {"q0", 1.0, Range::symmetric(1e6), "initial position q(t0)"},
-                {"p0", 0.0, Range::symmetric(1e6), "initial momentum p(t0) = q'(t0)"}};
+    static std::vector<Param<Oscillator>> param_table() {
+        return {
+            {{"omega", 1.0, Range::closed(1e-6, 1e6), "natural frequency ω"}, &Oscillator::omega},
+            {{"gamma", 0.0, Range::closed(0.0, 1e6), "damping γ (q'' + 2γq' + ω²q = 0)"},
+             &Oscillator::gamma},
+            {{"q0", 1.0, Range::symmetric(1e6), "initial position q(t0)"}, &Oscillator::q0},
+            {{"p0", 0.0, Range::symmetric(1e6), "initial momentum p(t0) = q'(t0)"},
+             &Oscillator::p0}};
     }
-    static Oscillator from_params(const ParamMap& m) {
-        Oscillator o;
-        o.omega = m.at("omega");
-        o.gamma = m.at("gamma");
-        o.q0 = m.at("q0");
-        o.p0 = m.at("p0");
+
+    // The same oscillator at other coefficients (core/problem_concepts.hpp LinearOscillator).
+    Oscillator with(double omega_, double gamma_) const {
+        Oscillator o = *this;
+        o.omega = omega_;
+        o.gamma = gamma_;
         return o;
     }
 

@@ -3,6 +3,7 @@
 // d/dt(½p² − cos q) = −2γp² (B(3.4)). No closed form: numerical (certified GSL) reference.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 
 #include <array>
@@ -11,8 +12,12 @@
 
 namespace dampsym {
 
-struct Pendulum : SeparableProblem<Pendulum>, UnitMass, ConstantGamma<Pendulum> {
+struct Pendulum : SeparableProblem<Pendulum>,
+                  UnitMass,
+                  ConstantGamma<Pendulum>,
+                  ParamTable<Pendulum> {
     static constexpr std::string_view id = "pendulum";
+    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title = "damped pendulum q''+2γq'+sin q=0";
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;
@@ -25,17 +30,11 @@ struct Pendulum : SeparableProblem<Pendulum>, UnitMass, ConstantGamma<Pendulum> 
 
     // Ranges: γ ≤ 1e3 keeps the certified (explicit, adaptive) reference non-stiff enough to
     // finish; |q0|, |p0| ≤ 1e6 keep sin, cos and the energy accurate.
-    static std::vector<ParamSpec> param_specs() {
-        return {{"gamma", 0.0, Range::closed(0.0, 1e3), "damping γ (q'' + 2γq' + sin q = 0)"},
-                {"q0", 1.0, Range::symmetric(1e6), "initial angle"},
-                {"p0", 0.0, Range::symmetric(1e6), "initial angular velocity"}};
-    }
-    static Pendulum from_params(const ParamMap& m) {
-        Pendulum o;
-        o.gamma = m.at("gamma");
-        o.q0 = m.at("q0");
-        o.p0 = m.at("p0");
-        return o;
+    static std::vector<Param<Pendulum>> param_table() {
+        return {{{"gamma", 0.0, Range::closed(0.0, 1e3), "damping γ (q'' + 2γq' + sin q = 0)"},
+                 &Pendulum::gamma},
+                {{"q0", 1.0, Range::symmetric(1e6), "initial angle"}, &Pendulum::q0},
+                {{"p0", 0.0, Range::symmetric(1e6), "initial angular velocity"}, &Pendulum::p0}};
     }
 
     static constexpr int static_n = 1; // degrees of freedom (core/problem.hpp)

@@ -15,6 +15,7 @@
 // τ_{t0}(t) = ∫_{t0}^t e^{−(Γ(s)−Γ(t0))} ds, y the free body from z0.
 #pragma once
 
+#include "core/param_table.hpp"
 #include "core/problem.hpp"
 #include "reference/rigid_body_exact.hpp"
 
@@ -24,8 +25,9 @@
 
 namespace dampsym {
 
-struct RigidBody {
+struct RigidBody : ParamTable<RigidBody> {
     static constexpr std::string_view id = "rigid-body";
+    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title =
         "perturbed rigid body z'=z×(I⁻¹z)−γ(t)z, γ(t)=½ε cos 2t (B(1.7))";
     static constexpr bool has_separable = false;
@@ -45,25 +47,21 @@ struct RigidBody {
 
     // Ranges: |ε| ≤ 1e3 bounds the conformal factor e^{±2Γ(t)} ≤ e^{500}; moments in [1e-6, 1e6]
     // and |z_i| ≤ 1e6 keep z_i²/I_i and the elliptic-function solution below overflow.
-    static std::vector<ParamSpec> param_specs() {
-        return {{"epsilon", 0.0, Range::symmetric(1e3), "ε in γ(t) = ½ε cos 2t"},
-                {"I1", 4.0, Range::closed(1e-6, 1e6), "principal moment of inertia I1 (BS: 4)"},
-                {"I2", 3.0, Range::closed(1e-6, 1e6), "principal moment of inertia I2 (BS: 3)"},
-                {"I3", 2.0, Range::closed(1e-6, 1e6), "principal moment of inertia I3 (BS: 2)"},
-                {"z1", 4.0, Range::symmetric(1e6), "initial angular momentum z1 (BS: I1·1)"},
-                {"z2", 3.0, Range::symmetric(1e6), "initial angular momentum z2 (BS: I2·1)"},
-                {"z3", 0.0, Range::symmetric(1e6), "initial angular momentum z3 (BS: I3·0)"}};
-    }
-    static RigidBody from_params(const ParamMap& m) {
-        RigidBody o;
-        o.epsilon = m.at("epsilon");
-        o.I1 = m.at("I1");
-        o.I2 = m.at("I2");
-        o.I3 = m.at("I3");
-        o.z1 = m.at("z1");
-        o.z2 = m.at("z2");
-        o.z3 = m.at("z3");
-        return o;
+    static std::vector<Param<RigidBody>> param_table() {
+        return {
+            {{"epsilon", 0.0, Range::symmetric(1e3), "ε in γ(t) = ½ε cos 2t"}, &RigidBody::epsilon},
+            {{"I1", 4.0, Range::closed(1e-6, 1e6), "principal moment of inertia I1 (BS: 4)"},
+             &RigidBody::I1},
+            {{"I2", 3.0, Range::closed(1e-6, 1e6), "principal moment of inertia I2 (BS: 3)"},
+             &RigidBody::I2},
+            {{"I3", 2.0, Range::closed(1e-6, 1e6), "principal moment of inertia I3 (BS: 2)"},
+             &RigidBody::I3},
+            {{"z1", 4.0, Range::symmetric(1e6), "initial angular momentum z1 (BS: I1·1)"},
+             &RigidBody::z1},
+            {{"z2", 3.0, Range::symmetric(1e6), "initial angular momentum z2 (BS: I2·1)"},
+             &RigidBody::z2},
+            {{"z3", 0.0, Range::symmetric(1e6), "initial angular momentum z3 (BS: I3·0)"},
+             &RigidBody::z3}};
     }
 
     int dim() const { return 3; }

@@ -25,8 +25,10 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
     static constexpr std::string_view id = "klein-gordon";
     static constexpr std::string_view title =
         "damped Klein-Gordon u_tt = u_xx - c u - 2 gamma u_t, periodic, semi-discrete (B 4.3, 5.2)";
-    // Linear, but dampsym's is_linear selects the oscillator's stability diagnostics (they read
-    // ω and γ of a single oscillator, src/harness/typed_case.hpp), which do not apply here.
+    // Linear, but is_linear selects the oscillator's stability diagnostics (the LinearOscillator
+    // concept of core/problem_concepts.hpp: ω and γ of a single oscillator), which do not apply
+    // here. Its parameters include whole numbers (M, K) that build the grid, so it keeps its own
+    // param_specs/from_params rather than a ParamTable (core/param_table.hpp sets double members).
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = true;
     static constexpr bool autonomous = true;

@@ -1,0 +1,271 @@
+// `dampsym list` (cases, problems, diagnostics, methods) and `dampsym methods` (the methods and
+// their coefficient-level checks).
+#include "cli/cli_detail.hpp"
+
+#include "harness/case.hpp"
+#include "harness/problem_info.hpp"
+#include "methods/coefficient_checks.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <ostream>
+#include <sstream>
+
+namespace dampsym::cli_detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One problem of `list --json`: parameters (type, default, range), invariants, diagnostics.
+json problem_json(const ProblemInfo& p) {
+    json params = json::array();
+    for (const auto& ps : p.params) {
+        json row = {{"name", ps.name}, {"doc", ps.doc}};
+        if (!ps.choices.empty()) {
+            row["type"] = "choice";
+            row["choices"] = ps.choices;
+            row["default"] = ps.choices[static_cast<std::size_t>(ps.default_value)];
+        } else {
+            row["type"] = ps.is_array ? "array" : ps.integer ? "integer" : "number";
+            row["default"] = ps.is_array  ? json(ps.default_array)
+                             : ps.integer ? json(static_cast<int>(ps.default_value))
+                                          : json(ps.default_value);
+            row["range"] = {{"min", ps.range.lo},
+                            {"max", ps.range.hi},
+                            {"min_exclusive", ps.range.lo_open},
+                            {"max_exclusive", ps.range.hi_open}};
+            if (ps.is_array) {
+                row["max_entries"] = ps.max_size;
+                if (ps.size_multiple > 1) row["length_multiple_of"] = ps.size_multiple;
+            }
+        }
+        params.push_back(row);
+    }
+    json diagnostics = json::array();
+    for (const auto& d : known_diagnostics())
+        if (diagnostic_applies(d, p) && (d != "invariants" || !p.invariants.empty()))
+            diagnostics.push_back(d);
+    return {{"id", p.id},
+            {"title", p.title},
+            {"params", params},
+            {"invariants", p.invariants},
+            {"exact_solution", p.has_exact},
+            {"diagnostics", diagnostics}};
+}
+
+// Everything `list --json` prints: the selected cases, problems, diagnostics and methods.
+json list_json(const Selected& selected) {
+    json cases = json::array();
+    for (const auto& c : selected.cases)
+        cases.push_back({{"id", c.id},
+                         {"file", c.file},
+                         {"problem", c.problem_id},
+                         {"methods", c.methods},
+                         {"suites", c.suites},
+                         {"diagnostics", c.diagnostics}});
+    json problems = json::array();
+    for (const auto& p : problem_catalog()) problems.push_back(problem_json(p));
+    json diagnostics = json::array();
+    for (const auto& d : known_diagnostics())
+        diagnostics.push_back({{"id", d},
+                               {"per_method", diagnostic_is_method_level(d)},
+                               {"metrics", diagnostic_metric_names(d, {})}});
+    diagnostics.push_back({{"id", "run"},
+                           {"per_method", false},
+                           {"metrics", diagnostic_metric_names("run", {})},
+                           {"note", "the run record itself; checkable in every case"}});
+    json methods = json::array();
+    for (const auto& m : method_catalog())
+        methods.push_back({{"id", m.id},
+                           {"order", m.order},
+                           {"implicit", m.implicit},
+                           {"form", form_name(m.form)},
+                           {"kernel", kernel_name(m)},
+                           {"citation", m.citation}});
+    return {{"cases", cases},
+            {"problems", problems},
+            {"diagnostics", diagnostics},
+            {"methods", methods},
+            {"case_keys_doc", "docs/case-keys.md"}};
+}
+
+std::string joined(const json& words, const char* sep) {
+    std::string s;
+    for (const auto& w : words) s += (s.empty() ? "" : sep) + w.get<std::string>();
+    return s;
+}
+
+void print_problem(const json& p, std::ostream& out) {
+    out << "  " << p["id"].get<std::string>() << "  " << p["title"].get<std::string>() << "\n";
+    for (const auto& ps : p["params"]) {
+        out << "      " << ps["name"].get<std::string>() << " = ";
+        if (ps["type"] == "choice") {
+            out << '"' << ps["default"].get<std::string>() << "\"  (one of "
+                << joined(ps["choices"], " | ") << ")";
+        } else {
+            const json& r = ps["range"];
+            std::ostringstream range;
+            range << (r["min_exclusive"].get<bool>() ? "(" : "[") << r["min"].get<double>() << ", "
+                  << r["max"].get<double>() << (r["max_exclusive"].get<bool>() ? ")" : "]");
+            if (ps["type"] == "array")
+                out << "array of <= " << ps["max_entries"].get<int>() << " numbers in "
+                    << range.str() << " (default " << ps["default"].size() << " entries)";
+            else
+                out << ps["default"].dump() << "  in " << range.str()
+                    << (ps["type"] == "integer" ? ", whole number" : "");
+        }
+        out << "  " << ps["doc"].get<std::string>() << "\n";
+    }
+    const std::string inv = joined(p["invariants"], ", ");
+    out << "      invariants: " << (inv.empty() ? "none" : inv)
+        << (p["exact_solution"].get<bool>() ? "; exact solution" : "; certified GSL reference")
+        << "\n      diagnostics: " << joined(p["diagnostics"], ", ") << "\n";
+}
+
+void print_list(const json& doc, const std::string& cases_dir, std::ostream& out) {
+    out << "Cases (" << cases_dir << "):\n";
+    for (const auto& c : doc["cases"]) {
+        const std::string suites = joined(c["suites"], ",");
+        out << "  " << c["id"].get<std::string>() << "  [" << c["problem"].get<std::string>()
+            << "; " << joined(c["methods"], ",") << "; suites: " << (suites.empty() ? "-" : suites)
+            << "]\n";
+    }
+    out << "Problems (parameters: default, valid range, meaning; set as problem.NAME):\n";
+    for (const auto& p : doc["problems"]) print_problem(p, out);
+    out << "Diagnostics (metrics, for \"expect\": \"<diagnostic>.<metric>\"):\n";
+    for (const auto& d : doc["diagnostics"])
+        out << "  " << d["id"].get<std::string>()
+            << (d["per_method"].get<bool>() ? " (per method)" : "") << ": "
+            << joined(d["metrics"], ", ") << "\n";
+    out << "Case file keys: docs/case-keys.md\nMethods:\n";
+    for (const auto& m : method_catalog())
+        out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
+            << ", " << form_name(m.form) << " form, " << m.citation << "\n";
+}
+
+int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, std::ostream& out) {
+    const json doc = list_json(select_cases(sel, {}, cases_dir, false, !sel.shard.empty()));
+    if (as_json)
+        out << doc.dump(2) << "\n";
+    else
+        print_list(doc, cases_dir, out);
+    return 0;
+}
+
+// `dampsym methods [--check] [--json]`: every registered method with its declaration and, with
+// --check, the coefficient-level checks of its family (src/methods/coefficient_checks.hpp). A check
+// passes when the coefficients agree with the declaration (order, claims), including the expected
+// failures (order conditions beyond the declared order, symplecticity of a non-symplectic method).
+// Exit status 1 if any check disagrees.
+int cmd_methods(bool check, bool as_json, std::ostream& out) {
+    auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    json methods = json::array();
+    int agree = 0, disagree = 0, unchecked = 0;
+    for (const auto& m : method_catalog()) {
+        json row = {{"id", m.id},
+                    {"kernel", kernel_name(m)},
+                    {"order", m.order},
+                    {"implicit", m.implicit},
+                    {"form", form_name(m.form)},
+                    {"claims", claim_words(m.claims)},
+                    {"citation", m.citation}};
+        if (check) {
+            const auto checks = method_checks(m);
+            json arr = json::array();
+            for (const auto& c : checks) {
+                (c.agrees() ? agree : disagree) += 1;
+                arr.push_back({{"name", c.name},
+                               {"what", c.what},
+                               {"expected", c.expected},
+                               {"holds", c.holds},
+                               {"passed", c.agrees()},
+                               {"value", number(c.value)},
+                               {"tolerance", c.tolerance}});
+            }
+            if (checks.empty()) {
+                ++unchecked;
+                row["checks"] = nullptr;
+                row["note"] = "no coefficient-level check";
+            } else {
+                row["checks"] = arr;
+            }
+        }
+        methods.push_back(row);
+    }
+    if (as_json) {
+        json doc = {{"methods", methods}};
+        if (check)
+            doc["summary"] = {{"checks_passed", agree},
+                              {"checks_failed", disagree},
+                              {"methods_without_check", unchecked}};
+        out << doc.dump(2) << "\n";
+        return disagree == 0 ? 0 : 1;
+    }
+    for (const auto& m : methods) {
+        std::string claims;
+        for (const auto& c : m["claims"])
+            claims += (claims.empty() ? "" : ",") + c.get<std::string>();
+        out << m["id"].get<std::string>() << "  [" << m["kernel"].get<std::string>() << "] order "
+            << m["order"].get<int>() << (m["implicit"].get<bool>() ? ", implicit" : ", explicit")
+            << ", " << m["form"].get<std::string>()
+            << " form, claims: " << (claims.empty() ? "none" : claims) << "; "
+            << m["citation"].get<std::string>() << "\n";
+        if (!check) continue;
+        if (m["checks"].is_null()) {
+            out << "    no coefficient-level check\n";
+            continue;
+        }
+        for (const auto& c : m["checks"]) {
+            char value[64];
+            if (c["value"].is_null())
+                std::snprintf(value, sizeof value, "n/a");
+            else
+                std::snprintf(value, sizeof value, "%.2e", c["value"].get<double>());
+            out << "    " << (c["passed"].get<bool>() ? "pass" : "FAIL") << "  "
+                << c["name"].get<std::string>() << ": "
+                << (c["holds"].get<bool>() ? "holds" : "fails") << " ("
+                << (c["expected"].get<bool>() ? "expected to hold" : "expected to fail")
+                << "), value " << value << ", tol " << c["tolerance"].get<double>() << "; "
+                << c["what"].get<std::string>() << "\n";
+        }
+    }
+    if (check)
+        out << "Coefficient checks: " << agree << " agree with the declarations, " << disagree
+            << " disagree; " << unchecked << " methods without a coefficient-level check\n";
+    return disagree == 0 ? 0 : 1;
+}
+
+} // namespace
+
+Command add_list_command(CLI::App& app, CliContext& ctx) {
+    struct State {
+        Selection sel;
+        bool as_json = false;
+    };
+    auto s = std::make_shared<State>();
+    auto* list = app.add_subcommand("list", "list registered cases (filtered), problems, methods");
+    list->add_flag("--json", s->as_json, "machine-readable output");
+    add_selection_options(*list, s->sel);
+    list->footer("\nExamples:\n  dampsym list --suite stress\n  dampsym list --filter 'osc-*' "
+                 "--json\n  dampsym list --shard 1/3 --suite default\n\n" +
+                 std::string(kExitCodes));
+    return {list, [s, &ctx] { return cmd_list(s->as_json, s->sel, ctx.cases_dir, ctx.out); }};
+}
+
+Command add_methods_command(CLI::App& app, CliContext& ctx) {
+    struct State {
+        bool check = false, as_json = false;
+    };
+    auto s = std::make_shared<State>();
+    auto* methods =
+        app.add_subcommand("methods", "list every registered method; --check verifies its "
+                                      "coefficients (order conditions, symplecticity, GLM)");
+    methods->add_flag("--check", s->check,
+                      "run the coefficient-level checks; exit 1 if one disagrees");
+    methods->add_flag("--json", s->as_json, "machine-readable output");
+    return {methods, [s, &ctx] { return cmd_methods(s->check, s->as_json, ctx.out); }};
+}
+
+} // namespace dampsym::cli_detail

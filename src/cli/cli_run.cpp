@@ -1,0 +1,197 @@
+// `dampsym run` (cases -> report.json, report.md, JUnit, figures) and `dampsym merge` (shard
+// reports -> one report).
+#include "cli/cli_detail.hpp"
+#include "cli/cli_progress.hpp"
+
+#include "harness/case.hpp"
+#include "harness/figures.hpp"
+#include "harness/junit.hpp"
+#include "harness/limits.hpp"
+#include "harness/progress.hpp"
+#include "harness/provenance.hpp"
+#include "harness/report.hpp"
+#include "harness/runner.hpp"
+#include "harness/shard.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <unistd.h>
+
+namespace dampsym::cli_detail {
+namespace {
+
+struct OutputOptions {
+    std::string out_dir = "reports";
+    std::string junit;       // "" = none
+    std::string annotations; // "" or "github"
+    bool quiet = false;
+    bool figures = false; // run --figures (issue 14, harness/figures.hpp)
+};
+
+// Writes the reports and prints the summary; returns the exit status of the checks.
+int finish_report(const json& report, const OutputOptions& o, std::ostream& out,
+                  std::ostream& err) {
+    write_reports(report, o.out_dir);
+    if (!o.junit.empty()) write_file_atomic(o.junit, render_junit(report));
+    if (o.annotations == "github") github_annotations(report, out);
+    github_step_summary(report, err);
+    if (o.quiet) {
+        out << render_totals(report);
+    } else {
+        out << render_summary(report) << "Reports: " << o.out_dir << "/report.json, " << o.out_dir
+            << "/report.md" << (o.junit.empty() ? "" : ", " + o.junit) << "\n";
+    }
+    return report["summary"]["checks_failed"].get<std::int64_t>() == 0 ? 0 : 1;
+}
+
+int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_budget,
+            const CliLimits& limits, const std::vector<std::string>& sets,
+            const std::string& cases_dir, const std::vector<std::string>& command_line,
+            std::ostream& out, std::ostream& err) {
+    for (const auto& s : sets) parse_override(s); // usage errors before any work
+    const Selected selected = select_cases(sel, sets, cases_dir, true, true);
+    check_output_dir(o.out_dir); // an unwritable --out fails before any case runs (exit 3)
+    if (!o.junit.empty()) check_output_file(o.junit);
+    before_run(selected.cases, jobs, limits); // memory limit, SIGINT/SIGTERM (harness/limits.hpp)
+    for (const auto& c : selected.cases) {
+        const double secs = case_predicted_seconds(c);
+        if (secs < 10.0) continue;
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "note: case '%s' runs %.3g steps; predicted duration about %.0f s "
+                      "(rough estimate, diagnostics and references extra)\n",
+                      c.id.c_str(), case_total_steps(c), secs);
+        err << line << std::flush;
+    }
+    const auto start = std::chrono::system_clock::now();
+    json report;
+    {
+        ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
+        RunOptions ro;
+        ro.jobs = jobs;
+        ro.time_budget = time_budget;
+        ro.case_timeout = limits.case_timeout;                       // issue 17 (limits.hpp)
+        if (o.figures) ro.series_sink = series_file_sink(o.out_dir); // figures hook (issue 14)
+        report = run_cases(selected.cases, ro, progress.callback());
+    }
+    report["provenance"] = make_provenance(command_line, jobs, start);
+    if (selected.shard)
+        report["provenance"]["shard"] = {{"index", selected.shard->index},
+                                         {"count", selected.shard->count},
+                                         {"source", selected.shard->source},
+                                         {"selected", selected.all_ids}};
+    mark_interrupted(report);
+    const int status = exit_status_after_run(finish_report(report, o, out, err));
+    if (o.figures && report.value("interrupted", false) == false) {
+        // figures hook (issue 14): draw, then report.md again with the figures
+        if (make_figures(o.out_dir, jobs, err) != 0) return 3;
+        if (!o.quiet)
+            out << "Figures: " << o.out_dir << "/figures/, " << o.out_dir << "/figures.md\n";
+    }
+    return status;
+}
+
+int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs,
+              const OutputOptions& o, const std::vector<std::string>& command_line,
+              std::ostream& out, std::ostream& err) {
+    std::vector<json> reports;
+    for (const auto& in : inputs) reports.push_back(read_report(in));
+    check_output_dir(out_dir);
+    const auto start = std::chrono::system_clock::now();
+    json prov = {{"version", DAMPSYM_VERSION},
+                 {"command_line", command_line.empty() ? std::string() : [&] {
+                      std::string s;
+                      for (const auto& a : command_line) s += (s.empty() ? "" : " ") + a;
+                      return s;
+                  }()},
+                 {"start_utc", utc_iso8601(start)}};
+    const json merged = merge_reports(reports, inputs, prov);
+    OutputOptions mo = o;
+    mo.out_dir = out_dir;
+    mo.junit = out_dir + "/junit.xml";
+    return finish_report(merged, mo, out, err);
+}
+
+} // namespace
+
+Command add_run_command(CLI::App& app, CliContext& ctx) {
+    struct State {
+        Selection sel;
+        std::vector<std::string> sets;
+        OutputOptions oo;
+        int jobs = 1;
+        double time_budget = RunOptions{}.time_budget;
+        CliLimits limits;
+    };
+    auto s = std::make_shared<State>();
+    auto* run =
+        app.add_subcommand("run", "run cases (default: the default suite) and write reports");
+    run->add_option("cases", s->sel.targets, "case ids or case files (.json)");
+    add_selection_options(*run, s->sel);
+    run->add_option("--out", s->oo.out_dir,
+                    "directory for report.json and report.md (default: reports)");
+    run->add_option("--junit", s->oo.junit,
+                    "also write JUnit XML (one testcase per check) to FILE");
+    run->add_option("--jobs,-j", s->jobs, "worker threads (results do not depend on it)")
+        ->check(CLI::Range(1, 4096));
+    run->add_option("--time-budget", s->time_budget,
+                    "seconds of timed repetitions per run of a step ladder (work-precision; "
+                    "0 = off; default 0.02)")
+        ->check(CLI::Range(0.0, 60.0));
+    add_limit_options(*run, s->limits); // --case-timeout, --max-memory (harness/limits.hpp)
+    run->add_option("--set", s->sets, "override a case field, e.g. --set problem.gamma=0.3")
+        ->take_all();
+    run->add_option("--annotations", s->oo.annotations,
+                    "github: print ::error lines for failing checks")
+        ->check(CLI::IsMember({"github"}));
+    run->add_flag("--quiet,-q", s->oo.quiet, "only errors and the final totals line");
+    run->add_flag("--figures", s->oo.figures,
+                  "keep time series (DIR/series/) and draw the figures into DIR/figures/, "
+                  "embedded in report.md (docs/reports.md)");
+    run->footer(
+        "\nExamples:\n"
+        "  dampsym run                                   default suite into reports/\n"
+        "  dampsym run pend-fig411-drift --jobs 2         one case\n"
+        "  dampsym run --suite default --suite stress --filter 'osc-*'\n"
+        "  dampsym run --junit reports/junit.xml --annotations github --quiet\n"
+        "  dampsym run --shard 1/3 --out shard1           (or TEST_TOTAL_SHARDS/TEST_SHARD_INDEX,\n"
+        "                                                 CI_NODE_TOTAL/CI_NODE_INDEX,\n"
+        "                                                 SLURM_ARRAY_TASK_COUNT/_ID)\n"
+        "  dampsym run osc-orders --set problem.gamma=0.3\n\n"
+        "report.json: schema/report.schema.json; everything before \"provenance\" is identical\n"
+        "between runs of the same build. GITHUB_STEP_SUMMARY, if set, gets totals and "
+        "failures.\n\n" +
+        std::string(kExitCodes));
+    return {run, [s, &ctx] {
+                return cmd_run(s->sel, s->oo, s->jobs, s->time_budget, s->limits, s->sets,
+                               ctx.cases_dir, ctx.command_line, ctx.out, ctx.err);
+            }};
+}
+
+Command add_merge_command(CLI::App& app, CliContext& ctx) {
+    struct State {
+        std::string out_dir;
+        std::vector<std::string> inputs;
+        OutputOptions oo;
+    };
+    auto s = std::make_shared<State>();
+    auto* merge = app.add_subcommand(
+        "merge", "merge shard reports into one report.json, report.md and junit.xml");
+    merge->add_option("OUT_DIR", s->out_dir, "directory for the merged reports")->required();
+    merge->add_option("IN_DIR", s->inputs, "shard report directories (or report.json files)")
+        ->required();
+    merge->add_option("--annotations", s->oo.annotations, "github: ::error lines for failures")
+        ->check(CLI::IsMember({"github"}));
+    merge->add_flag("--quiet,-q", s->oo.quiet, "only errors and the final totals line");
+    merge->footer("\nExamples:\n  dampsym merge reports shard1 shard2 shard3\n\n"
+                  "The merged report's part before \"provenance\" is byte-identical to that of "
+                  "the unsharded run.\n\n" +
+                  std::string(kExitCodes));
+    return {merge, [s, &ctx] {
+                return cmd_merge(s->out_dir, s->inputs, s->oo, ctx.command_line, ctx.out, ctx.err);
+            }};
+}
+
+} // namespace dampsym::cli_detail

@@ -1,0 +1,233 @@
+#include "cli/cli_detail.hpp"
+
+#include "harness/case.hpp"
+#include "harness/compare.hpp"
+#include "harness/junit.hpp"
+#include "harness/problem_info.hpp"
+#include "harness/progress.hpp"
+#include "harness/provenance.hpp"
+#include "harness/report.hpp"
+#include "harness/runner.hpp"
+#include "harness/shard.hpp"
+#include "methods/coefficient_checks.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fnmatch.h>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+
+namespace dampsym::cli_detail {
+
+namespace fs = std::filesystem;
+
+std::string default_cases_dir() {
+    if (const char* env = std::getenv("DAMPSYM_CASES")) return env;
+    return source_dir() + "/verify/cases";
+}
+
+// A case file found in the cases directory, with the id, suites and problem read from it.
+struct CaseFile {
+    std::string path, id, problem;
+    std::vector<std::string> suites;
+};
+
+std::vector<CaseFile> scan_cases(const std::string& dir) {
+    if (!fs::is_directory(dir)) throw InputError(dir + ": cases directory not found");
+    std::vector<std::string> paths;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".json") paths.push_back(e.path().string());
+    std::sort(paths.begin(), paths.end());
+    std::vector<CaseFile> out;
+    std::map<std::string, std::string> seen;
+    for (const auto& p : paths) {
+        const json j = read_case_json(p); // regular file, bounded size, depth and keys checked
+        if (!j.is_object()) throw InputError(p + ": (top level): a case must be a JSON object");
+        if (!j.contains("id") || !j["id"].is_string())
+            throw InputError(p + ": id: missing or not a string");
+        CaseFile cf{p, j["id"].get<std::string>(), "", {}};
+        if (j.contains("suites") && j["suites"].is_array())
+            for (const auto& s : j["suites"])
+                if (s.is_string()) cf.suites.push_back(s.get<std::string>());
+        if (j.contains("problem") && j["problem"].is_object() && j["problem"].contains("id") &&
+            j["problem"]["id"].is_string())
+            cf.problem = j["problem"]["id"].get<std::string>();
+        if (seen.count(cf.id))
+            throw InputError(p + ": id: '" + cf.id + "' is also the id of " + seen[cf.id]);
+        seen[cf.id] = p;
+        out.push_back(cf);
+    }
+    return out;
+}
+
+bool glob_any(const std::vector<std::string>& globs, const std::string& text) {
+    for (const auto& g : globs)
+        if (fnmatch(g.c_str(), text.c_str(), 0) == 0) return true;
+    return false;
+}
+
+std::string describe_selection(const Selection& sel, bool default_suite) {
+    std::string d;
+    auto add = [&](const char* flag, const std::vector<std::string>& v) {
+        for (const auto& x : v) d += std::string(d.empty() ? "" : " ") + flag + " '" + x + "'";
+    };
+    if (sel.suites.empty() && default_suite) d = "--suite 'default'";
+    add("--suite", sel.suites);
+    add("--filter", sel.filters);
+    add("--problem", sel.problems);
+    add("--method", sel.methods);
+    return d;
+}
+
+// Keeps only the methods matching --method in a case (and the checks of those methods).
+bool restrict_methods(CaseSpec& c, const std::vector<std::string>& globs) {
+    if (globs.empty()) return true;
+    std::vector<std::string> kept;
+    for (const auto& m : c.methods)
+        if (glob_any(globs, m)) kept.push_back(m);
+    if (kept.empty()) return false;
+    c.methods = kept;
+    std::vector<CheckSpec> checks;
+    for (auto cs : c.checks) {
+        std::vector<std::string> ms;
+        for (const auto& m : cs.methods)
+            if (glob_any(globs, m)) ms.push_back(m);
+        if (ms.empty()) continue;
+        cs.methods = ms;
+        checks.push_back(cs);
+    }
+    c.checks = checks;
+    return true;
+}
+
+Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
+                      const std::string& cases_dir, bool default_suite, bool sharding) {
+    std::vector<std::string> paths;
+    std::vector<CaseFile> files;
+    auto ensure_scanned = [&] {
+        if (files.empty()) files = scan_cases(cases_dir);
+    };
+    if (sel.targets.empty()) {
+        ensure_scanned();
+        std::vector<std::string> suites = sel.suites;
+        if (suites.empty() && default_suite) suites = {"default"};
+        const bool all =
+            suites.empty() || std::find(suites.begin(), suites.end(), "all") != suites.end();
+        for (const auto& f : files) {
+            const bool in_suite =
+                all || std::any_of(suites.begin(), suites.end(), [&](const std::string& s) {
+                    return std::find(f.suites.begin(), f.suites.end(), s) != f.suites.end();
+                });
+            if (!in_suite) continue;
+            if (!sel.filters.empty() && !glob_any(sel.filters, f.id)) continue;
+            if (!sel.problems.empty() && !glob_any(sel.problems, f.problem)) continue;
+            paths.push_back(f.path);
+        }
+    } else {
+        for (const auto& t : sel.targets) {
+            // A path (it ends in .json or names a directory) is read as a case file, which must
+            // be a regular .json file; anything else is a case id.
+            const bool is_path = (t.size() > 5 && t.substr(t.size() - 5) == ".json") ||
+                                 t.find('/') != std::string::npos;
+            if (is_path) {
+                paths.push_back(t);
+                continue;
+            }
+            ensure_scanned();
+            auto it = std::find_if(files.begin(), files.end(),
+                                   [&](const CaseFile& f) { return f.id == t; });
+            if (it != files.end()) {
+                paths.push_back(it->path);
+                continue;
+            }
+            std::error_code ec;
+            const auto st = fs::status(t, ec);
+            if (!ec && fs::is_directory(st))
+                throw InputError(brief(t) + ": is a directory, not a case file or case id");
+            if (!ec && fs::exists(st))
+                throw InputError(brief(t) + ": not a case id in " + cases_dir +
+                                 ", and as a file it does not end in .json");
+            if (!valid_case_id(t))
+                throw InputError(brief(t) + ": not a case id (ids are made of A-Z a-z 0-9 . _ -) "
+                                            "and not a .json file");
+            throw InputError(t + ": no case with this id in " + cases_dir);
+        }
+    }
+    std::vector<CaseSpec> loaded;
+    for (const auto& p : paths) loaded.push_back(load_case(p, sets)); // all validated first
+    check_unique_ids(loaded);
+    Selected out;
+    for (auto& c : loaded) {
+        if (!sel.targets.empty()) { // named cases: the filters still apply
+            if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
+            if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
+            if (!sel.suites.empty() &&
+                std::none_of(sel.suites.begin(), sel.suites.end(), [&](const std::string& s) {
+                    return s == "all" ||
+                           std::find(c.suites.begin(), c.suites.end(), s) != c.suites.end();
+                }))
+                continue;
+        }
+        if (!restrict_methods(c, sel.methods)) continue;
+        out.cases.push_back(std::move(c));
+    }
+    if (out.cases.empty()) {
+        if (sel.targets.empty() && sel.filters.empty() && sel.problems.empty() &&
+            sel.methods.empty() && !sel.suites.empty())
+            throw InputError("--suite: no case in " + cases_dir + " belongs to suite " +
+                             describe_selection(sel, default_suite).substr(8));
+        throw InputError("no case in " + cases_dir + " matches " +
+                         describe_selection(sel, default_suite && sel.targets.empty()));
+    }
+    for (const auto& c : out.cases) out.all_ids.push_back(c.id);
+    if (!sharding) return out;
+    if (sel.shard == "none") return out;
+    if (!sel.shard.empty())
+        out.shard = parse_shard(sel.shard);
+    else if (sel.targets.empty()) // named cases are never split by the engines' variables
+        out.shard = shard_from_env([](const char* name) { return std::getenv(name); });
+    if (!out.shard) return out;
+    json measured = json::object();
+    const std::string costs_file =
+        !sel.costs.empty() ? sel.costs
+                           : (fs::path(cases_dir).parent_path() / "case_costs.json").string();
+    if (fs::exists(costs_file)) {
+        std::ifstream in(costs_file);
+        std::stringstream buf;
+        buf << in.rdbuf();
+        const json j = json::parse(buf.str(), nullptr, false);
+        if (j.is_discarded() || !j.is_object() || !j.contains("cases") || !j["cases"].is_object())
+            throw InputError(costs_file + ": cases: expected {\"cases\": {ID: seconds}}");
+        measured = j["cases"];
+    } else if (!sel.costs.empty()) {
+        throw InputError(sel.costs + ": --costs: file not found");
+    }
+    std::vector<double> steps;
+    for (const auto& c : out.cases) {
+        double n = 0.0;
+        for (const auto s : c.steps) n += static_cast<double>(s);
+        steps.push_back(n * static_cast<double>(c.methods.size()));
+    }
+    const auto costs = estimate_costs(out.all_ids, steps, measured);
+    const auto shard_of = assign_shards(costs, out.all_ids, out.shard->count);
+    std::vector<CaseSpec> mine;
+    for (std::size_t i = 0; i < out.cases.size(); ++i)
+        if (shard_of[i] == out.shard->index - 1) mine.push_back(std::move(out.cases[i]));
+    out.cases = std::move(mine);
+    return out;
+}
+
+} // namespace dampsym::cli_detail

@@ -1,0 +1,40 @@
+// Diagnostic "conformal-symplectic": the defect E_n = ‖Ψᵀ J⁻¹ Ψ − e^{−2ΔΓ} J⁻¹‖ of the exact step
+// Jacobian Ψ (docs/conventions.md §5), in a separate pass with its own stepper and counters
+// (conformal_symplectic.hpp), so the run's cost and timing stay those of the bare step.
+#pragma once
+
+#include "core/method.hpp"
+#include "diagnostics/conformal_symplectic.hpp"
+#include "diagnostics/diagnostic.hpp"
+#include "diagnostics/metric_json.hpp"
+
+namespace dampsym {
+
+struct ConformalSymplecticDiagnostic {
+    static DiagnosticInfo info();
+    template <class P>
+    static constexpr bool supports = true; // not canonical: a reason, not a rejection
+};
+
+json conformal_symplectic_json(const ConformalSymplecticStats& st);
+
+// Typed hook: the Jacobian pass of kernel K over n steps from (t0, z0). Instantiated only for
+// kernels with a step Jacobian on canonical problems; the others report why without a pass.
+template <class K, class P>
+json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, double t0, double h,
+                                  std::int64_t n) {
+    ConformalSymplecticStats st;
+    if constexpr (!is_canonical_problem<P>()) {
+        st.applicability = ConformalSymplecticApplicability::not_canonical;
+    } else if constexpr (!kernel_has_step_jacobian<K>()) {
+        st.applicability = ConformalSymplecticApplicability::no_step_jacobian;
+    } else {
+        Counters counters;
+        K stepper(problem, info, h, counters);
+        Vec z = problem.initial_state();
+        st = conformal_symplectic_defect(stepper, problem, z, t0, h, n);
+    }
+    return conformal_symplectic_json(st);
+}
+
+} // namespace dampsym

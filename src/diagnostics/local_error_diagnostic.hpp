@@ -1,0 +1,37 @@
+// Diagnostic "local-error": one step from the initial state against the exact solution at t0 + h
+// (B Fig 3.2's local error, O(h^{p+1})), with a separate stepper so the run is untouched.
+#pragma once
+
+#include "core/method.hpp"
+#include "core/problem_concepts.hpp"
+#include "diagnostics/diagnostic.hpp"
+#include "diagnostics/metric_json.hpp"
+
+namespace dampsym {
+
+struct LocalErrorDiagnostic {
+    static DiagnosticInfo info();
+    template <class P>
+    static constexpr bool supports = HasExactSolution<P>;
+};
+
+// The metrics from the one-step state z and the exact state at t0 + h (null z: the solve failed).
+json local_error_json(const Vec* z, const Vec& exact);
+
+// Typed hook: one step of kernel K from (t0, z0) of `problem` (core/method.hpp steppers).
+template <class K, class P>
+json local_error_metrics(const P& problem, const MethodInfo& info, double t0, double h) {
+    if constexpr (HasExactSolution<P>) {
+        Counters scratch;
+        K stepper(problem, info, h, scratch);
+        Vec z = problem.initial_state();
+        Vec exact(z.size());
+        problem.exact(t0, problem.initial_state(), t0 + h, exact);
+        if (stepper.step(t0, z) != StepStatus::ok) return local_error_json(nullptr, exact);
+        return local_error_json(&z, exact);
+    } else {
+        return json::object();
+    }
+}
+
+} // namespace dampsym

@@ -1,0 +1,32 @@
+// Diagnostics "order" and "local-order" (method level): the observed order, the log-log slope of
+// the global error at t_end ("error.final_abs") or of the one-step error ("local-error.abs", B Fig
+// 3.2) against dt over the ladder, fitted where the errors are above the round-off floor and 100x
+// the reference's error estimate (docs/conventions.md §4; diagnostics/order_fit.hpp).
+#pragma once
+
+#include "core/problem_concepts.hpp"
+#include "diagnostics/diagnostic.hpp"
+#include "diagnostics/metric_json.hpp"
+#include "diagnostics/order_fit.hpp"
+
+#include <vector>
+
+namespace dampsym {
+
+struct OrderDiagnostic {
+    static DiagnosticInfo info();
+    template <class P>
+    static constexpr bool supports = true;
+};
+
+struct LocalOrderDiagnostic {
+    static DiagnosticInfo info();
+    template <class P>
+    static constexpr bool supports = HasExactSolution<P>;
+};
+
+// The fit of (dt, error) points of one method: errors below `floor` are dropped; `ref_error` is
+// the reference's estimate (0 for local errors), `roundoff` the round-off floor, for the report.
+json order_fit_json(const std::vector<OrderPoint>& points, double roundoff, double ref_error);
+
+} // namespace dampsym
