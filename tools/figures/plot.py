@@ -301,11 +301,21 @@ def flat_panel(ax, ys):
             fontsize=6.5)
 
 
+def has_data(runs, key, scale):
+    """Whether some run has something to draw under key (a panel whose series are all empty,
+    e.g. the momentum factor of a crystal at rest, where it is undefined, is left out)."""
+    for r in runs:
+        y = (r["series"].get(key) or {}).get("y") or []
+        if any(v > 0 for v in y) if scale == "log" else len(y) > 0:
+            return True
+    return False
+
+
 def fig_series(case, ser):
-    panels = fd.series_panels(ser)
+    runs = [r for r in ser["runs"] if r["series"]]
+    panels = [p for p in fd.series_panels(ser) if has_data(runs, p[0], p[2])]
     if not panels:
         return []
-    runs = [r for r in ser["runs"] if r["series"]]
     multi_dt = len({r["dt"] for r in runs}) > 1
     height = 1.1 + 1.9 * len(panels)
     fig, axs = subplots(len(panels), 1, (8, height), sharex=True)
@@ -393,10 +403,12 @@ def fig_orbit(case, ser):
     n = len(runs)
     cols = min(4, n)
     rows = (n + cols - 1) // cols
-    fig, axs = subplots(rows, cols, (3.6 * cols, 3.4 * rows + 0.6))
+    # at least 7 in wide: the title names the case, the paper figure and what is grey
+    fig, axs = subplots(rows, cols, (max(7.0, 3.6 * cols), 3.4 * rows + 0.6))
     for ax in axs.flat[n:]:
         ax.axis("off")
     xl, yl = AXES.get(problem, ("z1", "z2"))
+    greys = set()
     for ax, r in zip(axs.flat, runs):
         c, _, _ = style(r["method"])
         ref = r["series"].get("orbit_reference")
@@ -407,15 +419,18 @@ def fig_orbit(case, ser):
             ax.plot(x, y, "-", color=c, lw=0.6, rasterized=dense(len(x)))
         ax.plot([r["series"]["orbit"]["states"][0][0]], [r["series"]["orbit"]["states"][0][1]],
                 "k.", ms=5)
-        what = ("exact solution" if ref and ref.get("exact") else "reference") if ref else ""
-        ax.set_title(f"{r['method']} h={r['dt']:g}" + (f"  (grey: {what})" if ref else ""))
+        if ref:
+            greys.add("the exact solution" if ref.get("exact") else "the reference")
+        ax.set_title(f"{r['method']} h={r['dt']:g}")
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         if problem in ("kepler", "outer-solar-system", "hill"):
             ax.set_aspect("equal", adjustable="datalim")
-    fig.suptitle(title_of(case, "orbits"))
+    fig.suptitle(title_of(case, "orbits" + (f" (grey: {' / '.join(sorted(greys))})"
+                                            if greys else "")))
     height = 3.4 * rows + 0.6
-    layout(fig, bottom=0.5 / height, top=1 - 0.75 / height, left=0.08, hspace=0.45, wspace=0.35)
+    layout(fig, bottom=0.5 / height, top=1 - 0.75 / height, left=0.75 / fig.get_figwidth(),
+           hspace=0.45, wspace=0.35)
     return [(save(fig, case, "orbit"), "orbits")]
 
 
