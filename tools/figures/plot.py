@@ -25,6 +25,7 @@ import math
 import multiprocessing
 import os
 import sys
+import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import figdata as fd  # noqa: E402
@@ -359,7 +360,8 @@ def fig_series(case, ser):
             ax.set_yscale("log")
         else:
             flat_panel(ax, drawn)
-        ax.set_ylabel(label, fontsize=7)
+        # long labels (invariant names) in two lines: one line ran into the next panel's
+        ax.set_ylabel(textwrap.fill(label, 32), fontsize=7)
         if key == "dissipation-drift.d":
             ax.legend(loc="upper right", ncol=2, fontsize=6)
     axs[-1, 0].set_xlabel("time t (time units of the problem)")
