@@ -56,6 +56,98 @@ void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& d
              "ratio, spread and across_dt compare per-run metrics; '" + diag + "' is not one");
 }
 
+namespace {
+
+// A measure's "component": "state", "q", "p", "q[i]", "p[i]" or "z[i]" (error measures only).
+void parse_component(const json& e, const std::string& base, const std::string& file,
+                     const CaseSpec& c, int dim, int dof, MeasureSpec& m) {
+    m.count = dim;
+    if (e.contains("component")) {
+        m.component = string_of(e["component"], file, base + ".component");
+        const std::string& s = m.component;
+        if (s.empty()) fail(file, base + ".component", "must not be empty");
+        const bool qp = s[0] == 'q' || s[0] == 'p';
+        if ((qp || s.rfind("z[", 0) == 0) && s != "state") {
+            if (qp && dof < 0)
+                fail(file, base + ".component",
+                     "problem '" + c.problem_id +
+                         "' has no canonical q/p split; use \"z[i]\" or \"state\"");
+            const int block = s[0] == 'z' ? dim : dof;
+            const int offset = s[0] == 'p' ? dof : 0;
+            if (s.size() == 1) {
+                m.first = offset;
+                m.count = dof;
+            } else {
+                std::size_t used = 0;
+                int idx = -1;
+                if (s.size() > 3 && s[1] == '[' && s.back() == ']') {
+                    try {
+                        idx = std::stoi(s.substr(2, s.size() - 3), &used);
+                    } catch (const std::exception&) {
+                        idx = -1;
+                    }
+                }
+                if (idx < 0 || used != s.size() - 3)
+                    fail(file, base + ".component",
+                         "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or "
+                         "\"z[i]\", got \"" +
+                             s + "\"");
+                if (idx >= block)
+                    fail(file, base + ".component",
+                         "index " + std::to_string(idx) + " out of range (" +
+                             std::to_string(block) + " components)");
+                m.first = offset + idx;
+                m.count = 1;
+            }
+        } else if (s != "state") {
+            fail(file, base + ".component",
+                 "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or \"z[i]\", "
+                 "got \"" +
+                     s + "\"");
+        }
+    }
+}
+
+// A measure's "over" (final, max, mean, rms, growth) and, for growth, "from".
+void parse_over(const json& e, const std::string& base, const std::string& file, const CaseSpec& c,
+                std::int64_t points, MeasureSpec& m) {
+    if (!e.contains("over")) fail(file, base + ".over", "missing required key");
+    const std::string over = string_of(e["over"], file, base + ".over");
+    const std::pair<const char*, MeasureStat> stats[] = {{"final", MeasureStat::final_value},
+                                                         {"max", MeasureStat::max},
+                                                         {"mean", MeasureStat::mean},
+                                                         {"rms", MeasureStat::rms},
+                                                         {"growth", MeasureStat::growth}};
+    bool found = false;
+    for (const auto& [name, st] : stats)
+        if (over == name) {
+            m.over = st;
+            found = true;
+        }
+    if (!found) fail(file, base + ".over", "must be one of final, max, mean, rms, growth");
+    if (m.over != MeasureStat::final_value && points < 2)
+        fail(file, base + ".over",
+             "'" + over +
+                 "' needs an output grid: give \"output_dt\" (or a ladder whose "
+                 "step sizes divide each other)");
+    const double span = c.t_end - c.t0;
+    m.growth_from = c.t0 + 0.1 * span;
+    if (e.contains("from")) {
+        if (m.over != MeasureStat::growth)
+            fail(file, base + ".from", "only \"over\": \"growth\" takes a fit start");
+        m.growth_from = number(e["from"], file, base + ".from");
+        if (!(m.growth_from > c.t0) || !(m.growth_from < c.t_end))
+            fail(file, base + ".from", "must lie in (t0, t_end)");
+    }
+    if (m.over == MeasureStat::growth) {
+        const double spacing = span / static_cast<double>(points);
+        if ((c.t_end - m.growth_from) / spacing < 2.0)
+            fail(file, base + ".from", "the growth fit needs >= 3 output points after it");
+    }
+}
+
+} // namespace
+
 // "measures": { "<name>": { "quantity", "component", "norm", "over", "from" } }
 // (docs/case-keys.md).
 void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file, CaseSpec& c) {
@@ -91,51 +183,7 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
                 fail(file, base + ".component", "the energy error has no component");
             m.component = "energy";
         } else {
-            m.count = dim;
-            if (e.contains("component")) {
-                m.component = string_of(e["component"], file, base + ".component");
-                const std::string& s = m.component;
-                if (s.empty()) fail(file, base + ".component", "must not be empty");
-                const bool qp = s[0] == 'q' || s[0] == 'p';
-                if ((qp || s.rfind("z[", 0) == 0) && s != "state") {
-                    if (qp && dof < 0)
-                        fail(file, base + ".component",
-                             "problem '" + c.problem_id +
-                                 "' has no canonical q/p split; use \"z[i]\" or \"state\"");
-                    const int block = s[0] == 'z' ? dim : dof;
-                    const int offset = s[0] == 'p' ? dof : 0;
-                    if (s.size() == 1) {
-                        m.first = offset;
-                        m.count = dof;
-                    } else {
-                        std::size_t used = 0;
-                        int idx = -1;
-                        if (s.size() > 3 && s[1] == '[' && s.back() == ']') {
-                            try {
-                                idx = std::stoi(s.substr(2, s.size() - 3), &used);
-                            } catch (const std::exception&) {
-                                idx = -1;
-                            }
-                        }
-                        if (idx < 0 || used != s.size() - 3)
-                            fail(file, base + ".component",
-                                 "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or "
-                                 "\"z[i]\", got \"" +
-                                     s + "\"");
-                        if (idx >= block)
-                            fail(file, base + ".component",
-                                 "index " + std::to_string(idx) + " out of range (" +
-                                     std::to_string(block) + " components)");
-                        m.first = offset + idx;
-                        m.count = 1;
-                    }
-                } else if (s != "state") {
-                    fail(file, base + ".component",
-                         "must be \"state\", \"q\", \"p\", \"q[i]\", \"p[i]\" or \"z[i]\", "
-                         "got \"" +
-                             s + "\"");
-                }
-            }
+            parse_component(e, base, file, c, dim, dof, m);
         }
         if (e.contains("norm")) {
             const std::string n = string_of(e["norm"], file, base + ".norm");
@@ -144,39 +192,7 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
             else if (n != "abs")
                 fail(file, base + ".norm", "must be \"abs\" or \"rel\" (relative to |u(t_n)|)");
         }
-        if (!e.contains("over")) fail(file, base + ".over", "missing required key");
-        const std::string over = string_of(e["over"], file, base + ".over");
-        const std::pair<const char*, MeasureStat> stats[] = {{"final", MeasureStat::final_value},
-                                                             {"max", MeasureStat::max},
-                                                             {"mean", MeasureStat::mean},
-                                                             {"rms", MeasureStat::rms},
-                                                             {"growth", MeasureStat::growth}};
-        bool found = false;
-        for (const auto& [name, st] : stats)
-            if (over == name) {
-                m.over = st;
-                found = true;
-            }
-        if (!found) fail(file, base + ".over", "must be one of final, max, mean, rms, growth");
-        if (m.over != MeasureStat::final_value && points < 2)
-            fail(file, base + ".over",
-                 "'" + over +
-                     "' needs an output grid: give \"output_dt\" (or a ladder whose "
-                     "step sizes divide each other)");
-        const double span = c.t_end - c.t0;
-        m.growth_from = c.t0 + 0.1 * span;
-        if (e.contains("from")) {
-            if (m.over != MeasureStat::growth)
-                fail(file, base + ".from", "only \"over\": \"growth\" takes a fit start");
-            m.growth_from = number(e["from"], file, base + ".from");
-            if (!(m.growth_from > c.t0) || !(m.growth_from < c.t_end))
-                fail(file, base + ".from", "must lie in (t0, t_end)");
-        }
-        if (m.over == MeasureStat::growth) {
-            const double spacing = span / static_cast<double>(points);
-            if ((c.t_end - m.growth_from) / spacing < 2.0)
-                fail(file, base + ".from", "the growth fit needs >= 3 output points after it");
-        }
+        parse_over(e, base, file, c, points, m);
         c.measures.push_back(m);
     }
 }

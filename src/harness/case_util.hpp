@@ -1,4 +1,5 @@
-// Helpers of the case parser shared by its files (case.cpp: the case as a whole; case_util.cpp:
+// Helpers of the case parser shared by its files (case.cpp: public entry points, ids, costs;
+// case_json.cpp: strict JSON, case files, --set; case_parse.cpp: the case's keys; case_util.cpp:
 // typed values and key checks; case_expect.cpp: checks and measures).
 #pragma once
 
@@ -42,6 +43,14 @@ std::int64_t step_count(double span, double dt, const std::string& file, const s
 Range3 parse_range(const json& v, const std::string& file, const std::string& key);
 std::vector<std::string> metric_names(const std::string& diagnostic,
                                       const std::vector<std::string>& invariants);
+
+// case_json.cpp: sets the value at a dotted key (--set problem.gamma=0.3), creating objects.
+void set_path(json& root, const std::string& dotted, const json& value);
+
+// case_parse.cpp: the case without the --set attribution of errors (parse_case adds it);
+// `applied` receives each override as typed.
+CaseSpec parse_case_unchecked(const json& input, const std::string& file,
+                              const std::vector<std::string>& overrides, json& applied);
 
 // case_expect.cpp
 void parse_check_methods(const json& cj, const CaseSpec& c, const std::string& diag,

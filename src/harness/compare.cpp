@@ -107,8 +107,8 @@ std::string kind_of_run_field(const std::string& k) {
     return "run field";
 }
 
-void compare_case(const json& a, const json& b, Walker& w) {
-    // Case fields other than runs, checks and method metrics (problem, reference, grid, ...).
+// Case fields other than runs, checks and method metrics (problem, reference, grid, ...).
+void compare_case_fields(const json& a, const json& b, Walker& w) {
     for (auto it = a.begin(); it != a.end(); ++it) {
         const std::string& k = it.key();
         // "file" is where the case file was read from, not a result.
@@ -121,7 +121,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
     for (auto it = b.begin(); it != b.end(); ++it)
         if (!a.contains(it.key()) && it.key() != "method_metrics" && it.key() != "file")
             w.row("case field added", it.key(), nullptr, it.value());
-    // Runs, matched by method and dt.
+}
+
+// Runs, matched by method and dt: final states, metrics, statuses.
+void compare_runs(const json& a, const json& b, Walker& w) {
     std::map<std::string, const json*> ra, rb;
     std::vector<std::string> order;
     for (const auto& r : a["runs"]) {
@@ -157,7 +160,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
         }
     }
     w.run.clear();
-    // Method-level metrics (order fits, stability sweeps).
+}
+
+// Method-level metrics (order fits, stability sweeps).
+void compare_method_metrics(const json& a, const json& b, Walker& w) {
     const json empty = json::object();
     const json& ma = a.contains("method_metrics") ? a["method_metrics"] : empty;
     const json& mb = b.contains("method_metrics") ? b["method_metrics"] : empty;
@@ -184,7 +190,10 @@ void compare_case(const json& a, const json& b, Walker& w) {
         }
     }
     w.run.clear();
-    // Checks: verdicts, matched by name, method and dt.
+}
+
+// Checks: verdicts, matched by name, method and dt.
+void compare_checks(const json& a, const json& b, Walker& w) {
     std::map<std::string, const json*> ca, cb;
     std::vector<std::string> corder;
     for (const auto& ck : a["checks"]) {
@@ -216,6 +225,13 @@ void compare_case(const json& a, const json& b, Walker& w) {
             }
         }
     }
+}
+
+void compare_case(const json& a, const json& b, Walker& w) {
+    compare_case_fields(a, b, w);
+    compare_runs(a, b, w);
+    compare_method_metrics(a, b, w);
+    compare_checks(a, b, w);
 }
 
 // Wall seconds per case id from a report's timings (schema 2) or its runs (schema 1).
