@@ -6,8 +6,8 @@
 
 #include "harness/case.hpp"
 #include "harness/figures.hpp"
-#include "harness/report.hpp"
 #include "harness/provenance.hpp"
+#include "harness/report.hpp"
 
 #include <CLI/CLI.hpp>
 #include <memory>
@@ -45,6 +45,11 @@ void add_selection_options(CLI::App& sub, Selection& sel) {
 
 } // namespace cli_detail
 
+CLI::Validator cli_detail::figure_format_validator() {
+    return CLI::Validator([](std::string& v) { return figure_formats_error(v); },
+                          "png|svg|pdf[,...]");
+}
+
 namespace {
 
 using namespace cli_detail;
@@ -54,6 +59,7 @@ Command add_plot_command(CLI::App& app, CliContext& ctx) {
     struct State {
         std::string dir;
         int jobs = 2;
+        std::string format = "png";
     };
     auto s = std::make_shared<State>();
     auto* plot = app.add_subcommand(
@@ -61,7 +67,11 @@ Command add_plot_command(CLI::App& app, CliContext& ctx) {
                 "figures.md); time series only if it was run with --figures");
     plot->add_option("REPORT_DIR", s->dir, "directory holding report.json")->required();
     plot->add_option("--jobs,-j", s->jobs, "figure processes")->check(CLI::Range(1, 256));
-    return {plot, [s, &ctx] { return make_figures(s->dir, s->jobs, ctx.err); }};
+    plot->add_option("--figure-format", s->format,
+                     "png (default), svg or pdf, or a comma list (the first of png/svg is "
+                     "embedded in report.md)")
+        ->check(figure_format_validator());
+    return {plot, [s, &ctx] { return make_figures(s->dir, s->jobs, s->format, ctx.err); }};
 }
 
 // A parse error: for `dampsym frobnicate` CLI11 says "A subcommand is required"; name the word.

@@ -47,6 +47,9 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
 // The --suite, --filter, --problem, --method, --shard and --costs options of list and run.
 void add_selection_options(CLI::App& sub, Selection& sel);
 
+// --figure-format's check (issue 14; harness/figures.hpp figure_formats_error), for run and plot.
+CLI::Validator figure_format_validator();
+
 // What every subcommand sees: the global options (bound before parsing, read by the actions
 // after it) and the output streams.
 struct CliContext {

@@ -27,7 +27,8 @@ struct OutputOptions {
     std::string junit;       // "" = none
     std::string annotations; // "" or "github"
     bool quiet = false;
-    bool figures = false; // run --figures (issue 14, harness/figures.hpp)
+    bool figures = false;              // run --figures (issue 14, harness/figures.hpp)
+    std::string figure_format = "png"; // --figure-format png|svg|pdf[,...]
 };
 
 // Writes the reports and prints the summary; returns the exit status of the checks.
@@ -86,7 +87,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     const int status = exit_status_after_run(finish_report(report, o, out, err));
     if (o.figures && report.value("interrupted", false) == false) {
         // figures hook (issue 14): draw, then report.md again with the figures
-        if (make_figures(o.out_dir, jobs, err) != 0) return 3;
+        if (make_figures(o.out_dir, jobs, o.figure_format, err) != 0) return 3;
         if (!o.quiet)
             out << "Figures: " << o.out_dir << "/figures/, " << o.out_dir << "/figures.md\n";
     }
@@ -150,6 +151,10 @@ Command add_run_command(CLI::App& app, CliContext& ctx) {
     run->add_flag("--figures", s->oo.figures,
                   "keep time series (DIR/series/) and draw the figures into DIR/figures/, "
                   "embedded in report.md (docs/reports.md)");
+    run->add_option("--figure-format", s->oo.figure_format,
+                    "with --figures: png (default), svg or pdf, or a comma list (the first of "
+                    "png/svg is embedded in report.md)")
+        ->check(figure_format_validator());
     run->footer(
         "\nExamples:\n"
         "  dampsym run                                   default suite into reports/\n"

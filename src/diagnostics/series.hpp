@@ -10,8 +10,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <vector>
 
@@ -19,8 +22,24 @@ namespace dampsym {
 
 // Buckets per series: at most 2 × this many points per series in a series file.
 inline constexpr std::int64_t kSeriesBuckets = 1000;
-// Samples per orbit (StrideSampler).
-inline constexpr std::int64_t kOrbitSamples = 2000;
+// Samples per orbit (StrideSampler): 100 per revolution over the 100 revolutions of the longest
+// Kepler case (HLW Table 2.1), so that the drawn orbit is smooth, not a polygon.
+inline constexpr std::int64_t kOrbitSamples = 10000;
+// At most this many numbers per orbit (the outer solar system's 36-number states: 1111 samples).
+inline constexpr std::int64_t kOrbitValues = 40000;
+inline std::int64_t orbit_samples(std::int64_t dim) {
+    return std::max<std::int64_t>(
+        2, std::min(kOrbitSamples, kOrbitValues / std::max<std::int64_t>(1, dim)));
+}
+
+// A value as a figure draws it: rounded to 7 significant digits, so that it is written as at most
+// 7 digits in a series file (orbits are drawn, not compared with the report; a third the size).
+inline double drawn_value(double x) {
+    if (!std::isfinite(x)) return x;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.7g", x);
+    return std::strtod(buf, nullptr);
+}
 
 class MinMaxDecimator {
 public:

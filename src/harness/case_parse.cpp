@@ -2,6 +2,7 @@
 // "diagnostics" and "reference", "stability_sweep", "no_checks"; "expect" and "measures" in
 // case_expect.cpp), and the case as a whole (docs/case-keys.md).
 #include "harness/case.hpp"
+#include "harness/case_figures.hpp"
 #include "harness/case_job.hpp"
 #include "harness/case_util.hpp"
 #include "harness/limits.hpp"
@@ -302,11 +303,13 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     }
     c.raw = j;
 
+    // clang-format off
     only_keys(j,
               {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
                "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
-               "notes", "measures", "no_checks_because", "timeout_seconds"},
+               "notes", "measures", "no_checks_because", "timeout_seconds", "figures"},
               file, "");
+    // clang-format on
     validate_limit_keys(j, file); // issue 17: timeout_seconds (src/harness/limits.hpp)
     for (const char* k : {"id", "problem", "methods", "t_end"})
         if (!j.contains(k)) fail(file, k, "missing required key");
@@ -346,6 +349,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     if (j.contains("measures")) parse_measures(j["measures"], *prob, file, c);
     if (j.contains("expect")) parse_expect(j["expect"], *prob, file, c);
     parse_no_checks(j, file, c);
+    validate_figures_key(j, file, c, *prob); // issue 14: "figures" (harness/case_figures.hpp)
     return c;
 }
 

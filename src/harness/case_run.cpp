@@ -196,6 +196,7 @@ json CaseRun::case_json(json checks) const {
                 {"checks", checks}};
     if (!c_.no_checks_because.empty()) out["no_checks_because"] = c_.no_checks_because;
     if (!c_.measures.empty()) out["measures"] = c_.raw["measures"];
+    if (c_.raw.contains("figures")) out["figures"] = c_.raw["figures"]; // issue 14 (plot.py)
     return out;
 }
 

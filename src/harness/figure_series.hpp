@@ -82,9 +82,11 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, const Met
                                   bool ref_on_grid, const std::vector<Maximum>& maxima) {
     using json = nlohmann::json;
     json s = json::object();
-    // the separate per-step pass (the orbit from it only when there is no output grid)
+    // the separate per-step pass; the orbit from it when the output grid has fewer points than
+    // the step pass keeps (orbit_samples): a grid of a few points per revolution draws a polygon
     const Eigen::Index cols = grid.cols();
-    const bool orbit_steps = figure_wants_orbit<P>() && cols <= 2;
+    const bool orbit_steps = figure_wants_orbit<P>() &&
+                             cols - 1 < std::min<std::int64_t>(n, orbit_samples(problem.dim()));
     FigureStepObserver<P> obs(problem, c, h, n, orbit_steps);
     if (obs.needed()) {
         Counters counters;
@@ -146,21 +148,24 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, const Met
         }
         // the orbit and the reference orbit at (at most) kOrbitSamples grid points
         auto grid_orbit = [&](const Mat& g) {
-            StrideSampler pick(cols);
+            StrideSampler pick(cols, orbit_samples(g.rows()));
             json t = json::array(), st = json::array();
             for (Eigen::Index i = 0; i < cols; ++i) {
                 if (!pick.wants(i)) continue;
                 t.push_back(grid_t[static_cast<std::size_t>(i)]);
                 std::vector<double> v(static_cast<std::size_t>(g.rows()));
                 for (Eigen::Index r = 0; r < g.rows(); ++r)
-                    v[static_cast<std::size_t>(r)] = g(r, i);
+                    v[static_cast<std::size_t>(r)] = drawn_value(g(r, i)); // drawn, not compared
                 st.push_back(v);
             }
             return json{{"t", t}, {"states", st}, {"stride", pick.stride()}};
         };
-        if (figure_wants_orbit<P>() && cols > 2) {
+        if (figure_wants_orbit<P>() && !orbit_steps && cols > 2) {
             s["orbit"] = grid_orbit(grid);
             if (ref_on_grid) s["orbit_reference"] = grid_orbit(ref);
+        } else if (figure_wants_orbit<P>() && ref_on_grid && cols > 2 &&
+                   !s.contains("orbit_reference")) {
+            s["orbit_reference"] = grid_orbit(ref); // no exact solution: the grid's reference
         }
     }
     auto maxima_json = [](const std::vector<Maximum>& mx) {

@@ -37,7 +37,7 @@ template <class P>
 class FigureStepObserver {
 public:
     FigureStepObserver(const P& p, const CaseSpec& c, double h, std::int64_t n, bool orbit)
-        : p_(p), t0_(c.t0), h_(h), n_(n), orbit_on_(orbit), orbit_(n + 1) {
+        : p_(p), t0_(c.t0), h_(h), n_(n), orbit_on_(orbit), orbit_(n + 1, orbit_samples(p.dim())) {
         inv_on_ = c.wants("invariants") && !P::invariant_names.empty();
         mom_on_ = c.wants("momentum");
         for (std::size_t k = 0; inv_on_ && k < P::invariant_names.size(); ++k) {
@@ -74,6 +74,7 @@ public:
                 ang_scale_prev_ = p_.angular_momentum_scale(z0);
             }
         }
+        z0_ = z0;
         sample(0, t0_, z0);
         if (eb_) eb_push(0, t0_, z0);
     }
@@ -100,8 +101,14 @@ public:
             s["momentum.angular.law_res"] = ang_res_->to_json();
         }
         if (eb_) s["energy-balance.residual"] = eb_->to_json();
-        if (!orbit_t_.empty())
+        if (!orbit_t_.empty()) {
             s["orbit"] = {{"t", orbit_t_}, {"states", orbit_z_}, {"stride", orbit_.stride()}};
+            if (!orbit_ref_.empty())
+                s["orbit_reference"] = {{"t", orbit_t_},
+                                        {"states", orbit_ref_},
+                                        {"stride", orbit_.stride()},
+                                        {"exact", true}};
+        }
         return s;
     }
 
@@ -110,12 +117,25 @@ private:
         if constexpr (figure_wants_orbit<P>()) {
             if (!orbit_on_ || !orbit_.wants(n)) return;
             orbit_t_.push_back(t);
-            std::vector<double> v(static_cast<std::size_t>(z.size()));
-            for (Eigen::Index i = 0; i < z.size(); ++i) v[static_cast<std::size_t>(i)] = z[i];
-            orbit_z_.push_back(std::move(v));
+            orbit_z_.push_back(drawn(z));
+            // the exact solution at the same times (a smooth reference orbit: the output grid's
+            // reference may have few points per revolution)
+            if constexpr (HasExactSolution<P>) {
+                if (ref_.size() != z0_.size()) ref_.resize(z0_.size());
+                p_.exact(t0_, z0_, t, ref_);
+                orbit_ref_.push_back(drawn(ref_));
+            }
         } else {
             (void)n, (void)t, (void)z;
         }
+    }
+
+    // A state as the figure draws it (drawn_value: 7 significant digits).
+    static std::vector<double> drawn(const Vec& z) {
+        std::vector<double> v(static_cast<std::size_t>(z.size()));
+        for (Eigen::Index i = 0; i < z.size(); ++i)
+            v[static_cast<std::size_t>(i)] = drawn_value(z[i]);
+        return v;
     }
 
     // The formulas of Recorder::eb_push (recorder.hpp): R = |D_t H − Ḣ| at the window centre.
@@ -208,7 +228,8 @@ private:
     Vec grad_t_;
     StrideSampler orbit_;
     std::vector<double> orbit_t_;
-    std::vector<std::vector<double>> orbit_z_;
+    std::vector<std::vector<double>> orbit_z_, orbit_ref_;
+    Vec z0_, ref_;
 };
 
 } // namespace dampsym::detail

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace dampsym {
 
@@ -44,7 +45,24 @@ json read_json_file(const fs::path& p) {
 
 } // namespace
 
-int make_figures(const std::string& dir, int jobs, std::ostream& err) {
+std::string figure_formats_error(const std::string& formats) {
+    std::vector<std::string> seen;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = formats.find(',', start);
+        const std::string f =
+            formats.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (f != "png" && f != "svg" && f != "pdf")
+            return "'" + f + "' is not a figure format (png, svg, pdf, comma-separated)";
+        for (const auto& g : seen)
+            if (g == f) return "figure format '" + f + "' listed twice";
+        seen.push_back(f);
+        if (comma == std::string::npos) return "";
+        start = comma + 1;
+    }
+}
+
+int make_figures(const std::string& dir, int jobs, const std::string& formats, std::ostream& err) {
     const fs::path report = fs::path(dir) / "report.json";
     if (!fs::exists(report)) {
         err << "dampsym: " << report.string() << ": no report to plot\n";
@@ -58,7 +76,8 @@ int make_figures(const std::string& dir, int jobs, std::ostream& err) {
         return 3;
     }
     const std::string cmd = shell_quote(python) + " " + shell_quote(script.string()) + " " +
-                            shell_quote(dir) + " --jobs " + std::to_string(std::max(1, jobs));
+                            shell_quote(dir) + " --jobs " + std::to_string(std::max(1, jobs)) +
+                            " --format " + shell_quote(formats);
     const int rc = std::system(cmd.c_str());
     if (rc != 0) {
         err << "dampsym: figure script failed (exit " << rc << "): " << cmd << "\n";

@@ -16,9 +16,15 @@ namespace dampsym {
 // A RunOptions::series_sink that writes each case's series to DIR/series/<case id>.json.
 std::function<void(const nlohmann::json&)> series_file_sink(const std::string& dir);
 
-// Draws the figures of the report in DIR (report.json, series/ if present) with `jobs` processes,
-// then rewrites DIR/report.md with them embedded and DIR/figures.md (the paper-figure gallery).
-// Returns 0, or 3 when the figure script cannot run or fails (the message names it).
-int make_figures(const std::string& dir, int jobs, std::ostream& err);
+// The file formats of the figures (`--figure-format`): a comma list of png, svg, pdf, each once;
+// the first of png/svg is embedded in report.md (pdf alone: linked). Returns "" if `formats` is
+// valid, else what is wrong with it.
+std::string figure_formats_error(const std::string& formats);
+
+// Draws the figures of the report in DIR (report.json, series/ if present) with `jobs` processes
+// in `formats` (figure_formats_error), then rewrites DIR/report.md with them embedded and
+// DIR/figures.md (the paper-figure gallery). Returns 0, or 3 when the figure script cannot run or
+// fails (the message names it).
+int make_figures(const std::string& dir, int jobs, const std::string& formats, std::ostream& err);
 
 } // namespace dampsym

@@ -30,6 +30,9 @@ struct ProblemInfo {
     // Builds the problem from validated parameters (throws std::invalid_argument when the
     // problem rejects them) and reports its facts.
     ProblemFacts (*facts)(const ParamMap&) = nullptr;
+    // Its figures can draw the orbit (`static constexpr bool figure_orbit`; issue 14, the case
+    // key "figures": harness/case_figures.hpp).
+    bool figure_orbit = false;
     bool supports(std::string_view diagnostic) const;
 };
 const std::vector<ProblemInfo>& problem_catalog();

@@ -22,6 +22,7 @@ const std::vector<ProblemInfo>& problem_catalog() {
                                    f.forcing_period = p.forcing_period();
                                return f;
                            }});
+            if constexpr (requires { P::figure_orbit; }) out.back().figure_orbit = P::figure_orbit;
         });
         return out;
     }();

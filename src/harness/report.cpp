@@ -269,9 +269,12 @@ std::string render_markdown(const json& report, const json& figures) {
         // figures (issue 14): from figures/manifest.json, paths relative to report.md
         if (with_figures && figures["cases"].contains(c["id"].get<std::string>())) {
             os << "\n\n";
-            for (const auto& f : figures["cases"][c["id"].get<std::string>()])
-                os << "![" << f.value("caption", std::string()) << "]("
-                   << f["file"].get<std::string>() << ")\n";
+            for (const auto& f : figures["cases"][c["id"].get<std::string>()]) {
+                const std::string file = f["file"].get<std::string>();
+                const bool pdf = file.size() > 4 && file.substr(file.size() - 4) == ".pdf";
+                os << (pdf ? "[" : "![") << f.value("caption", std::string()) << "](" << file
+                   << ")\n"; // --figure-format pdf: a link (markdown shows no PDF)
+            }
         }
         case_tables(os, c, case_timings(report, ci));
     }

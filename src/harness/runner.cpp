@@ -1,5 +1,6 @@
 #include "harness/runner.hpp"
 
+#include "harness/case_figures.hpp"
 #include "harness/case_job.hpp"
 #include "harness/progress.hpp"
 #include "harness/report.hpp"
@@ -230,7 +231,8 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         job = make_case(c, std::make_integer_sequence<int, kShards>{});
         job->set_time_budget(options.time_budget);
         job->guard().set_timeout(case_timeout(c, options.case_timeout)); // issue 17 (limits.hpp)
-        job->set_figures(static_cast<bool>(options.series_sink));        // figures hook (issue 14)
+        // figures hook (issue 14): a case with "figures": false keeps no series (case_figures.hpp)
+        job->set_figures(static_cast<bool>(options.series_sink) && !case_figures_off(c));
         jobs.push_back(std::move(job));
     }
     // issue 17: an exception in one task is recorded for its case (which then fails its

@@ -12,25 +12,115 @@ import os
 import re
 import zlib
 
-# Fixed colour and marker per method, the same in every figure. Known methods first (distinct
-# colours for the families), any other method by a stable hash of its id.
+# Fixed colour, marker and line style per method, the same in every figure: conformal methods
+# (F, B) solid, classical and exponential Runge-Kutta methods dashed, the symplectic (undamped)
+# methods dash-dotted (in sparse plots; dense time series are solid, so colour alone tells runs
+# apart there). Colours chosen so that any two methods run together by a case of verify/cases
+# differ by CIE76 ΔE >= 25 (test_figdata.py checks it; glifrk2 and gauss3 were two purples
+# 15 apart). Any other method: a stable hash of its id into a dotted palette.
+STYLES = {
+    "cimp": ("#1f77b4", "o", "-"), "csv1": ("#d62728", "s", "-"), "csv2": ("#2ca02c", "^", "-"),
+    "glifrk1": ("#ff7f0e", "D", "-"), "glifrk2": ("#9467bd", "v", "-"),
+    "glifrk3": ("#8c564b", "P", "-"), "etdrk2": ("#e377c2", "X", "-"),
+    "cse-if": ("#17becf", "<", "-"), "cse-etd": ("#bcbd22", ">", "-"),
+    "csv1-perk": ("#7f0000", "h", "-"), "csv2-perk": ("#00441b", "p", "-"),
+    "glm4": ("#000000", "*", "-"),
+    "euler": ("#4d4d4d", "o", "--"), "heun": ("#08306b", "s", "--"), "rk3": ("#fc8d62", "^", "--"),
+    "rk4": ("#e7298a", "D", "--"), "etdprk2": ("#a6761d", "8", "--"),
+    "implicit-euler": ("#666600", "v", "--"), "gauss1": ("#000080", "P", "--"),
+    "gauss2": ("#1b9e77", "X", "--"), "gauss3": ("#40004b", ">", "--"),
+    "symplectic-euler": ("#4b0082", "o", "-."), "symplectic-euler-adjoint": ("#ff7f0e", "s", "-."),
+    "stormer-verlet": ("#ff00ff", "^", "-."), "implicit-midpoint": ("#2ca02c", "D", "-."),
+}
 PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2",
-           "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939", "#8c6d31", "#843c39",
-           "#7b4173", "#3182bd", "#e6550d", "#31a354", "#756bb1", "#636363"]
+           "#7f7f7f", "#bcbd22", "#17becf"]
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "*", "h", "p"]
-KNOWN = ["cimp", "csv1", "csv2", "glifrk1", "glifrk2", "glifrk3", "etdrk2", "cse-if", "cse-etd",
-         "csv1-perk", "csv2-perk", "glm4", "euler", "heun", "rk3", "rk4", "gauss1", "gauss2",
-         "gauss3", "etdprk2", "stormer-verlet", "symplectic-euler", "symplectic-euler-adjoint",
-         "implicit-midpoint", "implicit-euler"]
 
 
 def method_style(method):
-    """(colour, marker) of a method: fixed across all figures."""
-    if method in KNOWN:
-        i = KNOWN.index(method)
-    else:
-        i = zlib.crc32(method.encode()) % 1000
-    return PALETTE[i % len(PALETTE)], MARKERS[(i // 2) % len(MARKERS)]
+    """(colour, marker, line style) of a method: fixed across all figures."""
+    if method in STYLES:
+        return STYLES[method]
+    i = zlib.crc32(method.encode()) % 1000
+    return PALETTE[i % len(PALETTE)], MARKERS[(i // 7) % len(MARKERS)], ":"
+
+
+def lab_distance(c1, c2):
+    """CIE76 ΔE between two '#rrggbb' colours (sRGB, D65)."""
+    def lab(h):
+        rgb = [int(h[i:i + 2], 16) / 255 for i in (1, 3, 5)]
+        r, g, b = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb]
+        x = (0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.95047
+        y = 0.2126 * r + 0.7152 * g + 0.0722 * b
+        z = (0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.08883
+        f = [u ** (1 / 3) if u > 0.008856 else 7.787 * u + 16 / 116 for u in (x, y, z)]
+        return 116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])
+    return math.dist(lab(c1), lab(c2))
+
+
+def decimate_columns(t, y, lo, hi, columns):
+    """Exact decimation for drawing: of the samples falling in each of `columns` equal slices of
+    [lo, hi] (one per pixel column of the axes) keep the smallest and the largest (in time
+    order; both endpoints of the series too). The line drawn through them covers, in every pixel
+    column, the same vertical extent as the full series: no extreme is lost. Non-finite values
+    are dropped."""
+    n = len(t)
+    if n <= 2 * columns or not hi > lo:
+        return [a for a, b in zip(t, y) if math.isfinite(b)], [b for b in y if math.isfinite(b)]
+    scale = columns / (hi - lo)
+    keep = set()
+    lo_i = hi_i = None
+    col = None
+    for i in range(n):
+        v = y[i]
+        if not math.isfinite(v):
+            continue
+        c = int((t[i] - lo) * scale)
+        if c != col:
+            if lo_i is not None:
+                keep.add(lo_i)
+                keep.add(hi_i)
+            col, lo_i, hi_i = c, i, i
+        else:
+            if v < y[lo_i]:
+                lo_i = i
+            if v > y[hi_i]:
+                hi_i = i
+    if lo_i is not None:
+        keep.add(lo_i)
+        keep.add(hi_i)
+    fin = [i for i in range(n) if math.isfinite(y[i])]
+    if fin:
+        keep.update((fin[0], fin[-1]))
+    idx = sorted(keep)
+    return [t[i] for i in idx], [y[i] for i in idx]
+
+
+FIGURE_KINDS = ("convergence", "series", "orbit", "stability", "poincare")
+
+
+def case_figure_kinds(case):
+    """The case's "figures" key as a set of kinds: None when absent (the defaults), the empty set
+    for false or [] (docs/case-keys.md "figures")."""
+    v = case.get("figures")
+    if v is None or v is True:
+        return None
+    if v is False:
+        return set()
+    return set(v)
+
+
+def series_path(report_dir, case_id):
+    return os.path.join(report_dir, "series", case_id + ".json")
+
+
+def load_series(report_dir, case_id):
+    """One case's series file, or None."""
+    p = series_path(report_dir, case_id)
+    if not os.path.exists(p):
+        return None
+    with open(p) as f:
+        return json.load(f)
 
 
 def decimate_minmax(t, y, buckets):

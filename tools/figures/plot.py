@@ -1,14 +1,23 @@
 #!/usr/bin/python3
 """Draws the figures of a dampsym report directory (issue 14; docs/reports.md "Figures").
 
-    /usr/bin/python3 tools/figures/plot.py REPORT_DIR [--jobs N] [--format png,svg]
+    /usr/bin/python3 tools/figures/plot.py REPORT_DIR [--jobs N] [--format png|svg|pdf[,...]]
 
 Reads REPORT_DIR/report.json and, when the run was made with --figures, REPORT_DIR/series/*.json;
-writes REPORT_DIR/figures/<case>-<kind>.png (and .svg/.pdf on request), the list of figures per
-case REPORT_DIR/figures/manifest.json (which `dampsym` embeds in report.md) and the paper-figure
-gallery REPORT_DIR/figures.md. Figures are drawn in N worker processes (forked after matplotlib is
-imported once). Kinds: convergence (with work-precision beside it), series (time series), orbit,
-stability, poincare. What each plots is computed in figdata.py (without matplotlib)."""
+writes REPORT_DIR/figures/<case>-<kind>.<format> (png by default; svg and/or pdf on request, the
+first of png/svg is the one report.md embeds), the list of figures per case
+REPORT_DIR/figures/manifest.json (which `dampsym` embeds in report.md) and the paper-figure gallery
+REPORT_DIR/figures.md. One process imports matplotlib (Agg) once and forks N workers; each worker
+draws whole cases (reading only that case's series file), so there is no per-figure process or
+import. Kinds: convergence (with work-precision beside it), series (time series), orbit,
+stability, poincare; a case's "figures" key (report.json) selects among them. What each plots is
+computed in figdata.py (without matplotlib).
+
+Cost (issue 14: a run with --figures at most 2x one without): log axes get at most one tick per
+decade and no minor ticks beyond 3 decades (matplotlib's tick objects were most of the drawing
+time), each line is thinned to min/max per pixel column (figdata.decimate_columns: the drawn
+line is the same), legends are placed at fixed spots instead of "best" (which scans every
+vertex), and dense lines are rasterised in svg/pdf."""
 
 import argparse
 import json
@@ -16,24 +25,35 @@ import math
 import multiprocessing
 import os
 import sys
+import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import figdata as fd  # noqa: E402
 
 import matplotlib  # noqa: E402
+import numpy as np  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.ticker import (FuncFormatter, LogLocator, MaxNLocator, NullFormatter,  # noqa: E402
+                               NullLocator)
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
-                     "figure.dpi": 100, "axes.grid": True, "grid.alpha": 0.3})
+                     "figure.dpi": 100, "savefig.dpi": 100, "axes.grid": True, "grid.alpha": 0.3,
+                     "svg.fonttype": "none",
+                     # a fixed title position: matplotlib otherwise measures every axes' tick
+                     # labels to place its title (a sixth of the drawing time)
+                     "axes.titley": 1.0, "axes.titlepad": 4.0})
 
 REPORT = None
-SERIES = None
 OUT = None
 FORMATS = ["png"]
+# pixel columns of a full-width axes (8 in at 100 dpi, less the margins): lines are thinned to
+# min/max per column of this many
+COLUMNS = 700
 
 
 def title_of(case, what):
@@ -41,12 +61,126 @@ def title_of(case, what):
     return f"{case['id']}: {what}" + (f"  [{paper}]" if paper else "")
 
 
+def primary_format():
+    """The format report.md embeds: the first of png/svg asked for, else pdf (linked)."""
+    return next((f for f in FORMATS if f in ("png", "svg")), FORMATS[0])
+
+
+SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def log_label(x, _pos=None):
+    """10⁻³, 2×10⁻³: plain text with Unicode superscripts (matplotlib's default "$10^{-3}$"
+    goes through mathtext, whose parser was a third of the drawing time)."""
+    if not x > 0:
+        return ""
+    e = math.floor(math.log10(x) + 1e-9)
+    m = x / 10 ** e
+    exp = "10" + str(e).translate(SUPERSCRIPT)
+    if abs(m - 1) < 1e-6:
+        return exp
+    return f"{m:.0f}×{exp}" if abs(m - round(m)) < 1e-6 else f"{m:.2g}×{exp}"
+
+
+LOG_LABEL = FuncFormatter(log_label)
+
+
+def tidy_log_axis(axis, lo, hi):
+    """Few ticks on a log axis: matplotlib's default puts 8 minor ticks in every decade, and its
+    tick objects cost most of a figure's drawing time; beyond 1 decade the minor ticks carry no
+    label (they overlapped: "3×10⁻³4×10⁻³")."""
+    if not (lo > 0 and hi > lo):
+        return
+    decades = math.log10(hi / lo)
+    axis.set_major_formatter(LOG_LABEL)
+    axis.set_minor_formatter(NullFormatter())
+    if decades > 3:
+        axis.set_major_locator(LogLocator(base=10, numticks=7))
+        axis.set_minor_locator(NullLocator())
+    elif decades >= 1:
+        axis.set_major_locator(LogLocator(base=10, numticks=7))
+        axis.set_minor_locator(LogLocator(base=10, subs=(2.0, 5.0), numticks=12))
+    else:  # less than a decade: label 1, 2, 5 × 10^k
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0), numticks=12))
+        axis.set_minor_locator(NullLocator())
+
+
+def tidy(fig):
+    """Before drawing: few ticks on every axis (each tick is a set of matplotlib objects; they
+    were most of the drawing time)."""
+    for ax in fig.axes:
+        if not ax.axison:
+            continue
+        for axis, scale, lim in ((ax.xaxis, ax.get_xscale(), ax.get_xlim),
+                                 (ax.yaxis, ax.get_yscale(), ax.get_ylim)):
+            if scale == "log":
+                tidy_log_axis(axis, *sorted(lim()))
+            elif scale == "linear":
+                axis.set_major_locator(MaxNLocator(nbins=5, steps=[1, 2, 2.5, 5, 10]))
+
+
+# Blank figures kept for reuse within a worker, by layout: a matplotlib axes and its tick objects
+# cost more to build than most figures cost to draw, and two figures of one layout differ only in
+# what recycle() removes.
+BLANK = {}
+
+
+def subplots(nrows, ncols, figsize, sharex=False, sharey=False):
+    key = (nrows, ncols, tuple(round(x, 3) for x in figsize), sharex, sharey)
+    if BLANK.get(key):
+        return BLANK[key].pop()
+    fig, axs = plt.subplots(nrows, ncols, figsize=figsize, sharex=sharex, sharey=sharey,
+                            squeeze=False)
+    fig._dampsym_key = (key, axs)
+    return fig, axs
+
+
+def recycle(fig):
+    """Empties a drawn figure back to its blank layout and keeps it for the next figure of that
+    layout (falls back to closing it)."""
+    key, axs = getattr(fig, "_dampsym_key", (None, None))
+    if key is None:
+        plt.close(fig)
+        return
+    for ax in fig.axes:
+        for a in (*ax.lines, *ax.collections, *ax.images, *ax.texts, *ax.patches):
+            a.remove()
+        if ax.get_legend():
+            ax.get_legend().remove()
+        ax.set_title("")
+        ax.set_xlabel("")
+        ax.set_ylabel("")
+        ax.set_xscale("linear")
+        ax.set_yscale("linear")
+        ax.set_aspect("auto")
+        ax.axis("on")
+        ax.set_autoscale_on(True)
+        ax.relim()
+        ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+        ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    for lg in list(fig.legends):
+        lg.remove()
+    for t in list(fig.texts):  # the suptitle too
+        t.remove()
+    fig._suptitle = None
+    BLANK.setdefault(key, []).append((fig, axs))
+
+
 def save(fig, case, kind):
     name = f"{case['id']}-{kind}"
+    tidy(fig)
     for ext in FORMATS:
-        fig.savefig(os.path.join(OUT, "figures", f"{name}.{ext}"))
-    plt.close(fig)
-    return f"figures/{name}.png"
+        # zlib level 1: a third of the encoding time of the default 6, files ~20% larger
+        fig.savefig(os.path.join(OUT, "figures", f"{name}.{ext}"),
+                    **({"pil_kwargs": {"compress_level": 1}} if ext == "png" else {}))
+    recycle(fig)
+    return f"figures/{name}.{primary_format()}"
+
+
+def dense(n):
+    """Whether a line of n points is rasterised in svg/pdf (a vector file of 10⁴-point lines is
+    large and slow to open; png ignores it)."""
+    return n > 2000
 
 
 def layout(fig, bottom=0.1, top=0.9, left=0.09, right=0.98, hspace=0.35, wspace=0.3):
@@ -56,23 +190,34 @@ def layout(fig, bottom=0.1, top=0.9, left=0.09, right=0.98, hspace=0.35, wspace=
 
 
 def style(m):
+    """(colour, marker, line style) of method m (figdata.STYLES)."""
     return fd.method_style(m)
+
+
+def method_handles(methods, with_marker=True):
+    """Legend entries of methods in their fixed styles."""
+    out = []
+    for m in methods:
+        c, mk, ls = style(m)
+        out.append(Line2D([], [], color=c, ls=ls, marker=mk if with_marker else None, ms=4,
+                          lw=1.2, label=m))
+    return out
 
 
 def conv_axis(ax, data, ylabel):
     notes = []
     for m, d in data.items():
-        c, mk = style(m)
+        c, mk, ls = style(m)
         pts = d["points"]
         dropped = {h for h, _ in d.get("dropped", [])}
-        ax.plot([h for h, _ in pts], [e for _, e in pts], color=c, lw=0.8, alpha=0.5)
+        ax.plot([h for h, _ in pts], [e for _, e in pts], color=c, ls=ls, lw=0.8, alpha=0.5)
         kept = [(h, e) for h, e in pts if h not in dropped]
         gone = [(h, e) for h, e in pts if h in dropped]
         label = m
         if "fit" in d:
             f = d["fit"]
             label = f"{m} p = {f['slope']:.3f}"
-            ax.plot(f["line_h"], f["line_error"], color=c, ls="--", lw=1.5)
+            ax.plot(f["line_h"], f["line_error"], color=c, ls="-", lw=2.2, alpha=0.45)
         ax.plot([h for h, _ in kept], [e for _, e in kept], mk, color=c, label=label, ms=5)
         if gone:
             ax.plot([h for h, _ in gone], [e for _, e in gone], mk, mfc="none", mec=c, ms=6)
@@ -86,20 +231,20 @@ def conv_axis(ax, data, ylabel):
     if notes:
         handles.append(Line2D([], [], marker="o", mfc="none", mec="k", ls="none"))
         labels.append("hollow: dropped from the fit")
-    handles.append(Line2D([], [], color="k", ls="--"))
+    handles.append(Line2D([], [], color="k", ls="-", lw=2.2, alpha=0.45))
     labels.append("fitted slope over the window")
-    ax.legend(handles, labels, loc="best", ncol=2 if len(labels) > 8 else 1)
+    ax.legend(handles, labels, loc="best", ncol=2 if len(labels) > 8 else 1, fontsize=6.5)
     return notes
 
 
 def wp_axes(axs, data):
     for m, pts in data.items():
-        c, mk = style(m)
+        c, mk, ls = style(m)
         pts = sorted(pts, key=lambda p: p["dt"])
-        axs[0].plot([p["seconds"] for p in pts], [p["error"] for p in pts], mk + "-", color=c,
-                    label=m, ms=4, lw=1)
-        axs[1].plot([p["rhs_evals"] for p in pts], [p["error"] for p in pts], mk + "-", color=c,
-                    label=m, ms=4, lw=1)
+        axs[0].plot([p["seconds"] for p in pts], [p["error"] for p in pts], marker=mk, ls=ls,
+                    color=c, label=m, ms=4, lw=1)
+        axs[1].plot([p["rhs_evals"] for p in pts], [p["error"] for p in pts], marker=mk, ls=ls,
+                    color=c, label=m, ms=4, lw=1)
     for ax, xl in zip(axs, ["bare-loop wall time (s, min of N repetitions)",
                             "right-hand-side evaluations"]):
         ax.set_xscale("log")
@@ -107,6 +252,7 @@ def wp_axes(axs, data):
         ax.set_xlabel(xl)
         ax.set_ylabel("final error ‖z_N − z(t_end)‖")
         ax.set_title("work-precision")
+    axs[1].legend(loc="best", fontsize=6.5, ncol=2 if len(data) > 8 else 1)
 
 
 def fig_convergence(case, ser, timing):
@@ -118,7 +264,7 @@ def fig_convergence(case, ser, timing):
     panels = [p for p in [(glob, "global error ‖z_N − z(t_end)‖ at t_end"),
                           (loc, "local error (one step)")] if p[0]]
     n = len(panels) + (2 if wp else 0)
-    fig, axs = plt.subplots(1, n, figsize=(5.2 * n, 4.8), squeeze=False)
+    fig, axs = subplots(1, n, (5.2 * n, 4.8))
     notes = []
     for ax, (data, ylabel) in zip(axs[0], panels):
         notes += conv_axis(ax, data, ylabel)
@@ -139,21 +285,51 @@ def run_label(case, r, multi_dt):
     return f"{r['method']} h={r['dt']:g}" if multi_dt else r["method"]
 
 
+def flat_panel(ax, ys):
+    """A panel whose values are all equal to ~1e-9 (e.g. the momentum factor 1 of an undamped
+    run): matplotlib would label it with an offset like "1e−12+1"; show it around its value with
+    the spread written in the panel instead."""
+    vals = [v for y in ys for v in y]
+    if not vals:
+        return
+    lo, hi = min(vals), max(vals)
+    mid = 0.5 * (lo + hi)
+    if hi - lo > 1e-9 * max(abs(mid), 1e-300):
+        return
+    pad = max(abs(mid) * 1e-3, 1e-12)
+    ax.set_ylim(mid - pad, mid + pad)
+    ax.text(0.01, 0.06, f"all values within {hi - lo:.1e} of {mid:.12g}", transform=ax.transAxes,
+            fontsize=6.5)
+
+
+def has_data(runs, key, scale):
+    """Whether some run has something to draw under key (a panel whose series are all empty,
+    e.g. the momentum factor of a crystal at rest, where it is undefined, is left out)."""
+    for r in runs:
+        y = (r["series"].get(key) or {}).get("y") or []
+        if any(v > 0 for v in y) if scale == "log" else len(y) > 0:
+            return True
+    return False
+
+
 def fig_series(case, ser):
-    panels = fd.series_panels(ser)
+    runs = [r for r in ser["runs"] if r["series"]]
+    panels = [p for p in fd.series_panels(ser) if has_data(runs, p[0], p[2])]
     if not panels:
         return []
-    runs = [r for r in ser["runs"] if r["series"]]
     multi_dt = len({r["dt"] for r in runs}) > 1
-    fig, axs = plt.subplots(len(panels), 1, figsize=(8, 1.9 + 2.0 * len(panels)), sharex=True,
-                            squeeze=False)
+    height = 1.1 + 1.9 * len(panels)
+    fig, axs = subplots(len(panels), 1, (8, height), sharex=True)
+    t0, t1 = ser.get("t0", 0.0), ser.get("t_end", 1.0)
+    shown = []
     for ax, (key, label, scale) in zip(axs[:, 0], panels):
         logged = False
+        drawn = []
         for r in runs:
             s = r["series"].get(key)
             if not s or not s["y"]:
                 continue
-            c, mk = style(r["method"])
+            c, mk, ls = style(r["method"])
             t, y = s["t"], s["y"]
             if scale == "log":
                 pts = [(a, b) for a, b in zip(t, y) if b > 0]
@@ -162,39 +338,57 @@ def fig_series(case, ser):
                 t, y = [a for a, _ in pts], [b for _, b in pts]
                 logged = True
             lab = run_label(case, r, multi_dt)
+            if lab not in shown:
+                shown.append(lab)
             if key == "dissipation-drift.d":
-                ax.plot(t, y, mk, color=c, ms=2.5, label=lab)
+                ax.plot(t, y, mk, color=c, ms=2.5)
                 slope = fd.drift_fit(case, r["method"], r["dt"])
                 if slope is not None and len(t) > 1:
                     b = sum(y) / len(y) - slope * sum(t) / len(t)
-                    ax.plot([t[0], t[-1]], [b + slope * t[0], b + slope * t[-1]], "--", color=c,
-                            lw=1, label=f"{r['method']} slope {slope:.3g}")
+                    ax.plot([t[0], t[-1]], [b + slope * t[0], b + slope * t[-1]], ls=ls,
+                            color=c, lw=1, label=f"{r['method']} slope {slope:.3g}")
                 ref = r["series"].get("dissipation-drift.d_reference")
                 if ref and r is runs[0]:
                     ax.plot(ref["t"], ref["y"], "-", color="0.5", lw=0.8, label="reference")
             else:
-                ax.plot(t, y, "-", color=c, lw=0.9, label=lab)
+                t, y = fd.decimate_columns(t, y, t0, t1, COLUMNS)
+                # solid: a dashed line through a noisy series of 10³ points is unreadable (the
+                # method's line style is used where lines are sparse: convergence, d(t) fits)
+                ax.plot(t, y, "-", color=c, lw=0.9, rasterized=dense(len(t)))
+            drawn.append(y)
         if logged:
             ax.set_yscale("log")
-        ax.set_ylabel(label, fontsize=7)
-        ax.legend(loc="best", ncol=3, fontsize=6)
+        else:
+            flat_panel(ax, drawn)
+        # long labels (invariant names) in two lines: one line ran into the next panel's
+        ax.set_ylabel(textwrap.fill(label, 32), fontsize=7)
+        if key == "dissipation-drift.d":
+            ax.legend(loc="upper right", ncol=2, fontsize=6)
     axs[-1, 0].set_xlabel("time t (time units of the problem)")
-    fig.suptitle(title_of(case, "time series"))
-    height = 1.9 + 2.0 * len(panels)
-    layout(fig, bottom=0.5 / height, top=1 - 0.55 / height, left=0.12, hspace=0.12)
+    # one legend for the runs (the same in every panel), under the title
+    handles = []
+    for lab in shown:
+        c, mk, ls = style(lab.split(" ")[0])
+        handles.append(Line2D([], [], color=c, ls="-", lw=1.6, label=lab))
+    ncol = min(len(handles), 4 if multi_dt else 6)
+    rows = max(1, -(-len(handles) // max(1, ncol)))
+    top = 1 - (0.62 + 0.17 * rows) / height
+    fig.legend(handles=handles, loc="upper center", ncol=max(1, ncol), fontsize=7,
+               bbox_to_anchor=(0.5, 1 - 0.42 / height), frameon=False)
+    fig.suptitle(title_of(case, "time series"), y=1 - 0.12 / height, va="top")
+    layout(fig, bottom=0.5 / height, top=top, left=0.12, hspace=0.12)
     return [(save(fig, case, "series"), "time series")]
 
 
 def orbit_coords(problem, states):
-    """[(x, y, label)] to draw for a problem's states."""
+    """[(x, y, label)] to draw for a problem's states (columns of one numpy array: 10⁴ samples of
+    36 numbers went through zip(*states) in a second)."""
     if not states:
         return []
-    col = list(zip(*states))
+    col = np.asarray(states, dtype=float).T
     if problem == "outer-solar-system":
         nb = len(col) // 6
         return [(col[3 * k], col[3 * k + 1], f"body {k}") for k in range(nb)]
-    if problem in ("kepler", "hill"):
-        return [(col[0], col[1], "")]
     return [(col[0], col[1], "")]
 
 
@@ -211,28 +405,34 @@ def fig_orbit(case, ser):
     n = len(runs)
     cols = min(4, n)
     rows = (n + cols - 1) // cols
-    fig, axs = plt.subplots(rows, cols, figsize=(3.6 * cols, 3.4 * rows + 0.6), squeeze=False)
+    # at least 7 in wide: the title names the case, the paper figure and what is grey
+    fig, axs = subplots(rows, cols, (max(7.0, 3.6 * cols), 3.4 * rows + 0.6))
     for ax in axs.flat[n:]:
         ax.axis("off")
     xl, yl = AXES.get(problem, ("z1", "z2"))
+    greys = set()
     for ax, r in zip(axs.flat, runs):
-        c, _ = style(r["method"])
+        c, _, _ = style(r["method"])
         ref = r["series"].get("orbit_reference")
         if ref:
             for x, y, _ in orbit_coords(problem, ref["states"]):
-                ax.plot(x, y, "-", color="0.6", lw=2.2, alpha=0.6)
+                ax.plot(x, y, "-", color="0.6", lw=2.2, alpha=0.6, rasterized=dense(len(x)))
         for x, y, lab in orbit_coords(problem, r["series"]["orbit"]["states"]):
-            ax.plot(x, y, "-", color=c, lw=0.6)
+            ax.plot(x, y, "-", color=c, lw=0.6, rasterized=dense(len(x)))
         ax.plot([r["series"]["orbit"]["states"][0][0]], [r["series"]["orbit"]["states"][0][1]],
                 "k.", ms=5)
-        ax.set_title(f"{r['method']} h={r['dt']:g}" + ("  (grey: reference)" if ref else ""))
+        if ref:
+            greys.add("the exact solution" if ref.get("exact") else "the reference")
+        ax.set_title(f"{r['method']} h={r['dt']:g}")
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         if problem in ("kepler", "outer-solar-system", "hill"):
             ax.set_aspect("equal", adjustable="datalim")
-    fig.suptitle(title_of(case, "orbits"))
+    fig.suptitle(title_of(case, "orbits" + (f" (grey: {' / '.join(sorted(greys))})"
+                                            if greys else "")))
     height = 3.4 * rows + 0.6
-    layout(fig, bottom=0.5 / height, top=1 - 0.75 / height, left=0.08, hspace=0.45, wspace=0.35)
+    layout(fig, bottom=0.5 / height, top=1 - 0.75 / height, left=0.75 / fig.get_figwidth(),
+           hspace=0.45, wspace=0.35)
     return [(save(fig, case, "orbit"), "orbits")]
 
 
@@ -246,7 +446,7 @@ def fig_stability(case, ser):
     n = len(data)
     cols = min(3, n)
     rows = (n + cols - 1) // cols
-    fig, axs = plt.subplots(rows, cols, figsize=(4.6 * cols, 4.0 * rows + 0.9), squeeze=False)
+    fig, axs = subplots(rows, cols, (4.6 * cols, 4.0 * rows + 0.9))
     for ax in axs.flat[n:]:
         ax.axis("off")
     for ax, (m, d) in zip(axs.flat, data.items()):
@@ -298,12 +498,11 @@ def fig_poincare(case, ser):
         for r in runs]
     cols = min(3, len(panels))
     rows = (len(panels) + cols - 1) // cols
-    fig, axs = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.8 * rows + 0.5), squeeze=False,
-                            sharex=True, sharey=True)
+    fig, axs = subplots(rows, cols, (4.2 * cols, 3.8 * rows + 0.5), sharex=True, sharey=True)
     for ax in axs.flat[len(panels):]:
         ax.axis("off")
     for ax, (name, pts, c) in zip(axs.flat, panels):
-        ax.scatter(pts["q"], pts["p"], s=0.6, color=c, lw=0)
+        ax.scatter(pts["q"], pts["p"], s=0.6, color=c, lw=0, rasterized=True)
         ax.set_title(name)
         ax.set_xlabel("q mod 2π (rad)")
         ax.set_ylabel("p")
@@ -313,45 +512,53 @@ def fig_poincare(case, ser):
     return [(save(fig, case, "poincare"), "Poincaré sections")]
 
 
-def plan():
-    """[(case index, kind)] of every figure to draw."""
-    jobs = []
-    for i, c in enumerate(REPORT["cases"]):
-        ser = SERIES.get(c["id"])
-        mm = c.get("method_metrics", {})
-        if len(c["dt_ladder"]) >= 2 and (fd.convergence_data(c) or fd.local_convergence_data(c)):
-            jobs.append((i, "convergence"))
-        if any("stability-sweep" in v for v in mm.values()):
-            jobs.append((i, "stability"))
-        if ser:
-            if fd.series_panels(ser):
-                jobs.append((i, "series"))
-            if fd.wants_orbit_figure(c) and any("orbit" in r["series"] for r in ser["runs"]):
-                jobs.append((i, "orbit"))
-            if any("poincare" in r["series"] for r in ser["runs"]):
-                jobs.append((i, "poincare"))
-    return jobs
+def plan(case, ser):
+    """The kinds of figure to draw for a case: those its data allows, restricted to its
+    "figures" key when it has one (figdata.case_figure_kinds)."""
+    kinds = []
+    mm = case.get("method_metrics", {})
+    if len(case["dt_ladder"]) >= 2 and (fd.convergence_data(case)
+                                        or fd.local_convergence_data(case)):
+        kinds.append("convergence")
+    if ser and fd.series_panels(ser):
+        kinds.append("series")
+    wanted = fd.case_figure_kinds(case)
+    has_orbit = bool(ser) and any("orbit" in r["series"] for r in ser["runs"])
+    if has_orbit and (fd.wants_orbit_figure(case) or (wanted and "orbit" in wanted)):
+        kinds.append("orbit")
+    if ser and any("poincare" in r["series"] for r in ser["runs"]):
+        kinds.append("poincare")
+    if any("stability-sweep" in v for v in mm.values()):
+        kinds.append("stability")
+    if wanted is None:
+        return kinds, []
+    return [k for k in kinds if k in wanted], sorted(wanted - set(kinds))
 
 
-def draw(job):
-    i, kind = job
+DRAW = {"convergence": lambda c, s, i: fig_convergence(c, s, fd.case_timing(REPORT, i)),
+        "series": lambda c, s, i: fig_series(c, s), "orbit": lambda c, s, i: fig_orbit(c, s),
+        "stability": lambda c, s, i: fig_stability(c, s),
+        "poincare": lambda c, s, i: fig_poincare(c, s)}
+
+
+def draw_case(i):
+    """Every figure of case i, in a worker: reads only this case's series file."""
     case = REPORT["cases"][i]
-    ser = SERIES.get(case["id"])
     try:
-        if kind == "convergence":
-            out = fig_convergence(case, ser, fd.case_timing(REPORT, i))
-        elif kind == "series":
-            out = fig_series(case, ser)
-        elif kind == "orbit":
-            out = fig_orbit(case, ser)
-        elif kind == "stability":
-            out = fig_stability(case, ser)
-        else:
-            out = fig_poincare(case, ser)
-        return case["id"], kind, out, None
-    except Exception as e:  # one bad figure must not hide the others; reported, exit 1
-        plt.close("all")
-        return case["id"], kind, [], f"{type(e).__name__}: {e}"
+        ser = fd.load_series(OUT, case["id"])
+    except (OSError, ValueError) as e:
+        return [(case["id"], "series", [], f"series file unreadable: {e}")]
+    kinds, missing = plan(case, ser)
+    out = [(case["id"], k, [], "listed in the case's \"figures\" but there is nothing to draw "
+            "(no data of this kind: a run without --figures?)") for k in missing]
+    for kind in kinds:
+        try:
+            out.append((case["id"], kind, DRAW[kind](case, ser, i), None))
+        except Exception as e:  # one bad figure must not hide the others; reported, exit 1
+            plt.close("all")
+            BLANK.clear()
+            out.append((case["id"], kind, [], f"{type(e).__name__}: {e}"))
+    return out
 
 
 def gallery(manifest):
@@ -391,32 +598,43 @@ def gallery(manifest):
 
 
 def main():
-    global REPORT, SERIES, OUT, FORMATS
+    global REPORT, OUT, FORMATS
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("report_dir")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--format", default="png", help="comma list of png, svg, pdf (png always)")
+    ap.add_argument("--format", default="png",
+                    help="png, svg or pdf, or a comma list (the first of png/svg is embedded)")
     ap.add_argument("--filter", default="", help="only cases whose id contains this")
     a = ap.parse_args()
     OUT = a.report_dir
-    FORMATS = ["png"] + [f for f in a.format.split(",") if f in ("svg", "pdf")]
-    REPORT, SERIES = fd.load(OUT)
+    FORMATS = a.format.split(",")
+    bad = [f for f in FORMATS if f not in ("png", "svg", "pdf")]
+    if bad or len(set(FORMATS)) != len(FORMATS):
+        print(f"plot.py: --format {a.format}: give png, svg or pdf, each once", file=sys.stderr)
+        return 2
+    with open(os.path.join(OUT, "report.json")) as f:
+        REPORT = json.load(f)
     os.makedirs(os.path.join(OUT, "figures"), exist_ok=True)
     for name in os.listdir(os.path.join(OUT, "figures")):
         if name.endswith((".png", ".svg", ".pdf")):
             os.remove(os.path.join(OUT, "figures", name))
-    jobs = [j for j in plan() if a.filter in REPORT["cases"][j[0]]["id"]]
-    # most expensive first, so that the workers finish together
-    cost = {"series": 3, "poincare": 3, "orbit": 2, "stability": 2}
-    jobs.sort(key=lambda j: -cost.get(j[1], 1))
-    if a.jobs > 1 and len(jobs) > 1:
-        with multiprocessing.get_context("fork").Pool(min(a.jobs, len(jobs))) as pool:
-            results = pool.map(draw, jobs, chunksize=1)
+    cases = [i for i, c in enumerate(REPORT["cases"]) if a.filter in c["id"]]
+
+    # largest series file first (with a ladder's convergence figure), so that the workers
+    # finish together
+    def cost(i):
+        p = fd.series_path(OUT, REPORT["cases"][i]["id"])
+        return (os.path.getsize(p) if os.path.exists(p) else 0) + \
+            200000 * (len(REPORT["cases"][i]["dt_ladder"]) >= 2)
+    cases.sort(key=lambda i: -cost(i))
+    if a.jobs > 1 and len(cases) > 1:
+        with multiprocessing.get_context("fork").Pool(min(a.jobs, len(cases))) as pool:
+            results = [r for rs in pool.imap_unordered(draw_case, cases, chunksize=1) for r in rs]
     else:
-        results = [draw(j) for j in jobs]
-    order = {"convergence": 0, "series": 2, "orbit": 3, "poincare": 4,
-             "stability": 5}
-    manifest = {"cases": {}}
+        results = [r for i in cases for r in draw_case(i)]
+    order = {k: n for n, k in enumerate(["convergence", "series", "orbit", "poincare",
+                                         "stability"])}
+    manifest = {"formats": FORMATS, "cases": {}}
     failed = 0
     for cid, kind, out, error in sorted(results, key=lambda r: (r[0], order[r[1]])):
         if error:
@@ -430,7 +648,7 @@ def main():
     with open(os.path.join(OUT, "figures.md"), "w") as f:
         f.write(gallery(manifest))
     n = sum(len(v) for v in manifest["cases"].values())
-    print(f"plot.py: {n} figures in {os.path.join(OUT, 'figures')}"
+    print(f"plot.py: {n} figures ({','.join(FORMATS)}) in {os.path.join(OUT, 'figures')}"
           + (f", {failed} failed" if failed else ""))
     return 1 if failed else 0
 

@@ -3,6 +3,7 @@
 extreme, the drawn convergence line has the fitted slope and passes through the window's points,
 the method styles are fixed, the paper-figure parser. No matplotlib; well under a second."""
 
+import json
 import math
 import os
 import random
@@ -45,6 +46,41 @@ class Decimation(unittest.TestCase):
         self.assertIn(1.0, fd.decimate_minmax(list(range(1000)), y, 100)[1])
 
 
+class PixelColumns(unittest.TestCase):
+    def test_same_extent_per_column(self):
+        rng = random.Random(2)
+        t = [i * 1e-3 for i in range(20001)]
+        y = [math.sin(50 * x) + 0.1 * rng.gauss(0, 1) for x in t]
+        y[12345] = 9.0
+        ot, oy = fd.decimate_columns(t, y, 0.0, 20.0, 700)
+        self.assertLessEqual(len(oy), 2 * 701 + 2)
+        self.assertEqual(ot, sorted(ot))
+        self.assertEqual((ot[0], ot[-1]), (t[0], t[-1]))
+        # in every pixel column the kept points span what the full series spans
+        cols = {}
+        for a, b in zip(t, y):
+            c = int((a - 0.0) * (700 / 20.0))  # as decimate_columns bins
+            lo, hi = cols.get(c, (b, b))
+            cols[c] = (min(lo, b), max(hi, b))
+        kept = {}
+        for a, b in zip(ot, oy):
+            c = int((a - 0.0) * (700 / 20.0))  # as decimate_columns bins
+            lo, hi = kept.get(c, (b, b))
+            kept[c] = (min(lo, b), max(hi, b))
+        self.assertEqual(cols, kept)
+        self.assertIn(9.0, oy)
+
+    def test_negative_control(self):
+        # plain subsampling to the same size loses the spike: the check above can fail
+        y = [0.0] * 20001
+        y[12345] = 9.0
+        self.assertNotIn(9.0, y[::14])
+
+    def test_short_series_unchanged(self):
+        self.assertEqual(fd.decimate_columns([0, 1, 2], [1.0, float("nan"), 3.0], 0, 2, 700),
+                         ([0, 2], [1.0, 3.0]))
+
+
 class SlopeLine(unittest.TestCase):
     def test_line_has_fitted_slope(self):
         hs = [0.1, 0.05, 0.025, 0.0125]
@@ -66,6 +102,35 @@ class Styles(unittest.TestCase):
         self.assertEqual(fd.method_style("csv1"), fd.method_style("csv1"))
         self.assertNotEqual(fd.method_style("csv1")[0], fd.method_style("csv2")[0])
         self.assertEqual(fd.method_style("new-method"), fd.method_style("new-method"))
+
+    @staticmethod
+    def pairs_run_together():
+        """Pairs of methods that some case of verify/cases runs together (they share figures)."""
+        cases = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cases")
+        pairs = set()
+        for name in os.listdir(cases):
+            if name.endswith(".json"):
+                with open(os.path.join(cases, name)) as f:
+                    ms = sorted(set(json.load(f).get("methods", [])))
+                pairs.update((a, b) for i, a in enumerate(ms) for b in ms[i + 1:])
+        return pairs
+
+    def test_methods_run_together_have_distinct_colours(self):
+        # time series are solid lines: colour alone must tell the runs of a figure apart
+        pairs = self.pairs_run_together()
+        self.assertGreater(len(pairs), 100)
+        for a, b in pairs:
+            if a in fd.STYLES and b in fd.STYLES:
+                self.assertGreaterEqual(
+                    fd.lab_distance(fd.STYLES[a][0], fd.STYLES[b][0]), 25, (a, b))
+        self.assertGreater(fd.lab_distance(fd.STYLES["glifrk2"][0], fd.STYLES["gauss3"][0]), 25)
+        self.assertEqual(len({v for v in fd.STYLES.values()}), len(fd.STYLES))
+
+    def test_negative_control(self):
+        # the old palette's glifrk2 (#9467bd) and gauss3 (#756bb1), run together by the B Fig 3.3
+        # cases, are 15 apart: the check above would catch them
+        self.assertLess(fd.lab_distance("#9467bd", "#756bb1"), 25)
+        self.assertLess(fd.lab_distance("#9467bd", "#9467be"), 1)
 
     def test_paper_figure(self):
         self.assertEqual(fd.paper_figure({"source": "F Figs 4.6, 4.7, F(4.4)"}), "F Figs 4.6, 4.7")

@@ -160,6 +160,9 @@ def check_figures(report_dir, report):
     for c in report["cases"]:
         has = (len(c["dt_ladder"]) >= 2 and fd.convergence_data(c)) or any(
             "stability-sweep" in v for v in c.get("method_metrics", {}).values())
+        wanted = fd.case_figure_kinds(c)  # the case's "figures" key, if any
+        if wanted is not None and not wanted & {"convergence", "stability"}:
+            continue
         if has and c["id"] not in manifest["cases"]:
             problems.append(f"{c['id']}: has a ladder or a sweep but no figure")
 
@@ -173,7 +176,8 @@ def main():
     for c in report["cases"]:
         ser = series.get(c["id"])
         if ser is None:
-            problems.append(f"{c['id']}: no series file")
+            if fd.case_figure_kinds(c) != set():  # "figures": false keeps none
+                problems.append(f"{c['id']}: no series file")
             continue
         for r, sr in zip(c["runs"], ser["runs"]):
             if (r["method"], r["dt"]) != (sr["method"], sr["dt"]):
