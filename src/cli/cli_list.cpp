@@ -8,6 +8,7 @@
 #include "methods/coefficient_checks.hpp"
 #include "methods/runtime_methods.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -79,13 +80,18 @@ json list_json(const Selected& selected) {
                            {"metrics", diagnostic_metric_names("run", {})},
                            {"note", "the run record itself; checkable in every case"}});
     json methods = json::array();
-    for (const auto& m : method_catalog())
-        methods.push_back({{"id", m.id},
-                           {"order", m.order},
-                           {"implicit", m.implicit},
-                           {"form", form_name(m.form)},
-                           {"kernel", kernel_name(m)},
-                           {"citation", m.citation}});
+    std::vector<const MethodInfo*> rows;
+    for (const auto& m : method_catalog()) rows.push_back(&m);
+    for (const MethodInfo* m : loaded_methods()) rows.push_back(m); // method files (issue 18)
+    for (const MethodInfo* m : rows) {
+        methods.push_back({{"id", m->id},
+                           {"order", m->order},
+                           {"implicit", m->implicit},
+                           {"form", form_name(m->form)},
+                           {"kernel", kernel_name(*m)},
+                           {"citation", m->citation}});
+        if (const std::string f = method_file_of(m->id); !f.empty()) methods.back()["file"] = f;
+    }
     return {{"cases", cases},
             {"problems", problems},
             {"diagnostics", diagnostics},
@@ -142,9 +148,11 @@ void print_list(const json& doc, const std::string& cases_dir, std::ostream& out
             << (d["per_method"].get<bool>() ? " (per method)" : "") << ": "
             << joined(d["metrics"], ", ") << "\n";
     out << "Case file keys: docs/case-keys.md\nMethods:\n";
-    for (const auto& m : method_catalog())
-        out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
-            << ", " << form_name(m.form) << " form, " << m.citation << "\n";
+    for (const auto& m : doc["methods"])
+        out << "  " << m["id"].get<std::string>() << "  order " << m["order"].get<int>()
+            << (m["implicit"].get<bool>() ? ", implicit" : ", explicit") << ", "
+            << m["form"].get<std::string>() << " form, " << m["citation"].get<std::string>()
+            << "\n";
 }
 
 int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, std::ostream& out) {
@@ -170,11 +178,11 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
     json methods = json::array();
     int agree = 0, disagree = 0, unchecked = 0;
     std::vector<const MethodInfo*> rows;
-    for (const auto& f : files) load_method_file(f);
+    for (const auto& f : files)
+        for (const MethodInfo* m : load_method_file(f))
+            if (std::find(rows.begin(), rows.end(), m) == rows.end()) rows.push_back(m);
     if (files.empty())
         for (const auto& m : method_catalog()) rows.push_back(&m);
-    else
-        rows = loaded_methods();
     for (const MethodInfo* mp : rows) {
         const MethodInfo& m = *mp;
         json row = {{"id", m.id},

@@ -152,7 +152,7 @@ struct Registry {
     std::deque<GlmCoefficients> glms;
     std::deque<MethodInfo> rows;
     std::map<std::string, std::string, std::less<>> file_of; // id -> file
-    std::set<std::string> loaded_files;                      // canonical paths
+    std::map<std::string, std::vector<std::string>> loaded_files; // canonical path -> ids
 };
 
 Registry& registry() {
@@ -672,17 +672,26 @@ std::vector<const MethodInfo*> loaded_methods() {
     return out;
 }
 
-void load_method_file(const std::string& path) {
+std::vector<const MethodInfo*> load_method_file(const std::string& path) {
     std::error_code ec;
     const fs::path canonical = fs::weakly_canonical(path, ec);
     const std::string key = ec ? path : canonical.string();
-    if (registry().loaded_files.count(key)) return;
-    const json j = read_case_json(path); // regular file, bounded size, depth, duplicate keys
-    Reader r(path);
-    std::vector<Parsed> parsed;
-    parsed.push_back(parse_method(j, r));
-    for (auto& m : parsed) commit(m, path);
-    registry().loaded_files.insert(key);
+    Registry& reg = registry();
+    if (!reg.loaded_files.count(key)) {
+        const json j = read_case_json(path); // regular file, bounded size, depth, duplicate keys
+        Reader r(path);
+        std::vector<Parsed> parsed;
+        parsed.push_back(parse_method(j, r)); // every method validated before any is registered
+        std::vector<std::string> ids;
+        for (auto& m : parsed) {
+            ids.push_back(m.id);
+            commit(m, path);
+        }
+        reg.loaded_files[key] = std::move(ids);
+    }
+    std::vector<const MethodInfo*> out;
+    for (const auto& id : reg.loaded_files[key]) out.push_back(find_loaded_method(id));
+    return out;
 }
 
 void load_method_folder(const std::string& dir) {

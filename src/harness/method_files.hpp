@@ -22,8 +22,9 @@
 
 namespace dampsym {
 
-// Loads every method of the file (throws InputError naming the file and the key).
-void load_method_file(const std::string& path);
+// Loads every method of the file (throws InputError naming the file and the key) and returns
+// them (also when the file was loaded before).
+std::vector<const MethodInfo*> load_method_file(const std::string& path);
 // Loads every *.json file of `dir` in name order; a missing directory loads nothing.
 void load_method_folder(const std::string& dir);
 // The file a loaded method came from ("" for a built-in or unknown id).
