@@ -9,6 +9,7 @@
 #include "harness/case.hpp"
 #include "harness/method_files.hpp"
 #include "methods/coefficient_expr.hpp"
+#include "methods/exponential_tableaux.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -191,7 +192,8 @@ TEST_CASE("method files: --methods, a case's method_files and the methods/ folde
     CHECK_THAT(m.err, Contains("missing.json: method_files[0]: method file"));
 }
 
-TEST_CASE("method files: rk4, glifrk2, csv1-perk, etdprk2, glm4 and stormer-verlet from files "
+TEST_CASE("method files: rk4, glifrk2, csv1-perk, etdprk2, glm4, stormer-verlet and etdrk2 from "
+          "files "
           "reproduce the built-in final states",
           "[method-files][acceptance]") {
     TempDir dir;
@@ -204,7 +206,8 @@ TEST_CASE("method files: rk4, glifrk2, csv1-perk, etdprk2, glm4 and stormer-verl
     INFO(describe(args, r));
     REQUIRE(r.status == 0);
     const auto states = final_states(read_json(dir / "report.json"));
-    for (const char* m : {"rk4", "glifrk2", "csv1-perk", "etdprk2", "glm4", "stormer-verlet"}) {
+    for (const char* m :
+         {"rk4", "glifrk2", "csv1-perk", "etdprk2", "glm4", "stormer-verlet", "etdrk2"}) {
         const auto& a = states.at(m);
         const auto& b = states.at(std::string(m) + "-file");
         REQUIRE(a.size() == b.size());
@@ -266,4 +269,47 @@ TEST_CASE("method files: a coefficient perturbed by 1e-6 fails its coefficient c
                         "expect.conformal methods from files: E_n below 1e-13 at every "
                         "step.methods=[\"glifrk2-perturbed\", \"csv1-perk-perturbed\"]"});
     CHECK(p.status == 1);
+}
+
+TEST_CASE("method files: the φ-function vocabulary against long-double formulas",
+          "[method-files]") {
+    TempDir dir;
+    const fs::path f = dir / "phis.json";
+    write_text(f, R"({"id": "phi-vocabulary", "family": "exponential-rk", "order": 1,
+      "tableau": {"c": ["0"], "A": [[{"phi": "phi2"}]], "phi": [{"phi": "phi3", "arg": "-2"}],
+                  "b": [[{"coef": "3", "phi": "phi1"}, {"coef": "-1/2", "phi": "exp", "arg": "1/2"}]],
+                  "phi0": {"phi": "phi0", "arg": "-1"}}})");
+    const auto methods = dampsym::load_method_file(f.string());
+    REQUIRE(methods.size() == 1);
+    const auto* data = dampsym::method_data<dampsym::ExponentialCoefficients>(*methods[0]);
+    REQUIRE(data != nullptr);
+    for (const double x : {-3.0, -0.7, -1e-3, -1e-9, 0.0, 1e-9, 1e-3, 0.4, 1.0, 2.5}) {
+        dampsym::ExponentialTableau t;
+        dampsym::erk_coefficients(*data->data, x, t);
+        const long double z = x;
+        // Series for small |z| (the closed forms cancel), closed forms otherwise.
+        const auto phi = [](int k, long double w) {
+            if (std::abs(w) < 1e-2L) {
+                long double fact = 1, sum = 0, term;
+                for (int i = 2; i <= k; ++i) fact *= i;
+                term = 1 / fact;
+                for (int n = 0; n < 12; ++n) {
+                    sum += term;
+                    term *= w / (n + k + 1);
+                }
+                return sum;
+            }
+            const long double e = std::expm1(w);
+            if (k == 1) return e / w;
+            if (k == 2) return (e - w) / (w * w);
+            return (e - w - w * w / 2) / (w * w * w);
+        };
+        INFO("x = " << x);
+        CHECK_THAT(t.A(0, 0), Catch::Matchers::WithinRel(static_cast<double>(phi(2, z)), 1e-14));
+        CHECK_THAT(t.phi[0],
+                   Catch::Matchers::WithinRel(static_cast<double>(phi(3, -2 * z)), 1e-14));
+        CHECK_THAT(t.b[0], Catch::Matchers::WithinRel(
+                               static_cast<double>(3 * phi(1, z) - std::exp(z / 2) / 2), 1e-14));
+        CHECK(t.phi0 == std::exp(-x));
+    }
 }
