@@ -151,7 +151,7 @@ struct Registry {
     std::deque<LoadedPerk> perks;
     std::deque<GlmCoefficients> glms;
     std::deque<MethodInfo> rows;
-    std::map<std::string, std::string, std::less<>> file_of; // id -> file
+    std::map<std::string, std::string, std::less<>> file_of;      // id -> file
     std::map<std::string, std::vector<std::string>> loaded_files; // canonical path -> ids
 };
 
@@ -685,7 +685,7 @@ std::vector<const MethodInfo*> load_method_file(const std::string& path) {
         std::vector<std::string> ids;
         for (auto& m : parsed) {
             ids.push_back(m.id);
-            commit(m, path);
+            commit(m, fs::path(path).lexically_normal().string());
         }
         reg.loaded_files[key] = std::move(ids);
     }
