@@ -4,10 +4,12 @@
 // then stepped with the bare integrate(stepper, z, t0, h, n) loop (NoObserver). Methods whose
 // kernel does not apply to a problem are not registered.
 //
-// Benchmark names: harness/<problem>/<method>.
+// Benchmark names: harness/<problem>/<method>; harness/pendulum/rk4-file and
+// harness/pendulum/stormer-verlet-file are the same methods loaded from examples/methods/.
 #include "bench/bench_common.hpp"
 
 #include "core/integrate.hpp"
+#include "harness/method_files.hpp"
 #include "harness/registry.hpp"
 
 #include <cmath>
@@ -59,6 +61,14 @@ void register_problem(const std::string& label, const P& p, std::int64_t n) {
         const bool key = label == "pendulum" && acceptance.count(info.id) != 0;
         with_kernel<P>(info, [&]<class K>() { register_one<K, P>(label, problem, info, n, key); });
     }
+    // Methods loaded from files (issue 18, docs/method-files.md): rk4 and stormer-verlet from
+    // examples/methods/ against their built-in twins (bench_report.py: within 1.10x).
+    if (label == "pendulum")
+        for (const char* file : {"rk4.json", "stormer-verlet.json"})
+            for (const MethodInfo* info :
+                 load_method_file(std::string(DAMPSYM_SOURCE_DIR) + "/examples/methods/" + file))
+                with_kernel<P>(
+                    *info, [&]<class K>() { register_one<K, P>(label, problem, *info, n, true); });
 }
 
 // Gravity: a central body of mass 1 and N−1 light bodies (mass 1e-3) on circular orbits of radii

@@ -292,6 +292,11 @@ def main():
         kernel_row(f"glifrk{s_} / gauss{s_} (ns per step)", f"glifrk{s_}", f"gauss{s_}",
                    "ns_per_step", 1.15)
     kernel_row("etdrk2 / gauss1 (ns per step)", "etdrk2", "gauss1", "ns_per_step", 1.15)
+    # Methods loaded from method files (issue 18, docs/method-files.md) against the built-in rows.
+    kernel_row("rk4 from a method file / built-in rk4 (ns per step)", "rk4-file", "rk4",
+               "ns_per_step", 1.10)
+    kernel_row("stormer-verlet from a method file / built-in (ns per step)", "stormer-verlet-file",
+               "stormer-verlet", "ns_per_step", 1.10)
     suites = None
     if a.suite_jobs1:
         w1, w2 = suite_wall(a.suite_jobs1), suite_wall(a.suite_jobs2)

@@ -25,7 +25,10 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "cases", "run-pendulum-1e7.json")
 METHODS = ["csv1", "stormer-verlet", "csv1-perk", "cse-if", "cse-etd", "rk4", "gauss1", "gauss2",
-           "gauss3", "glifrk1", "glifrk2", "glifrk3", "etdrk2"]
+           "gauss3", "glifrk1", "glifrk2", "glifrk3", "etdrk2", "rk4-file", "stormer-verlet-file"]
+# Methods loaded from method files (issue 18, docs/method-files.md): id -> file.
+METHOD_FILES = {m: os.path.join(HERE, "..", "examples", "methods", m[:-len("-file")] + ".json")
+                for m in ("rk4-file", "stormer-verlet-file")}
 # (name, numerator, denominator, per, limit): per = "step" or "force" (rhs evaluation).
 ROWS = [
     ("stormer-verlet / csv1 (ns per step)", "stormer-verlet", "csv1", "step", 1.15),
@@ -36,12 +39,17 @@ ROWS = [
     ("glifrk2 / gauss2 (ns per step)", "glifrk2", "gauss2", "step", 1.15),
     ("glifrk3 / gauss3 (ns per step)", "glifrk3", "gauss3", "step", 1.15),
     ("etdrk2 / gauss1 (ns per step)", "etdrk2", "gauss1", "step", 1.15),
+    ("rk4 from a method file / built-in rk4 (ns per step)", "rk4-file", "rk4", "step", 1.10),
+    ("stormer-verlet from a method file / built-in (ns per step)", "stormer-verlet-file",
+     "stormer-verlet", "step", 1.10),
 ]
 
 
 def run_once(binary, method, out_dir):
     cmd = [binary, "run", CASE, "--jobs", "1", "--time-budget", "0", "--out", out_dir,
            "--set", f'methods=["{method}"]']
+    if method in METHOD_FILES:
+        cmd += ["--methods", METHOD_FILES[method]]
     p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if p.returncode == 2:
         sys.exit(f"run_timing.py: {' '.join(cmd)}: bad input: {p.stderr.strip()}")
@@ -78,7 +86,15 @@ def main():
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--bench-json")
     ap.add_argument("--out-json")
+    ap.add_argument("--only", nargs="+", metavar="METHOD",
+                    help="time only these methods (and only the rows between them)")
     a = ap.parse_args()
+    if a.only:
+        unknown = [m for m in a.only if m not in METHODS]
+        if unknown:
+            sys.exit(f"run_timing.py: --only: unknown method(s) {unknown} (known: {METHODS})")
+        METHODS[:] = [m for m in METHODS if m in a.only]
+        ROWS[:] = [r for r in ROWS if r[1] in METHODS and r[2] in METHODS]
     if a.repeats < 1:
         sys.exit(2)
     rounds = []
@@ -102,7 +118,7 @@ def main():
         r = statistics.median(per_round)
         acc.append({"name": name, "ratio": r, "limit": limit, "passed": r <= limit,
                     "ratio_per_round": per_round})
-    if a.bench_json:
+    if a.bench_json and "rk4" in METHODS:
         odeint = odeint_rk4_ns_per_step(a.bench_json)
         r = timing["rk4"]["ns_per_step"] / odeint
         acc.append({"name": "rk4 through dampsym run / odeint runge_kutta4 in dampsym_bench "

@@ -41,6 +41,11 @@ void add_selection_options(CLI::App& sub, Selection& sel) {
     sub.add_option("--costs", sel.costs,
                    "measured case costs for --shard (default: case_costs.json beside the "
                    "cases directory)");
+    // issue 18: method files (harness/method_files.hpp), loaded by select_cases.
+    sub.add_option("--methods", sel.method_files,
+                   "method file(s) (.json, docs/method-files.md) to load before the cases; "
+                   "repeatable")
+        ->allow_extra_args(false);
 }
 
 } // namespace cli_detail

@@ -29,6 +29,7 @@ struct Selection {
     std::vector<std::string> targets, filters, suites, methods, problems;
     std::string shard; // "K/N", "none", or "" (read the CI engines' variables)
     std::string costs; // measured case costs for sharding ("" = next to the cases directory)
+    std::vector<std::string> method_files; // --methods (issue 18, harness/method_files.hpp)
 };
 
 struct Selected {

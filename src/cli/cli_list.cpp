@@ -3,9 +3,12 @@
 #include "cli/cli_detail.hpp"
 
 #include "harness/case.hpp"
+#include "harness/method_files.hpp"
 #include "harness/problem_info.hpp"
 #include "methods/coefficient_checks.hpp"
+#include "methods/runtime_methods.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -77,13 +80,18 @@ json list_json(const Selected& selected) {
                            {"metrics", diagnostic_metric_names("run", {})},
                            {"note", "the run record itself; checkable in every case"}});
     json methods = json::array();
-    for (const auto& m : method_catalog())
-        methods.push_back({{"id", m.id},
-                           {"order", m.order},
-                           {"implicit", m.implicit},
-                           {"form", form_name(m.form)},
-                           {"kernel", kernel_name(m)},
-                           {"citation", m.citation}});
+    std::vector<const MethodInfo*> rows;
+    for (const auto& m : method_catalog()) rows.push_back(&m);
+    for (const MethodInfo* m : loaded_methods()) rows.push_back(m); // method files (issue 18)
+    for (const MethodInfo* m : rows) {
+        methods.push_back({{"id", m->id},
+                           {"order", m->order},
+                           {"implicit", m->implicit},
+                           {"form", form_name(m->form)},
+                           {"kernel", kernel_name(*m)},
+                           {"citation", m->citation}});
+        if (const std::string f = method_file_of(m->id); !f.empty()) methods.back()["file"] = f;
+    }
     return {{"cases", cases},
             {"problems", problems},
             {"diagnostics", diagnostics},
@@ -140,9 +148,11 @@ void print_list(const json& doc, const std::string& cases_dir, std::ostream& out
             << (d["per_method"].get<bool>() ? " (per method)" : "") << ": "
             << joined(d["metrics"], ", ") << "\n";
     out << "Case file keys: docs/case-keys.md\nMethods:\n";
-    for (const auto& m : method_catalog())
-        out << "  " << m.id << "  order " << m.order << (m.implicit ? ", implicit" : ", explicit")
-            << ", " << form_name(m.form) << " form, " << m.citation << "\n";
+    for (const auto& m : doc["methods"])
+        out << "  " << m["id"].get<std::string>() << "  order " << m["order"].get<int>()
+            << (m["implicit"].get<bool>() ? ", implicit" : ", explicit") << ", "
+            << m["form"].get<std::string>() << " form, " << m["citation"].get<std::string>()
+            << "\n";
 }
 
 int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, std::ostream& out) {
@@ -159,11 +169,22 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
 // passes when the coefficients agree with the declaration (order, claims), including the expected
 // failures (order conditions beyond the declared order, symplecticity of a non-symplectic method).
 // Exit status 1 if any check disagrees.
-int cmd_methods(bool check, bool as_json, std::ostream& out) {
+// With --methods FILE (issue 18, harness/method_files.hpp): the methods of those files instead of
+// the built-in ones, each with its file, checked by method_file_checks (the same checks, plus the
+// exponential families' B(2.30)/(2.23) conditions).
+int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
+                std::ostream& out) {
     auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
     json methods = json::array();
     int agree = 0, disagree = 0, unchecked = 0;
-    for (const auto& m : method_catalog()) {
+    std::vector<const MethodInfo*> rows;
+    for (const auto& f : files)
+        for (const MethodInfo* m : load_method_file(f))
+            if (std::find(rows.begin(), rows.end(), m) == rows.end()) rows.push_back(m);
+    if (files.empty())
+        for (const auto& m : method_catalog()) rows.push_back(&m);
+    for (const MethodInfo* mp : rows) {
+        const MethodInfo& m = *mp;
         json row = {{"id", m.id},
                     {"kernel", kernel_name(m)},
                     {"order", m.order},
@@ -171,8 +192,9 @@ int cmd_methods(bool check, bool as_json, std::ostream& out) {
                     {"form", form_name(m.form)},
                     {"claims", claim_words(m.claims)},
                     {"citation", m.citation}};
+        if (!files.empty()) row["file"] = method_file_of(m.id);
         if (check) {
-            const auto checks = method_checks(m);
+            const auto checks = files.empty() ? method_checks(m) : method_file_checks(m);
             json arr = json::array();
             for (const auto& c : checks) {
                 (c.agrees() ? agree : disagree) += 1;
@@ -257,6 +279,7 @@ Command add_list_command(CLI::App& app, CliContext& ctx) {
 Command add_methods_command(CLI::App& app, CliContext& ctx) {
     struct State {
         bool check = false, as_json = false;
+        std::vector<std::string> files;
     };
     auto s = std::make_shared<State>();
     auto* methods =
@@ -265,7 +288,12 @@ Command add_methods_command(CLI::App& app, CliContext& ctx) {
     methods->add_flag("--check", s->check,
                       "run the coefficient-level checks; exit 1 if one disagrees");
     methods->add_flag("--json", s->as_json, "machine-readable output");
-    return {methods, [s, &ctx] { return cmd_methods(s->check, s->as_json, ctx.out); }};
+    methods
+        ->add_option("--methods", s->files,
+                     "list (and --check) the methods of these method files instead of the "
+                     "built-in ones (docs/method-files.md)")
+        ->allow_extra_args(false);
+    return {methods, [s, &ctx] { return cmd_methods(s->check, s->as_json, s->files, ctx.out); }};
 }
 
 } // namespace dampsym::cli_detail

@@ -3,6 +3,7 @@
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
+#include "harness/method_files.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/progress.hpp"
 #include "harness/provenance.hpp"
@@ -115,6 +116,10 @@ bool restrict_methods(CaseSpec& c, const std::vector<std::string>& globs) {
 
 Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
                       const std::string& cases_dir, bool default_suite, bool sharding) {
+    // Method files (issue 18): the methods/ folder beside the cases directory, then --methods;
+    // a case's own "method_files" are loaded by parse_case.
+    load_method_folder(method_folder_beside(cases_dir));
+    for (const auto& f : sel.method_files) load_method_file(f);
     std::vector<std::string> paths;
     std::vector<CaseFile> files;
     auto ensure_scanned = [&] {

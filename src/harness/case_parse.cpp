@@ -6,10 +6,13 @@
 #include "harness/case_job.hpp"
 #include "harness/case_util.hpp"
 #include "harness/limits.hpp"
+#include "harness/method_files.hpp"
 #include "harness/problem_info.hpp"
+#include "methods/runtime_methods.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <sstream>
@@ -97,6 +100,25 @@ const ProblemInfo* parse_problem(const json& j, const std::string& file, CaseSpe
     return prob;
 }
 
+// "method_files": method files (paths relative to the case file) loaded before "methods" is read.
+void parse_method_files(const json& j, const std::string& file) {
+    if (!j.contains("method_files")) return;
+    const json& a = j["method_files"];
+    if (!a.is_array()) fail(file, "method_files", "must be an array of method file paths");
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const std::string key = "method_files[" + std::to_string(i) + "]";
+        const std::string rel = string_of(a[i], file, key);
+        const std::filesystem::path p = std::filesystem::path(rel).is_absolute()
+                                            ? std::filesystem::path(rel)
+                                            : std::filesystem::path(file).parent_path() / rel;
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(p, ec))
+            fail(file, key,
+                 "method file " + p.string() + " not found (paths are relative to the case file)");
+        load_method_file(p.string());
+    }
+}
+
 // "methods": known, listed once, applicable to the problem.
 void parse_methods(const json& j, const std::string& file, CaseSpec& c) {
     if (!j["methods"].is_array() || j["methods"].empty())
@@ -108,6 +130,8 @@ void parse_methods(const json& j, const std::string& file, CaseSpec& c) {
             std::string list;
             for (const auto& mi : method_catalog())
                 list += (list.empty() ? "" : ", ") + std::string(mi.id);
+            for (const MethodInfo* mi : loaded_methods()) // method files (issue 18)
+                list += ", " + std::string(mi->id);
             fail(file, key, "unknown method '" + brief(m) + "' (known: " + list + ")");
         }
         if (std::find(c.methods.begin(), c.methods.end(), m) != c.methods.end())
@@ -307,7 +331,8 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     only_keys(j,
               {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
                "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
-               "notes", "measures", "no_checks_because", "timeout_seconds", "figures"},
+               "notes", "measures", "no_checks_because", "timeout_seconds", "figures",
+               "method_files"},
               file, "");
     // clang-format on
     validate_limit_keys(j, file); // issue 17: timeout_seconds (src/harness/limits.hpp)
@@ -342,6 +367,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
 
     std::optional<double> forcing_period;
     const ProblemInfo* prob = parse_problem(j, file, c, forcing_period);
+    parse_method_files(j, file); // issue 18 (harness/method_files.hpp), before "methods"
     parse_methods(j, file, c);
     parse_time_grid(j, file, c);
     parse_diagnostics(j, file, c, *prob, forcing_period);

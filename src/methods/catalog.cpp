@@ -6,6 +6,7 @@
 #include "core/method.hpp"
 #include "methods/exponential_tableaux.hpp"
 #include "methods/glm_coefficients.hpp"
+#include "methods/runtime_methods.hpp"
 #include "methods/tableaux.hpp"
 
 namespace dampsym {
@@ -116,7 +117,7 @@ const std::vector<MethodInfo>& method_catalog() {
 const MethodInfo* find_method(std::string_view id) {
     for (const auto& m : method_catalog())
         if (m.id == id) return &m;
-    return nullptr;
+    return find_loaded_method(id); // method files (src/harness/method_files.hpp)
 }
 
 } // namespace dampsym

@@ -1,0 +1,40 @@
+// Method files (issue 18, docs/method-files.md): JSON method definitions loaded at run time, for
+// every family whose method is data — RK (explicit or implicit, optionally under the integrating
+// factor B(2.5)), partitioned RK, exponential RK B(2.7) and partitioned exponential RK B(2.14) with
+// coefficient functions built from a fixed φ-function vocabulary, and general linear methods with
+// their starting method. A loaded method becomes a MethodInfo row (src/methods/runtime_methods.hpp)
+// that find_method returns after the built-in catalog, so the runner, the kernels chosen by
+// std::visit (src/harness/registry.hpp) and every diagnostic treat it like a built-in row.
+//
+// Sources: `dampsym run|methods --methods FILE`, a case's "method_files" (paths relative to the
+// case file) and every *.json of a `methods/` folder beside the cases directory. A file is loaded
+// once per process (by canonical path); loading it again is a no-op.
+//
+// Every error is an InputError "FILE: KEY: what" (exit 2); nothing of a bad file is registered.
+#pragma once
+
+#include "core/method.hpp"
+#include "methods/coefficient_checks.hpp"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dampsym {
+
+// Loads every method of the file (throws InputError naming the file and the key) and returns
+// them (also when the file was loaded before).
+std::vector<const MethodInfo*> load_method_file(const std::string& path);
+// Loads every *.json file of `dir` in name order; a missing directory loads nothing.
+void load_method_folder(const std::string& dir);
+// The file a loaded method came from ("" for a built-in or unknown id).
+std::string method_file_of(std::string_view id);
+// The `methods/` folder beside a cases directory (verify/cases -> verify/methods).
+std::string method_folder_beside(const std::string& cases_dir);
+
+// The coefficient-level checks of method_checks (order conditions, symplecticity,
+// G-symplecticity) plus, for the exponential families, B(2.30)/(2.31) (ERK) and B(2.23)/Thm 2.10
+// (PERK) at a few damping arguments; expected iff the file claims "conformal-symplectic".
+std::vector<CoefficientCheck> method_file_checks(const MethodInfo& info);
+
+} // namespace dampsym
