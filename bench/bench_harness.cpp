@@ -10,6 +10,7 @@
 
 #include "core/integrate.hpp"
 #include "harness/method_files.hpp"
+#include "harness/provenance.hpp"
 #include "harness/registry.hpp"
 
 #include <cmath>
@@ -66,7 +67,7 @@ void register_problem(const std::string& label, const P& p, std::int64_t n) {
     if (label == "pendulum")
         for (const char* file : {"rk4.json", "stormer-verlet.json"})
             for (const MethodInfo* info :
-                 load_method_file(std::string(DAMPSYM_SOURCE_DIR) + "/examples/methods/" + file))
+                 load_method_file(dampsym::source_dir() + "/examples/methods/" + file))
                 with_kernel<P>(
                     *info, [&]<class K>() { register_one<K, P>(label, problem, *info, n, true); });
 }

@@ -8,6 +8,7 @@
 #include "core/method.hpp"
 #include "harness/case.hpp"
 #include "harness/method_files.hpp"
+#include "harness/provenance.hpp"
 #include "methods/coefficient_expr.hpp"
 #include "methods/exponential_tableaux.hpp"
 
@@ -28,7 +29,7 @@ using json = nlohmann::json;
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-const fs::path examples = fs::path(DAMPSYM_SOURCE_DIR) / "examples" / "methods";
+const fs::path examples = fs::path(dampsym::source_dir()) / "examples" / "methods";
 
 // Final states of every run of a report, by method id (the case has one dt).
 std::map<std::string, std::vector<double>> final_states(const json& report) {
