@@ -21,6 +21,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -495,6 +496,80 @@ TEST_CASE("the stage-Newton solver: policies, counters, failure on NaN, inf and 
     CHECK(c4.newton_iters == dampsym::StageNewton::max_iterations);
 }
 
+TEST_CASE("the stage-Newton solver runs a slowly contracting iteration to round-off",
+          "[families][newton]") {
+    // R(x) = x − x*, S = 1/(1 − θ): the simplified iteration contracts the error by exactly θ per
+    // iteration. A rule that accepts an update below 1e-10 |x| because it no longer halves stops
+    // up to θ/(1−θ)·1e-10 |x| short (θ ≥ 0.5); the rule of newton.hpp stops when the update is
+    // within 4 ulps (error ≤ θ/(1−θ)·4ε|x|) or the estimate θ/(1−θ)|Δx| ≤ ε|x| holds.
+    struct Run {
+        double theta, offset; // contraction, relative start offset (≤ 50 iterations to round-off)
+    };
+    for (const Run r : {Run{0.3, 1e-9}, Run{0.55, 1e-9}, Run{0.7, 1e-9}, Run{0.8, 1e-12}}) {
+        const double xs = 1.0 / 3.0;
+        dampsym::StageNewton nw(1);
+        nw.X[0] = xs * (1.0 + r.offset);
+        Counters c;
+        const int it = nw.solve(dampsym::NewtonPolicy::simplified, c, [&](bool refresh) {
+            nw.R[0] = nw.X[0] - xs;
+            if (refresh) nw.S(0, 0) = 1.0 / (1.0 - r.theta);
+        });
+        INFO("theta " << r.theta << ", iterations " << it << ", error "
+                      << (nw.X[0] - xs) / (std::numeric_limits<double>::epsilon() * xs) << " eps");
+        REQUIRE(it > 0);
+        const double bound =
+            (r.theta / (1.0 - r.theta) * 4.0 + 2.0) * std::numeric_limits<double>::epsilon() * xs;
+        CHECK(std::abs(nw.X[0] - xs) <= bound);
+    }
+    // The individual clauses of the test (ε = 2.2e-16, scale 1).
+    const double e = std::numeric_limits<double>::epsilon();
+    const double inf = std::numeric_limits<double>::infinity();
+    CHECK(dampsym::newton_converged(2.0 * e, 1.0, inf));         // a few ulps
+    CHECK_FALSE(dampsym::newton_converged(1e-12, 1.0, inf));     // first iteration: θ unknown
+    CHECK(dampsym::newton_converged(2e-15, 1.0, 1e-12));         // θ = 0.002: error ≈ 4e-18 left
+    CHECK_FALSE(dampsym::newton_converged(6e-11, 1.0, 1.1e-10)); // θ = 0.55: 7e-11 left
+    CHECK(dampsym::newton_converged(3e-15, 1.0, 2e-15));         // stopped decreasing, at round-off
+    CHECK_FALSE(dampsym::newton_converged(1e-3, 1.0, 1e-4));     // growing: not converged
+}
+
+TEST_CASE("Gauss methods keep the rigid body's quadratic invariants to round-off over many steps",
+          "[families][newton]") {
+    // BS's rigid body (I = (4, 3, 2), z0 = (4, 3, 0), γ = 0), h = 0.1: Gauss methods preserve the
+    // Casimir and the energy exactly (quadratic invariants), so |E_n/E_0 − 1| and |F_n/F_0 − 1|
+    // may only random-walk at round-off (~√n ε). A per-step bias of one ulp (the rounded
+    // stage-combination update the RK engine used for s >= 2, implicit_rk.hpp) drifted gauss2
+    // linearly to 4.4e-12 here. Negative control: implicit Euler drifts at O(h) per unit time.
+    const dampsym::RigidBody prob = rigid_body(0.0);
+    const auto invariants = [](const Vec& z) {
+        const long double a = z[0], b = z[1], c = z[2];
+        return std::pair{0.5L * (a * a + b * b + c * c),
+                         0.5L * (a * a / 4.0L + b * b / 3.0L + c * c / 2.0L)};
+    };
+    const auto max_dev = [&](const char* id, int n) {
+        const MethodInfo& info = method(id);
+        Vec z = prob.initial_state();
+        const auto [f0, e0] = invariants(z);
+        double dev = 0.0;
+        Counters c;
+        const bool applied = with_family_kernel<dampsym::RigidBody>(info, [&]<class K>() {
+            K k(prob, info, 0.1, c);
+            for (int i = 0; i < n; ++i) {
+                REQUIRE(k.step(dampsym::time_at(0.0, 0.1, i), z) == StepStatus::ok);
+                const auto [f, e] = invariants(z);
+                dev = std::max({dev, static_cast<double>(std::abs(f / f0 - 1.0L)),
+                                static_cast<double>(std::abs(e / e0 - 1.0L))});
+            }
+        });
+        REQUIRE(applied);
+        if (verbose()) std::printf("%-14s %d steps: max |I_n/I_0 - 1| = %.2e\n", id, n, dev);
+        return dev;
+    };
+    CHECK(max_dev("gauss2", 10000) <= 5e-13);
+    CHECK(max_dev("glifrk2", 10000) <= 5e-13);
+    CHECK(max_dev("gauss3", 5000) <= 5e-13);
+    CHECK(max_dev("implicit-euler", 1000) >= 1e-3); // negative control
+}
+
 TEST_CASE("a stage solve that cannot converge returns solve_failed and leaves z unchanged",
           "[families]") {
     // z' = z² + 1 at z = 1 with h = 2: the stage equations have no real solution.
@@ -547,14 +622,16 @@ TEST_CASE("evaluation counts per step", "[families]") {
     CHECK(per_step("symplectic-euler-adjoint").rhs_evals == 1 * n);
     CHECK(per_step("stormer-verlet").rhs_evals == 2 * n);
     CHECK(per_step("stormer-verlet").newton_iters == 0);
-    // Implicit: s evaluations per Newton iteration, nothing else (A invertible); s Jacobians per
-    // iteration for one stage (full Newton), s per step for s >= 2 (simplified Newton).
+    // Implicit: s evaluations per Newton iteration; one stage: nothing else (update from the
+    // stage, exact coefficients), s >= 2: s more per step (the update from evaluations,
+    // implicit_rk.hpp). s Jacobians per iteration for one stage (full Newton), s per step for
+    // s >= 2 (simplified Newton).
     for (const char* id :
          {"implicit-euler", "gauss1", "gauss2", "gauss3", "glifrk1", "glifrk2", "glifrk3"}) {
         const Counters c = per_step(id);
         const int s = tableau_of(method(id))->stages;
         INFO(id);
-        CHECK(c.rhs_evals == s * c.newton_iters);
+        CHECK(c.rhs_evals == s * c.newton_iters + (s == 1 ? 0 : s * n));
         CHECK(c.jac_evals == (s == 1 ? s * c.newton_iters : s * n));
         CHECK(c.max_newton_iters_per_step >= 2);
         CHECK(c.max_newton_iters_per_step <= 10);

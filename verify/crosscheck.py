@@ -1059,9 +1059,12 @@ def check_case(case):
                 if key.endswith("pointwise_final"):
                     lo, hi, why = float(D[0]), float(D[-1]), "one draw of the attractor's pair distances"
                 elif key.endswith("pointwise_max"):
+                    # (the largest of the ~n^2 sample pairs is itself a sample extreme and falls
+                    # short of the attractor's diameter: another trajectory's maximum exceeded it
+                    # by 0.1% (cimp on driven-pendulum-fig35-poincare), hence a 1% margin)
                     q = 1e-3 ** (1.0 / nsec)
-                    lo, hi = float(D[min(len(D) - 1, int(q * len(D)))]), float(D[-1])
-                    why = "max of %d draws: [1e-3 quantile, largest pair]" % nsec
+                    lo, hi = float(D[min(len(D) - 1, int(q * len(D)))]), 1.01 * float(D[-1])
+                    why = "max of %d draws: [1e-3 quantile, 1.01 x largest pair]" % nsec
                 else:
                     ens = [float(ours), float(priv.get("poincare._alt_hausdorff", ours))]
                     lo, hi, why = 0.5 * min(ens), 2.0 * max(ens), "factor 2 around our ensemble %s" % ens

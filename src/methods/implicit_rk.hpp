@@ -31,8 +31,14 @@ inline void constant_tableau_structure(const ButcherTableau& t, RKStepCoefficien
         b[i] = t.b[static_cast<std::size_t>(i)];
         for (int j = 0; j < s; ++j) A(i, j) = t.A(i, j);
     }
+    // The update from the stages (no evaluation) only for one stage, where its coefficients are
+    // exact (d = b/a: 2 for the midpoint rule, 1 for implicit Euler). For s ≥ 2, d = A⁻ᵀb is
+    // rounded and the stage combination Σ d_k Z_k − (d_1 − 1) z − Σ_{k≥2} d_k z multiplies z by
+    // 1 + O(ε) every step, the same bias at every step: gauss2 on BS's rigid body (h = 0.1,
+    // 10⁵ steps) drifted |E_n/E_0 − 1| to 4.4e-11, against 3.7e-14 with the update
+    // z₁ = φ0 z + Σ w_i g_i at the converged stages (s more evaluations per step).
     Eigen::FullPivLU<Mat> lu(A.transpose());
-    k.use_d = lu.isInvertible();
+    k.use_d = s == 1 && lu.isInvertible();
     if (k.use_d) k.d = lu.solve(b);
 }
 

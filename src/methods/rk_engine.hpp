@@ -21,14 +21,16 @@
 // one LU, then s evaluations of g and one triangular solve per iteration). No convergence, or a
 // NaN/inf, returns StepStatus::solve_failed and leaves z unchanged.
 //
-// Update. When the stage matrix is invertible the update needs no further evaluation: with the
-// provider's weights d (d = A⁻ᵀb), Σ w_i g_i = Σ_k d_k (Z_k − Y0_k)-type combinations:
+// Update. When the provider sets use_d (the plain and integrating-factor providers: one implicit
+// stage only, implicit_rk.hpp says why; exponential coefficients: A(x) invertible) the update needs
+// no further evaluation: with the provider's weights d (d = A⁻ᵀb),
+// Σ w_i g_i = Σ_k d_k (Z_k − Y0_k)-type combinations:
 //   plain / integrating factor: z₁ = Σ_k F_k (d_k Z_k − (d_k − e_k) Y0_k), e = (1, 0, …, 0), with
 //     d = A⁻ᵀb of the underlying tableau and e^{−x(h)} z = F_1 Y0_1 (plain: F = 1). For s = 1 Gauss
 //     (d = 2) this is F(2Z − Y0): the implicit midpoint rule, and cimp under the factor;
 //   exponential coefficients: z₁ = φ0 z + Σ_k d_k (Z_k − Y0_k), d = A(x)⁻ᵀ b(x) (etdrk2:
 //     d = 2e^{−x/2}).
-// A singular implicit A costs s more evaluations (g at the converged stages).
+// Otherwise the update z₁ = φ0 z + Σ w_i g_i costs s more evaluations (g at the converged stages).
 //
 // Exact step Jacobian (step_jacobian): the implicit-function theorem at the converged stages,
 //   (I − M ⊗ ∂g) dZ = y0 ⊗ I,   then the derivative of the update formula above,
