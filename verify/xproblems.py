@@ -691,8 +691,8 @@ class Burgers(Problem):
     canonical = False
 
     def __init__(self, M, gamma):
-        if M != int(M) or M < 3:
-            raise TypeError("M must be a whole number >= 3")
+        if M != int(M) or M < 2:
+            raise TypeError("M must be a whole number >= 2")
         self.M = int(M)
         self.gB = float(gamma)
         self.g = 2.0 * self.gB           # gamma_c of the conformal form
@@ -733,8 +733,8 @@ class SchrodingerBase(Problem):
         lam = kw.pop("lambda")
         if kw:
             raise TypeError("unknown parameters %s" % sorted(kw))
-        if M != int(M) or k != int(k) or M < 3:
-            raise TypeError("M and k must be whole numbers, M >= 3")
+        if M != int(M) or k != int(k) or M < 2:
+            raise TypeError("M and k must be whole numbers, M >= 2")
         self.M, self.L, self.gB, self.lam = int(M), float(L), float(gamma), float(lam)
         self.g = 2.0 * self.gB
         self.d, self.nq = 2 * self.M, self.M

@@ -49,10 +49,10 @@ struct Burgers {
     pde::PeriodicGrid grid{64, std::numbers::pi};
     double gamma = 0.1;
 
-    // Ranges: 3 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M); 0 ≤ γ ≤ 1.
+    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M); 0 ≤ γ ≤ 1.
     static std::vector<ParamSpec> param_specs() {
         return {
-            integer_param("M", 64, 3, 8192, "grid points on [-pi, pi) (dx = 2 pi / M)"),
+            integer_param("M", 64, 2, 8192, "grid points on [-pi, pi) (dx = 2 pi / M)"),
             {"gamma", 0.1, Range::closed(0.0, 1.0), "damping γ of B (4.5): u_t + u u_x = -2γu"}};
     }
     static Burgers from_params(const ParamMap& m) {
