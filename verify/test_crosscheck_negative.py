@@ -27,7 +27,10 @@ corrupted item (and nothing outside the corrupted case):
   kg       : the damped Klein-Gordon cases (issue 15): pde-kg-momentum csv2's final state x (1 + 1e-10)
              (100x the explicit tolerance 1e-12), pde-kg-cs rk4's conformal-symplectic.max_rel x 3
              (outside factor 2), pde-kg-orders csv1's order slope + 0.05 (outside abs 0.01) and the
-             verdict of its check "second order" flipped: each must be named
+             verdict of its check "second order" flipped; and the Burgers/NLS cases: pde-burgers-casimir
+             heun's invariants.casimir.max_step_res x 3, pde-schrodinger-invariants implicit-midpoint's
+             invariants.energy.max_step_res x 3, pde-nls-mass cimp's final state x (1 + 1e-8) (100x the
+             implicit tolerance): each must be named
   badinput : not a dampsym report -> exit 2
 """
 import copy
@@ -186,7 +189,8 @@ def main():
                                             "stability-sweep.F_violations", "trace-taylor.h4_coeff",
                                             "stability.det_abs_err"])
     elif mode == "kg":
-        ids = ["pde-kg-momentum", "pde-kg-cs", "pde-kg-orders"]
+        ids = ["pde-kg-momentum", "pde-kg-cs", "pde-kg-orders", "pde-burgers-casimir",
+               "pde-schrodinger-invariants", "pde-nls-mass"]
         base = dict(report, cases=[copy.deepcopy(c) for c in report["cases"] if c["id"] in ids])
         if len(base["cases"]) != len(ids):
             fail("cases %s not in the report" % ids)
@@ -204,7 +208,17 @@ def main():
         chk = next(k for k in cs["pde-kg-orders"]["checks"] if k["method"] == "csv1" and k["metric"] == "order.slope")
         chk["passed"] = not chk["passed"]
         names.append("pde-kg-orders / csv1 / check '%s'" % chk["name"])
-        compare(base, bad, workdir, names, ["final_state", "conformal-symplectic.max_rel", "order.slope", "verdict"])
+        r = next(r for r in cs["pde-burgers-casimir"]["runs"] if r["method"] == "heun")
+        r["metrics"]["invariants"]["casimir"]["max_step_res"] *= 3.0
+        names.append("pde-burgers-casimir / heun / dt=%g" % r["dt"])
+        r = next(r for r in cs["pde-schrodinger-invariants"]["runs"] if r["method"] == "implicit-midpoint")
+        r["metrics"]["invariants"]["energy"]["max_step_res"] *= 3.0
+        names.append("pde-schrodinger-invariants / implicit-midpoint / dt=%g" % r["dt"])
+        r = next(r for r in cs["pde-nls-mass"]["runs"] if r["method"] == "cimp")
+        r["final_state"] = [x * (1 + 1e-8) for x in r["final_state"]]
+        names.append("pde-nls-mass / cimp / dt=%g" % r["dt"])
+        compare(base, bad, workdir, names, ["final_state", "conformal-symplectic.max_rel", "order.slope", "verdict",
+                                            "invariants.casimir.max_step_res", "invariants.energy.max_step_res"])
     elif mode == "wrongcoef":
         base = slice_of(report, "families-orders-3-4")
         bad = copy.deepcopy(base)

@@ -675,8 +675,165 @@ class KleinGordon(Problem):
         return Z
 
 
+class Burgers(Problem):
+    """Modified Burgers u_t + u u_x = -2 gamma u (B (4.5)) on [-pi, pi), periodic, semi-discretised
+    as in B (5.9): (5.9) couples the odd and even grid points through one half of the forward and
+    backward differences over the coarse (every other point) index, which on the full grid is the
+    central difference of u^2/2:  u_j' = -(u_{j+1}^2 - u_{j-1}^2) / (4 dx) - 2 gamma u_j.
+    B writes it z' = D grad H - 2 gamma z: the whole state is damped with 2 gamma, so in the
+    conformal form z' = N - gamma_c z of docs/conventions.md gamma_c = 2 gamma (docs/pde.md).
+    Casimir C = dx sum u (B (5.13)): sum_j N_j telescopes, so C' = -2 gamma C = -gamma_c C, i.e.
+    C = e^{-Gamma} C_0: half the exponent of the e^{-2 Gamma} law (invariant_rates).  Initial
+    state: the standard normal density (B 5.2.1)."""
+    pid = "burgers"
+    params = ("M", "gamma")
+    separable = False
+    canonical = False
+
+    def __init__(self, M, gamma):
+        if M != int(M) or M < 2:
+            raise TypeError("M must be a whole number >= 2")
+        self.M = int(M)
+        self.gB = float(gamma)
+        self.g = 2.0 * self.gB           # gamma_c of the conformal form
+        self.d = self.M
+        self.dx = 2.0 * math.pi / self.M
+        x = -math.pi + self.dx * np.arange(self.M)
+        self.z0 = np.exp(-0.5 * x * x) / math.sqrt(2.0 * math.pi)
+        self.invariant_rates = {"casimir": 0.5}
+
+    def N(self, t, z):
+        return -(np.roll(z, -1, axis=-1) ** 2 - np.roll(z, 1, axis=-1) ** 2) / (4.0 * self.dx)
+
+    def f(self, t, z):
+        return self.N(t, z) - self.g * z
+
+    def invariants(self):
+        return {"casimir": lambda z: self.dx * np.sum(z, axis=-1)}
+
+    def invariant_scales(self):
+        return {"casimir": lambda z: self.dx * np.sum(np.abs(z), axis=-1)}
+
+
+class SchrodingerBase(Problem):
+    """i psi_t + psi_xx + V'(|psi|^2) psi + 2 i gamma psi = 0 (B (4.7), F = 0) on [-L, L),
+    periodic, with the central second difference d2 of B (1.14) for psi_xx (the spatial operator
+    of B's IF (4.15), ETD (5.27), IMP (5.28)).  Real form psi = q + i p:
+        q' = -(d2 p + V' p) - 2 gamma q,   p' = d2 q + V' q - 2 gamma p,
+    both halves damped with 2 gamma: gamma_c = 2 gamma in z' = N - gamma_c z (docs/pde.md), so
+    quadratic invariants decay as e^{-2 Gamma} = e^{-4 gamma t} (B: 'e^{4 gamma t} I_k', (5.29)).
+    Canonical up to the sign of J (q' = -dH/dp, p' = dH/dq).  Invariants from B (5.29) with
+    the spectral derivative (numpy FFT here): I1 = Im dx sum conj(psi) Dx psi, I2 = dx sum |psi|^2,
+    I3 = dx sum (-|Dx psi|^2 + V(|psi|^2))."""
+    separable = False
+    canonical = True
+    params = ("M", "L", "gamma", "lambda", "initial", "A", "k")
+
+    def __init__(self, M, L, gamma, A, k, initial, **kw):
+        lam = kw.pop("lambda")
+        if kw:
+            raise TypeError("unknown parameters %s" % sorted(kw))
+        if M != int(M) or k != int(k) or M < 2:
+            raise TypeError("M and k must be whole numbers, M >= 2")
+        self.M, self.L, self.gB, self.lam = int(M), float(L), float(gamma), float(lam)
+        self.g = 2.0 * self.gB
+        self.d, self.nq = 2 * self.M, self.M
+        self.dx = 2.0 * self.L / self.M
+        x = -self.L + self.dx * np.arange(self.M)
+        if int(initial) == 0:     # plane wave A e^{i k (pi/L) x}
+            psi = float(A) * np.exp(1j * int(k) * (math.pi / self.L) * x)
+        else:                     # B Fig 5.9 as printed
+            psi = np.exp(5j * x) / np.cosh(x + 1.0) + 1.5 * np.exp(-5j * x) / np.cosh(1.5 * (x - 5.0))
+        self.z0 = np.concatenate([psi.real, psi.imag])
+        # spectral wavenumbers (numpy order), Nyquist mode differentiated to 0
+        kk = 2.0 * math.pi * np.fft.fftfreq(self.M, d=self.dx)
+        if self.M % 2 == 0:
+            kk[self.M // 2] = 0.0
+        self.kk = kk
+
+    def _d2(self, u):
+        return (np.roll(u, 1, axis=-1) - 2.0 * u + np.roll(u, -1, axis=-1)) / self.dx ** 2
+
+    def N(self, t, z):
+        q, p = z[..., :self.M], z[..., self.M:]
+        vp = self.Vp(q * q + p * p)
+        return np.concatenate([-(self._d2(p) + vp * p), self._d2(q) + vp * q], axis=-1)
+
+    def f(self, t, z):
+        return self.N(t, z) - self.g * z
+
+    def _psi(self, z):
+        return z[..., :self.M] + 1j * z[..., self.M:]
+
+    def _Dx(self, psi):
+        return np.fft.ifft(1j * self.kk * np.fft.fft(psi, axis=-1), axis=-1)
+
+    def mass(self, z):
+        psi = self._psi(z)
+        return self.dx * np.sum(np.abs(psi) ** 2, axis=-1)
+
+
+class Schrodinger(SchrodingerBase):
+    """Linear: V(eta) = lambda eta (B (5.19)); I1, I2, I3 all e^{-4 gamma t} (B 5.3.1 (iii))."""
+    pid = "schrodinger"
+    exact_available = True
+
+    def Vp(self, eta):
+        return self.lam + 0.0 * eta
+
+    def invariants(self):
+        def I1(z):
+            psi = self._psi(z)
+            return self.dx * np.sum(np.imag(np.conj(psi) * self._Dx(psi)), axis=-1)
+
+        def I3(z):
+            psi = self._psi(z)
+            return self.dx * np.sum(-np.abs(self._Dx(psi)) ** 2 + self.lam * np.abs(psi) ** 2, axis=-1)
+        return {"momentum": I1, "mass": self.mass, "energy": I3}
+
+    def invariant_scales(self):
+        # docs/pde.md: (dx/M) sum |k_j| |psi_hat_j|^2, I2, (dx/M) sum (k_j^2 + |lambda|) |psi_hat_j|^2
+        def spec(z, w):
+            ph = np.abs(np.fft.fft(self._psi(z), axis=-1)) ** 2
+            return self.dx / self.M * np.sum(w * ph, axis=-1)
+        return {"momentum": lambda z: spec(z, np.abs(self.kk)), "mass": self.mass,
+                "energy": lambda z: spec(z, self.kk ** 2 + abs(self.lam))}
+
+    def exact(self, t0, t):
+        """Each DFT mode j of the semi-discrete system: psi_hat' = (i (lambda - kd_j^2) - 2 gamma) psi_hat,
+        kd_j^2 = 4 sin^2(pi j / M) / dx^2 (the symbol of d2).  Estimate: 8 eps (log2 M + 4) |z| plus the
+        phase round-off eps |lambda - kd^2| tau of each mode."""
+        tau = np.atleast_1d(np.asarray(t, float)) - t0
+        j = np.fft.fftfreq(self.M) * self.M
+        kd2 = (2.0 * np.sin(math.pi * j / self.M) / self.dx) ** 2
+        c0 = np.fft.fft(self._psi(self.z0))
+        lam = (1j * (self.lam - kd2))[None, :] * tau[:, None] - 2.0 * self.gB * tau[:, None]
+        psi = np.fft.ifft(c0[None, :] * np.exp(lam), axis=-1)
+        Z = np.concatenate([psi.real, psi.imag], axis=-1)
+        Z[tau == 0.0] = self.z0
+        zn = np.linalg.norm(Z, axis=-1)
+        ph = np.max(np.abs(self.lam - kd2)) * np.abs(tau)
+        self.exact_estimate = float(8 * EPS * np.max((math.log2(self.M) + 4 + ph) * zn))
+        return Z
+
+
+class NLS(SchrodingerBase):
+    """Cubic: V(eta) = lambda eta^2 / 2, V' = lambda |psi|^2; only I2 has a law (B 5.3.1 (ii))."""
+    pid = "nls"
+
+    def Vp(self, eta):
+        return self.lam * eta
+
+    def invariants(self):
+        return {"mass": self.mass}
+
+    def invariant_scales(self):
+        return {"mass": self.mass}
+
+
 PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
-                               NBody, OuterSolarSystem, Argon, LotkaVolterra, KleinGordon)}
+                               NBody, OuterSolarSystem, Argon, LotkaVolterra, KleinGordon,
+                               Burgers, Schrodinger, NLS)}
 
 
 def make_problem(pid, params):

@@ -7,10 +7,12 @@
 //   double dGamma(double t, double h) const;            Γ(t+h) − Γ(t), without cancellation
 //   forms: separable Rayleigh form (grad_T, force, hess_T, force_jacobian), from which
 //          SeparableProblem derives the conformal form N(z,t) and the plain form f(t,z);
-//   invariants: names, values, all decaying as e^{-2Γ(t)} (B Def. 1.1), and next to them the
+//   invariants: names, values, decaying as e^{-2Γ(t)} (B Def. 1.1), and next to them the
 //               scale of each law residual (invariant_scale_defs, invariant_scales: a magnitude
 //               that does not vanish with the invariant, docs/conventions.md "Law residuals and
-//               their scales");
+//               their scales"); optionally invariant_rate_factors (one per invariant, default 1):
+//               invariant k then decays as e^{-2 f_k Γ(t)} (a linear Casimir of a first-order
+//               system z' = N − γz decays as e^{-Γ}: f = ½; see invariant_rate_factor below);
 //   optionally: energy(z) with energy_scale(z); exact(t0, z0, t, out) and autonomous (when
 //               has_exact, see ExactSolution below);
 //   optionally: static constexpr int static_n, the degrees of freedom when fixed at compile time
@@ -226,6 +228,21 @@ constexpr bool exact_solution_contract() {
         return ExactSolution<Q>;
     else
         return true;
+}
+
+// Rate factor f_k of invariant k: its law is I(t) = e^{−2 f_k (Γ(t) − Γ(t0))} I(t0). 1 unless the
+// problem declares `static constexpr std::array<double, K> invariant_rate_factors` (B's modified
+// Burgers: the Casimir Σu of u' = N(u) − γu, γ = 2γ_B, decays as e^{−Γ}, f = ½; docs/pde.md).
+template <class Q>
+constexpr double invariant_rate_factor(std::size_t k) {
+    if constexpr (requires { Q::invariant_rate_factors; }) {
+        static_assert(Q::invariant_rate_factors.size() == Q::invariant_names.size(),
+                      "one rate factor per invariant");
+        return Q::invariant_rate_factors[k];
+    } else {
+        (void)k;
+        return 1.0;
+    }
 }
 
 namespace detail {

@@ -29,7 +29,9 @@
 #include "problems/outer_solar_system.hpp"
 #include "problems/pendulum.hpp"
 // Damped PDEs of B ch. 4-5, semi-discretised (issue 15, docs/pde.md).
+#include "problems/pde/burgers.hpp"
 #include "problems/pde/klein_gordon.hpp"
+#include "problems/pde/nls.hpp"
 #include "problems/rigid_body.hpp"
 
 #include <string>
@@ -40,9 +42,10 @@
 
 namespace dampsym {
 
-using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra,
-                             NBody, Kepler, OuterSolarSystem, Argon,
-                             KleinGordon>; // KleinGordon: issue 15 (B (4.3), docs/pde.md)
+using ProblemList =
+    TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra, NBody, Kepler,
+             OuterSolarSystem, Argon, KleinGordon, Burgers, Schrodinger,
+             NLS>; // PDEs: issue 15 (B (4.3), (4.5), (4.7), docs/pde.md)
 
 // Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
 template <class... Ps>

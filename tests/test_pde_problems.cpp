@@ -1,0 +1,176 @@
+// The damped Burgers and NLS problems registered for dampsym's methods (src/problems/pde/,
+// docs/pde.md): dampsym's kernels on them are B's schemes — cimp = IF (4.15), etdrk2 = ETD (5.27),
+// implicit-midpoint = IMP (5.28) on the NLS (the library's NLSStepper, src/pde/nls.hpp, solves
+// B's printed equations); the forms' Jacobians are the derivatives of N; the Burgers Casimir law
+// uses the rate factor ½ and the NLS invariants agree with pde::nls_invariants (B (5.29)).
+#include "core/method.hpp"
+#include "methods/cimp.hpp"
+#include "methods/exponential_rk.hpp"
+#include "methods/implicit_rk.hpp"
+#include "pde/nls.hpp"
+#include "problems/pde/burgers.hpp"
+#include "problems/pde/nls.hpp"
+
+#include "support/helpers.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <numbers>
+#include <type_traits>
+
+using dampsym::Counters;
+using dampsym::Mat;
+using dampsym::StepStatus;
+using dampsym::Vec;
+using dampsym::test::method;
+using dampsym::test::verbose;
+using cd = std::complex<double>;
+
+namespace {
+
+dampsym::ParamMap nls_params(int M, double gamma) {
+    dampsym::ParamMap m;
+    m["M"] = M;
+    m["L"] = std::numbers::pi;
+    m["gamma"] = gamma;
+    m["lambda"] = 2.0;
+    m["initial"] = 0;
+    m["A"] = 1.0;
+    m["k"] = 1;
+    return m;
+}
+
+// A multi-mode state: ψ = 0.6 e^{ix} + 0.3 e^{−3ix} + 0.2 cos 2x.
+template <class P>
+Vec multimode(const P& p) {
+    const int M = p.grid.M;
+    Vec z(2 * M);
+    for (int n = 0; n < M; ++n) {
+        const double x = p.grid.x(n);
+        const cd psi =
+            0.6 * std::exp(cd(0, x)) + 0.3 * std::exp(cd(0, -3 * x)) + 0.2 * std::cos(2 * x);
+        z[n] = psi.real();
+        z[M + n] = psi.imag();
+    }
+    return z;
+}
+
+// Central-difference Jacobian of N, to compare with N_jacobian.
+template <class P>
+double jacobian_defect(const P& p, const Vec& z) {
+    const int d = p.dim();
+    Mat J(d, d), Jn(d, d);
+    p.N_jacobian(0.0, z, J);
+    Vec a(d), b(d);
+    for (int j = 0; j < d; ++j) {
+        Vec zp = z, zm = z;
+        const double e = 1e-6;
+        zp[j] += e;
+        zm[j] -= e;
+        p.N(0.0, zp, a);
+        p.N(0.0, zm, b);
+        Jn.col(j) = (a - b) / (2 * e);
+    }
+    return (J - Jn).cwiseAbs().maxCoeff() / J.cwiseAbs().maxCoeff();
+}
+
+template <template <class> class K, class P>
+Vec run(const P& p, const char* id, double h, int n, Vec z) {
+    Counters c;
+    K<P> k(p, method(id), h, c);
+    for (int i = 0; i < n; ++i) REQUIRE(k.step(i * h, z) == StepStatus::ok);
+    return z;
+}
+
+} // namespace
+
+TEST_CASE("pde problems: cimp, etdrk2, implicit-midpoint on the NLS problems are B's IF (4.15), "
+          "ETD (5.27), IMP (5.28)",
+          "[pde]") {
+    for (bool cubic : {false, true}) {
+        const auto m = nls_params(32, 0.1);
+        const double h = 0.01;
+        const int n = 100;
+        dampsym::pde::NLSParams bp;
+        bp.gamma = 0.1;
+        bp.lambda = 2.0;
+        bp.cubic = cubic;
+        auto check = [&](const auto& prob) {
+            const Vec z0 = multimode(prob);
+            const int M = prob.grid.M;
+            CHECK(jacobian_defect(prob, z0) <= 1e-8);
+            struct Row {
+                const char* id;
+                dampsym::pde::NLSScheme s;
+            };
+            for (const Row r :
+                 {Row{"cimp", dampsym::pde::NLSScheme::integrating_factor},
+                  Row{"etdrk2", dampsym::pde::NLSScheme::etd},
+                  Row{"implicit-midpoint", dampsym::pde::NLSScheme::implicit_midpoint}}) {
+                Vec z;
+                if (r.s == dampsym::pde::NLSScheme::integrating_factor)
+                    z = run<dampsym::Cimp>(prob, r.id, h, n, z0);
+                else if (r.s == dampsym::pde::NLSScheme::etd)
+                    z = run<dampsym::ExponentialRK>(prob, r.id, h, n, z0);
+                else
+                    z = run<dampsym::ImplicitRK>(prob, r.id, h, n, z0);
+                dampsym::pde::CVec psi(M);
+                for (int j = 0; j < M; ++j) psi[j] = cd(z0[j], z0[M + j]);
+                dampsym::pde::NLSStepper st(prob.grid, bp, h, r.s);
+                for (int i = 0; i < n; ++i) REQUIRE(st.step(i * h, psi));
+                double d = 0, s = 0;
+                for (int j = 0; j < M; ++j) {
+                    d = std::max(d, std::abs(cd(z[j], z[M + j]) - psi[j]));
+                    s = std::max(s, std::abs(psi[j]));
+                }
+                if (verbose())
+                    std::printf("[pde problems] %s %s vs B's scheme: %.2e relative\n",
+                                cubic ? "nls" : "schrodinger", r.id, d / s);
+                INFO(r.id << (cubic ? " nls" : " schrodinger") << ": " << d / s);
+                CHECK(d / s <= 1e-12);
+            }
+            // invariants: the problem's (Parseval) against the library's (𝒟_x by FFT)
+            dampsym::pde::SpectralDerivative D(prob.grid);
+            dampsym::pde::CVec psi(M);
+            for (int j = 0; j < M; ++j) psi[j] = cd(z0[j], z0[M + j]);
+            const auto I = dampsym::pde::nls_invariants(prob.grid, bp, D, psi);
+            double out[3];
+            prob.invariants(0.0, z0, out);
+            if constexpr (std::decay_t<decltype(prob)>::invariant_names.size() == 3) {
+                CHECK(std::abs(out[0] - I.I1) <= 1e-13 * std::abs(I.I1));
+                CHECK(std::abs(out[1] - I.I2) <= 1e-13 * I.I2);
+                CHECK(std::abs(out[2] - I.I3) <= 1e-13 * std::abs(I.I3));
+            } else {
+                CHECK(std::abs(out[0] - I.I2) <= 1e-13 * I.I2);
+            }
+        };
+        if (cubic)
+            check(dampsym::NLS::from_params(m));
+        else
+            check(dampsym::Schrodinger::from_params(m));
+    }
+}
+
+TEST_CASE("pde problems: Burgers N_jacobian and the Casimir law with rate factor 1/2", "[pde]") {
+    dampsym::ParamMap m;
+    m["M"] = 33;
+    m["gamma"] = 0.1;
+    const auto p = dampsym::Burgers::from_params(m);
+    const Vec z0 = p.initial_state();
+    CHECK(jacobian_defect(p, z0) <= 1e-8);
+    STATIC_REQUIRE(dampsym::invariant_rate_factor<dampsym::Burgers>(0) == 0.5);
+    STATIC_REQUIRE(dampsym::invariant_rate_factor<dampsym::NLS>(0) == 1.0);
+    // cimp keeps C_{n+1} = e^{-2γh} C_n = e^{-Γ(h)} C_n; the plain implicit midpoint does not
+    const double h = 0.05;
+    double c0, c1;
+    p.invariants(0.0, z0, &c0);
+    const Vec z1 = run<dampsym::Cimp>(p, "cimp", h, 1, z0);
+    p.invariants(h, z1, &c1);
+    CHECK(std::abs(c1 - std::exp(-2 * 0.1 * h) * c0) <= 1e-15 * c0);
+    const Vec w1 = run<dampsym::ImplicitRK>(p, "implicit-midpoint", h, 1, z0);
+    p.invariants(h, w1, &c1);
+    CHECK(std::abs(c1 - std::exp(-2 * 0.1 * h) * c0) >= 1e-8 * c0);
+}
