@@ -21,13 +21,15 @@ flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
        -fno-sanitize-recover=all -I"$root/src" -I"$root" -isystem /usr/include/eigen3
        -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
 # The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
-lib=(src/harness/case.cpp src/harness/limits.cpp src/harness/registry.cpp src/harness/compare.cpp src/harness/shard.cpp
-     src/harness/report.cpp src/harness/junit.cpp
+lib=(src/harness/case.cpp src/harness/case_expect.cpp src/harness/case_util.cpp src/harness/limits.cpp
+     src/harness/registry.cpp src/harness/compare.cpp src/harness/compare_input.cpp src/harness/shard.cpp
+     src/harness/report.cpp src/harness/report_tables.cpp src/harness/junit.cpp
+     src/diagnostics/*.cpp
      src/methods/catalog.cpp src/methods/tableaux.cpp src/methods/exponential_tableaux.cpp
      src/methods/glm_coefficients.cpp src/methods/coefficient_checks.cpp
      src/methods/exponential_conditions.cpp
      reference/gsl_reference.cpp reference/kepler_exact.cpp reference/oscillator_exact.cpp
-     reference/rigid_body_exact.cpp src/diagnostics/order_fit.cpp src/diagnostics/stability.cpp)
+     reference/rigid_body_exact.cpp)
 compile() { # source object extra-flags...
   local src="$1" obj="$2"; shift 2
   if [ ! -f "$obj" ] || [ "$src" -nt "$obj" ] || [ -n "$(find src reference tests/fuzz -name '*.hpp' -newer "$obj" -print -quit)" ]; then
@@ -36,12 +38,16 @@ compile() { # source object extra-flags...
   fi
 }
 build() {
-  local objs=()
+  local objs=() running=0
   for s in "${lib[@]}"; do
     local o="$out/obj/$(echo "$s" | tr / _).o"
-    compile "$s" "$o" -fsanitize=fuzzer-no-link
+    # FUZZ_BUILD_JOBS compiles at once (default 2; the machine-wide compiler throttle still applies)
+    compile "$s" "$o" -fsanitize=fuzzer-no-link &
+    running=$((running + 1))
+    if [ "$running" -ge "${FUZZ_BUILD_JOBS:-2}" ]; then wait -n || exit 1; running=$((running - 1)); fi
     objs+=("$o")
   done
+  while [ "$running" -gt 0 ]; do wait -n || exit 1; running=$((running - 1)); done
   for t in case set report; do
     compile "tests/fuzz/fuzz_$t.cpp" "$out/obj/fuzz_$t.o" -fsanitize=fuzzer-no-link
     nice -n 19 "$cxx" -fsanitize=fuzzer,address,undefined -o "$out/fuzz_$t" "$out/obj/fuzz_$t.o" \

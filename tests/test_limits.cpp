@@ -9,14 +9,18 @@
 
 #include "harness/limits.hpp"
 #include "harness/runner.hpp"
+#include "methods/newton.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fcntl.h>
+#include <limits>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <thread>
 
@@ -427,4 +431,192 @@ TEST_CASE("limits: SIGINT/SIGTERM write the report marked interrupted; a second 
     const std::string now = read_text(out / "report.json");
     // either the previous report (the second signal came first) or the whole new one
     if (now != previous) CHECK_NOTHROW(json::parse(now));
+}
+
+// ---- the Newton residual of a solve-failed run
+// ---------------------------------------------------
+
+TEST_CASE("limits: a Newton solve that cannot converge leaves its iterations and residual",
+          "[limits][faults]") {
+    // x² + 1 = 0 has no real root: Newton wanders for all max_iterations
+    dampsym::StageNewton newton(1);
+    dampsym::Counters counters;
+    newton.X[0] = 0.5;
+    const int it = newton.solve(dampsym::NewtonPolicy::full, counters, [&](bool) {
+        newton.R[0] = newton.X[0] * newton.X[0] + 1.0;
+        newton.S(0, 0) = 2.0 * newton.X[0];
+    });
+    CHECK(it == 0);
+    CHECK(counters.failed_solve_iterations == dampsym::StageNewton::max_iterations);
+    CHECK(counters.failed_solve_residual >= 1.0); // |x² + 1| ≥ 1 at every iterate
+    CHECK(std::isfinite(counters.failed_solve_update));
+    // a NaN residual ends the solve at once; the residual is recorded as non-finite (null)
+    dampsym::Counters nan_counters;
+    newton.X[0] = 0.5;
+    CHECK(newton.solve(dampsym::NewtonPolicy::full, nan_counters, [&](bool) {
+        newton.R[0] = std::numeric_limits<double>::quiet_NaN();
+        newton.S(0, 0) = 1.0;
+    }) == 0);
+    CHECK(nan_counters.failed_solve_iterations == 1);
+    CHECK(std::isnan(nan_counters.failed_solve_residual));
+    CHECK(dampsym::solve_failure_json(nan_counters)["residual"].is_null());
+    // negative control: a solve that converges records nothing
+    dampsym::Counters ok_counters;
+    newton.X[0] = 3.0;
+    CHECK(newton.solve(dampsym::NewtonPolicy::full, ok_counters, [&](bool) {
+        newton.R[0] = newton.X[0] * newton.X[0] - 4.0;
+        newton.S(0, 0) = 2.0 * newton.X[0];
+    }) > 0);
+    CHECK(ok_counters.failed_solve_iterations == 0);
+}
+
+TEST_CASE("limits: a solve-failed run reports the Newton iterations and residual",
+          "[limits][faults]") {
+    // gauss2 on the pendulum with h = 20: its stage Newton does not converge in the first step
+    json j = small_case("newton-fails", 40.0, 20.0);
+    j["problem"] = {{"id", "pendulum"}, {"gamma", 0.1}};
+    j["methods"] = {"gauss2", "implicit-euler"};
+    j["diagnostics"] = {"energy"};
+    j.erase("expect");
+    j["no_checks_because"] = "the run records are what is tested";
+    dampsym::RunOptions opt;
+    opt.time_budget = 0.0;
+    const json report = dampsym::run_cases({spec(j)}, opt);
+    const json& bad = run_of(report, 0, 0);
+    INFO(bad.dump());
+    REQUIRE(bad["status"] == "solve-failed");
+    CHECK(bad["failed_at_step"] == 1);
+    REQUIRE(bad.contains("solve_failure"));
+    CHECK(bad["solve_failure"]["iterations"] == dampsym::StageNewton::max_iterations);
+    REQUIRE(bad["solve_failure"]["residual"].is_number());
+    CHECK(bad["solve_failure"]["residual"].get<double>() > 1e-8); // far from converged
+    // negative control: the run that converges has no solve_failure
+    CHECK(run_of(report, 0, 1)["status"] == "ok");
+    CHECK_FALSE(run_of(report, 0, 1).contains("solve_failure"));
+}
+
+// ---- the reference in the case's time budget ---------------------------------------------------
+
+namespace {
+// Undamped pendulum over a long span: a certified GSL reference of seconds, a cheap run.
+json slow_reference_case(const std::string& id, double t_end, double q0) {
+    json j = small_case(id, t_end, 1.0);
+    j["problem"] = {{"id", "pendulum"}, {"gamma", 0.0}, {"q0", q0}};
+    j["methods"] = {"csv1"};
+    j["output_dt"] = t_end / 100.0;
+    j.erase("expect");
+    j["expect"]["error bounded"] = {
+        {"metric", "error.final_abs"}, {"methods", "all"}, {"le", 10.0}};
+    return j;
+}
+} // namespace
+
+TEST_CASE("limits: the reference's time counts in the case's time budget", "[limits]") {
+    // t_end 1e5: the reference takes ~6 s (Release); the budget is 0.3 s
+    json slow = slow_reference_case("slow-reference", 1e5, 0.987654321);
+    slow["timeout_seconds"] = 0.3;
+    const std::vector<CaseSpec> cases{spec(slow), spec(small_case("clean", 2.0, 0.01))};
+    dampsym::RunOptions opt;
+    opt.time_budget = 0.0;
+    const json clean = dampsym::run_cases({cases[1]}, opt);
+    const auto t0 = Clock::now();
+    const json report = dampsym::run_cases(cases, opt);
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const json& c = report["cases"][0];
+    INFO(c["reference"].dump());
+    CHECK(c["reference"]["ok"] == false);
+    CHECK_THAT(c["reference"]["error"].get<std::string>(), Catch::Contains("time budget"));
+    CHECK(c["runs"][0]["status"] == "timeout");
+    CHECK(c["runs"][0]["steps"] == 0);
+    for (const auto& ck : c["checks"]) CHECK_FALSE(ck["passed"].get<bool>());
+    CHECK(report["cases"][1] == clean["cases"][0]);
+    CHECK(wall < 3.0);
+}
+
+TEST_CASE("limits: a reference stopped by one case's budget is not reused by another case",
+          "[limits]") {
+    // the same problem and grid (one reference-cache key); the first case's budget (1 ms) stops
+    // the reference, the second case has none and must get a complete reference
+    json a = slow_reference_case("tiny-budget", 2000.0, 0.876543219);
+    a["timeout_seconds"] = 1e-3;
+    json b = slow_reference_case("no-budget", 2000.0, 0.876543219);
+    dampsym::RunOptions opt;
+    opt.jobs = 1;
+    opt.time_budget = 0.0;
+    const json report = dampsym::run_cases({spec(a), spec(b)}, opt);
+    INFO(report["cases"][0]["reference"].dump());
+    INFO(report["cases"][1]["reference"].dump());
+    CHECK(report["cases"][0]["reference"]["ok"] == false);
+    CHECK(report["cases"][1]["reference"]["ok"] == true);
+    CHECK(run_of(report, 1, 0)["status"] == "ok");
+    CHECK(report["cases"][1]["checks"][0]["passed"] == true);
+}
+
+// ---- streaming outputs: a full disk is an I/O error (exit 3), never a crash
+// ----------------------
+
+namespace {
+// Runs the binary with a file-size limit (RLIMIT_FSIZE: writes past it fail as on a full disk).
+int run_with_file_limit(const std::vector<std::string>& args, const fs::path& dir, rlim_t bytes) {
+    std::vector<std::string> full{DAMPSYM_BINARY};
+    full.insert(full.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : full) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string out = (dir / "stdout").string(), err = (dir / "stderr").string();
+    const pid_t pid = fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        const rlimit lim{bytes, bytes};
+        setrlimit(RLIMIT_FSIZE, &lim);
+        const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (o < 0 || e < 0) _exit(120);
+        dup2(o, 1);
+        dup2(e, 2);
+        execv(argv[0], argv.data());
+        _exit(121);
+    }
+    return wait_status(pid);
+}
+} // namespace
+
+TEST_CASE("limits: a report that cannot be written (full disk) exits 3 with a message",
+          "[limits][cli]") {
+    TempDir dir;
+    copy_data("cases/cli-pass.json", dir.path());
+    const fs::path out = dir / "out";
+    // 1 KiB: report.json (~5 KiB) cannot be written
+    const int status = run_with_file_limit({"run", (dir / "cli-pass.json").string(), "--out",
+                                            out.string(), "--time-budget", "0", "--quiet"},
+                                           dir.path(), 1024);
+    const std::string err = read_text(dir / "stderr");
+    INFO(err);
+    CHECK(status == 3); // not killed by SIGXFSZ (1000 + 25)
+    CHECK_THAT(err, Catch::Contains("report.json: cannot write"));
+    std::error_code ec;
+    CHECK_FALSE(fs::exists(out / "report.json.tmp", ec)); // no partial file left behind
+}
+
+TEST_CASE("limits: a --figures series file that cannot be written: the report is written, "
+          "exit 3",
+          "[limits][cli]") {
+    TempDir dir;
+    copy_data("cases/cli-pass.json", dir.path());
+    const fs::path out = dir / "out";
+    // 20 KiB: the report (~5 KiB) fits, the case's series file (~48 KiB) does not
+    const int status =
+        run_with_file_limit({"run", (dir / "cli-pass.json").string(), "--out", out.string(),
+                             "--time-budget", "0", "--quiet", "--figures"},
+                            dir.path(), 20 * 1024);
+    const std::string err = read_text(dir / "stderr");
+    INFO(err);
+    CHECK(status == 3);
+    CHECK_THAT(err, Catch::Contains("series"));
+    CHECK_THAT(err, Catch::Contains("cli-pass.json"));
+    REQUIRE(fs::exists(out / "report.json"));
+    const json report = json::parse(read_text(out / "report.json"));
+    REQUIRE(report.contains("output_errors"));
+    CHECK(report["output_errors"].size() == 1);
+    CHECK(report["summary"]["checks_failed"] == 0); // the results themselves are intact
 }

@@ -68,15 +68,18 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     }
     const auto start = std::chrono::system_clock::now();
     json report;
+    std::vector<std::string> output_errors; // streaming outputs that failed (limits.hpp)
     {
         ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
         RunOptions ro;
         ro.jobs = jobs;
         ro.time_budget = time_budget;
-        ro.case_timeout = limits.case_timeout;                       // issue 17 (limits.hpp)
-        if (o.figures) ro.series_sink = series_file_sink(o.out_dir); // figures hook (issue 14)
+        ro.case_timeout = limits.case_timeout; // issue 17 (limits.hpp)
+        if (o.figures) // figures hook (issue 14); issue 17: a failed write is recorded, not fatal
+            ro.series_sink = recording_output_errors(series_file_sink(o.out_dir), output_errors);
         report = run_cases(selected.cases, ro, progress.callback());
     }
+    if (!output_errors.empty()) report["output_errors"] = output_errors; // issue 17
     report["provenance"] = make_provenance(command_line, jobs, start);
     if (selected.shard)
         report["provenance"]["shard"] = {{"index", selected.shard->index},
@@ -85,6 +88,10 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                          {"selected", selected.all_ids}};
     mark_interrupted(report);
     const int status = exit_status_after_run(finish_report(report, o, out, err));
+    if (!output_errors.empty()) { // issue 17: the report is written; the outputs are not
+        for (const auto& e : output_errors) err << "dampsym: " << e << "\n";
+        return 3;
+    }
     if (o.figures && report.value("interrupted", false) == false) {
         // figures hook (issue 14): draw, then report.md again with the figures
         if (make_figures(o.out_dir, jobs, o.figure_format, err) != 0) return 3;

@@ -19,6 +19,12 @@ struct Counters {
     std::int64_t jac_evals = 0;
     std::int64_t newton_iters = 0;
     int max_newton_iters_per_step = 0;
+    // The last nonlinear solve that failed (methods/newton.hpp), for the run's solve-failed
+    // record: the iterations it made (0 = no solve failed), the max-norm of its residual at the
+    // last iterate evaluated and of its last update (NaN when non-finite).
+    int failed_solve_iterations = 0;
+    double failed_solve_residual = 0.0;
+    double failed_solve_update = 0.0;
 };
 
 enum class StepStatus { ok, solve_failed };

@@ -276,3 +276,26 @@ void parse_expect(const json& ej, const ProblemInfo& problem, const std::string&
 }
 
 } // namespace dampsym::case_detail
+
+namespace dampsym::detail {
+
+// (Here rather than in runner.cpp, so that the readers link without the runner: ci/fuzz.sh.)
+// Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000
+// points; the last point is t_end.
+std::int64_t output_points(const CaseSpec& c) {
+    const double span = c.t_end - c.t0;
+    if (c.output_dt) return std::llround(span / *c.output_dt);
+    std::size_t coarse = 0;
+    for (std::size_t i = 1; i < c.dts.size(); ++i)
+        if (c.dts[i] > c.dts[coarse]) coarse = i;
+    for (double dt : c.dts) {
+        const double r = c.dts[coarse] / dt;
+        if (std::abs(r - std::round(r)) > 1e-9 * r) return 1; // no common grid: final time only
+    }
+    const std::int64_t n = c.steps[coarse];
+    for (std::int64_t k = 1; k <= n; ++k)
+        if (n % k == 0 && n / k <= 20000) return n / k;
+    return 1;
+}
+
+} // namespace dampsym::detail

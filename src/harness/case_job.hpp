@@ -32,18 +32,30 @@ json state_json(const Vec& z);
 // output times, tolerances) and shared by every method, step size and case that needs them.
 class ReferenceCache {
 public:
+    // A solution that its case's time budget stopped (reference_stopped, limits.hpp) is not kept:
+    // its computing case gets it, every other caller computes the reference again under its own
+    // budget (a case with a longer budget, or none, never inherits a stopped reference).
     template <class Compute>
     std::shared_ptr<const ReferenceSolution> get(const std::string& key, Compute&& compute) {
-        std::shared_ptr<Entry> e;
-        {
-            std::lock_guard<std::mutex> lock(m_);
-            auto& slot = map_[key];
-            if (!slot) slot = std::make_shared<Entry>();
-            e = slot;
+        for (;;) {
+            std::shared_ptr<Entry> e;
+            {
+                std::lock_guard<std::mutex> lock(m_);
+                auto& slot = map_[key];
+                if (!slot) slot = std::make_shared<Entry>();
+                e = slot;
+            }
+            bool mine = false;
+            std::call_once(e->once, [&] {
+                e->solution = std::make_shared<const ReferenceSolution>(compute());
+                mine = true;
+            });
+            if (mine || !reference_stopped(*e->solution)) {
+                if (reference_stopped(*e->solution)) forget(key, e);
+                return e->solution;
+            }
+            forget(key, e);
         }
-        std::call_once(e->once,
-                       [&] { e->solution = std::make_shared<const ReferenceSolution>(compute()); });
-        return e->solution;
     }
 
 private:
@@ -51,6 +63,11 @@ private:
         std::once_flag once;
         std::shared_ptr<const ReferenceSolution> solution;
     };
+    void forget(const std::string& key, const std::shared_ptr<Entry>& e) {
+        std::lock_guard<std::mutex> lock(m_);
+        auto it = map_.find(key);
+        if (it != map_.end() && it->second == e) map_.erase(it);
+    }
     std::mutex m_;
     std::map<std::string, std::shared_ptr<Entry>> map_;
 };

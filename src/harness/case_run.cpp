@@ -89,6 +89,8 @@ void CaseRun::record_run(json& out, const IntegrateOutcome& res, const Counters&
     out["final_time"] = time_at(c_.t0, h, res.steps_done);
     out["final_state"] = state_json(z);
     if (res.status != RunStatus::ok) out["failed_at_step"] = res.failed_step;
+    if (res.status == RunStatus::solve_failed && counters.failed_solve_iterations > 0)
+        out["solve_failure"] = solve_failure_json(counters); // issue 17 (limits.hpp)
     out["rhs_evals"] = counters.rhs_evals;
     out["jac_evals"] = counters.jac_evals;
     out["newton_iters"] = counters.newton_iters;

@@ -2,6 +2,7 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "harness/case.hpp"
+#include "harness/report.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -54,12 +55,22 @@ void clear_stop() noexcept {
     g_stop_signal.store(0);
 }
 
+namespace {
+std::int64_t now_ns() noexcept {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+} // namespace
+
 void CaseGuard::start() noexcept {
     std::int64_t expected = -1;
-    const std::int64_t now =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch())
-            .count();
-    start_ns_.compare_exchange_strong(expected, now);
+    start_ns_.compare_exchange_strong(expected, now_ns() - spent_ns_.load());
+}
+
+void CaseGuard::pause() noexcept {
+    const std::int64_t start = start_ns_.exchange(-1);
+    if (start >= 0) spent_ns_.store(now_ns() - start);
 }
 
 std::optional<RunStatus> CaseGuard::stop_status() const noexcept {
@@ -99,6 +110,53 @@ void poison_reference(ReferenceRequest& req, const FaultPlan* fault) {
                count = std::int64_t{0}](double t, const double* y, double* dydt) mutable {
         inner(t, y, dydt);
         if (++count >= after) dydt[0] = std::numeric_limits<double>::quiet_NaN();
+    };
+}
+
+namespace {
+constexpr const char* kReferenceStopped = "reference stopped: ";
+std::string seconds_text(double s) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g s", s);
+    return buf;
+}
+} // namespace
+
+void stop_reference_with(ReferenceRequest& req, const CaseGuard& guard) {
+    req.rhs = [inner = req.rhs, &guard, count = std::uint32_t{0}](double t, const double* y,
+                                                                  double* dydt) mutable {
+        if ((++count & 255u) == 0)
+            if (const auto stop = guard.stop_status())
+                throw std::runtime_error(
+                    std::string(kReferenceStopped) +
+                    (*stop == RunStatus::timeout
+                         ? "the case's time budget (timeout_seconds / --case-timeout, " +
+                               seconds_text(guard.timeout()) + ") ran out"
+                         : std::string("interrupted by a signal")));
+        inner(t, y, dydt);
+    };
+}
+
+bool reference_stopped(const ReferenceSolution& sol) {
+    return !sol.ok && sol.error.find(kReferenceStopped) != std::string::npos;
+}
+
+nlohmann::json solve_failure_json(const Counters& counters) {
+    auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+    return {{"iterations", counters.failed_solve_iterations},
+            {"residual", number(counters.failed_solve_residual)},
+            {"last_update", number(counters.failed_solve_update)}};
+}
+
+std::function<void(const nlohmann::json&)>
+recording_output_errors(std::function<void(const nlohmann::json&)> sink,
+                        std::vector<std::string>& errors) {
+    return [sink = std::move(sink), &errors](const nlohmann::json& item) {
+        try {
+            sink(item);
+        } catch (const OutputError& e) {
+            errors.emplace_back(e.what());
+        }
     };
 }
 
@@ -278,8 +336,9 @@ nlohmann::json failed_case_record(const CaseSpec& c, const std::vector<std::stri
 
 void add_limit_options(CLI::App& run, CliLimits& limits) {
     run.add_option("--case-timeout", limits.case_timeout,
-                   "seconds per case (its runs, not its reference); a run past it stops at the "
-                   "next step with status timeout, the case fails, the others go on (exit 1); "
+                   "seconds per case (its reference and its runs); a run past it stops at the "
+                   "next step with status timeout (a reference: reference-failed), the case fails, "
+                   "the others go on (exit 1); "
                    "a case's timeout_seconds wins; default 0 = none")
         ->check(CLI::Range(0.0, 1e9));
     run.add_option("--max-memory", limits.max_memory,

@@ -2,10 +2,10 @@
 // limits", docs/ci.md "Exit status"):
 //
 // - Time: a case's time budget (`--case-timeout SECONDS` or the case key `timeout_seconds`). Its
-//   clock starts when the case's first run starts (its reference, computed before, is not
-//   counted); a run past it stops at the next step boundary with status "timeout" and the step
-//   reached, the case's later runs stop at step 0, its checks on those runs fail, the other cases
-//   go on, and the exit status is 1.
+//   clock starts when the case starts, before its reference: a numerical reference past it stops
+//   (reference-failed, naming the budget; stop_reference_with) and a run past it stops at the next
+//   step boundary with status "timeout" and the step reached; the case's later runs stop at step
+//   0, its checks on those runs fail, the other cases go on, and the exit status is 1.
 // - Signals: the first SIGINT/SIGTERM stops every run at its next step boundary (status
 //   "interrupted"); the report of what finished is written, marked "interrupted", and the exit
 //   status is 130/143. A second signal exits at once (the previous report in --out stays intact:
@@ -26,6 +26,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -81,14 +82,19 @@ public:
     // seconds <= 0: no budget.
     void set_timeout(double seconds) { timeout_ = seconds; }
     double timeout() const { return timeout_; }
-    // Starts the case's clock (the first call counts).
+    // Starts the case's clock, or resumes it after pause() (while it runs, further calls are
+    // no-ops: the first of concurrent runs counts).
     void start() noexcept;
+    // Pauses the clock, keeping the time spent so far (called after the case's reference, before
+    // its runs wait for their turn; not concurrently with start()).
+    void pause() noexcept;
     // The status a run of this case must stop with now, if any (interrupted before timeout).
     std::optional<RunStatus> stop_status() const noexcept;
 
 private:
     double timeout_ = 0.0;
-    std::atomic<std::int64_t> start_ns_{-1};
+    std::atomic<std::int64_t> start_ns_{-1}; // when the clock would have started; -1: not running
+    std::atomic<std::int64_t> spent_ns_{0};  // time spent before the last pause
 };
 
 // ---- test-only fault injection ------------------------------------------------------------------
@@ -113,6 +119,25 @@ const FaultPlan* fault_for(std::string_view case_id, std::string_view method);
 
 // Wraps req.rhs as a reference_nan plan says (no-op for a null plan).
 void poison_reference(ReferenceRequest& req, const FaultPlan* fault);
+
+// Wraps req.rhs so that the reference stops once `guard` says stop (the case's time budget ran
+// out, or a signal): the rhs then throws, so the reference fails (ok = false) with a message
+// naming the budget. The guard must outlive the request. Tested every 256 evaluations.
+void stop_reference_with(ReferenceRequest& req, const CaseGuard& guard);
+// Whether a reference failed because its guard stopped it (such a result is not shared with
+// other cases through the reference cache: their budgets may differ).
+bool reference_stopped(const ReferenceSolution& sol);
+
+// The run record's "solve_failure" (status solve-failed): iterations, residual and last update of
+// the Newton solve that failed (Counters::failed_solve_*; null where non-finite).
+nlohmann::json solve_failure_json(const Counters& counters);
+
+// Wraps a streaming output (the --figures series files) so that an I/O error (OutputError) is
+// recorded in `errors` and the run goes on: the report is still written, with the errors, and
+// the exit status is 3. `errors` must outlive the sink; the sink is called from one thread.
+std::function<void(const nlohmann::json&)>
+recording_output_errors(std::function<void(const nlohmann::json&)> sink,
+                        std::vector<std::string>& errors);
 
 // Like integrate() (bitwise the same states), in chunks of growing length with guard.stop_status()
 // tested between chunks. A stop gives {timeout|interrupted, steps done, steps done}.

@@ -44,24 +44,25 @@ template <class First, class... Rest>
 First first_type(TypeList<First, Rest...>);
 // Any registered problem type: kernel_name asks only what does not depend on it.
 using AnyProblem = decltype(first_type(ProblemList{}));
+
+// One kernel K of the list: its name if it takes this method's data and accepts it. (A function
+// template rather than a lambda folded over the pack: clang 14, which builds the fuzz targets
+// (ci/fuzz.sh), crashes on the nested generic lambda.)
+template <template <class> class Kt, class D>
+void kernel_name_if(const D& data, std::string_view& name) {
+    using K = Kt<AnyProblem>; // Data, accepts and kernel_id do not depend on the problem type
+    if constexpr (std::is_same_v<typename K::Data, D>)
+        if (name.empty() && K::accepts(data)) name = K::kernel_id;
+}
+template <class D, template <class> class... Ks>
+void kernel_name_in(KernelList<Ks...>, const D& data, std::string_view& name) {
+    (kernel_name_if<Ks>(data, name), ...);
+}
 } // namespace
 
 std::string_view kernel_name(const MethodInfo& info) {
     std::string_view name;
-    std::visit(
-        [&]<class D>(const D& data) {
-            [&]<template <class> class... Ks>(KernelList<Ks...>) {
-                (
-                    [&] {
-                        // Data, accepts and kernel_id do not depend on the problem type.
-                        using K = Ks<AnyProblem>;
-                        if constexpr (std::is_same_v<typename K::Data, D>)
-                            if (name.empty() && K::accepts(data)) name = K::kernel_id;
-                    }(),
-                    ...);
-            }(Kernels{});
-        },
-        info.data);
+    std::visit([&](const auto& data) { kernel_name_in(Kernels{}, data, name); }, info.data);
     return name;
 }
 

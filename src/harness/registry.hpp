@@ -76,33 +76,38 @@ bool with_problem_type(std::string_view id, F&& f) {
 
 enum class KernelMatch { applied, not_applicable, unknown_kernel };
 
+namespace registry_detail {
+// One kernel Kt of the list (function templates rather than a lambda folded over the pack: clang
+// 14, which builds the fuzz targets (ci/fuzz.sh), crashes on the nested generic lambda).
+template <class P, template <class> class Kt, class D, class F>
+void with_kernel_if(const D& data, F& f, KernelMatch& result) {
+    using K = Kt<P>;
+    if constexpr (std::is_same_v<typename K::Data, D>) {
+        if (result == KernelMatch::unknown_kernel && K::accepts(data)) {
+            if constexpr (K::template applies<P>) {
+                f.template operator()<K>();
+                result = KernelMatch::applied;
+            } else {
+                result = KernelMatch::not_applicable;
+            }
+        }
+    }
+}
+template <class P, class D, class F, template <class> class... Ks>
+KernelMatch with_kernel_in(KernelList<Ks...>, const D& data, F& f) {
+    KernelMatch result = KernelMatch::unknown_kernel;
+    (with_kernel_if<P, Ks>(data, f, result), ...);
+    return result;
+}
+} // namespace registry_detail
+
 // Calls f.template operator()<K<P>>() for the kernel that steps `info` on problem type P: the type
 // of the row's coefficient set (std::visit on MethodInfo::data) selects the kernels whose Data is
 // that type, and the first of them that accepts the data steps it.
 template <class P, class F>
 KernelMatch with_kernel(const MethodInfo& info, F&& f) {
     return std::visit(
-        [&]<class D>(const D& data) {
-            return [&]<template <class> class... Ks>(KernelList<Ks...>) {
-                KernelMatch result = KernelMatch::unknown_kernel;
-                (
-                    [&] {
-                        using K = Ks<P>;
-                        if constexpr (std::is_same_v<typename K::Data, D>) {
-                            if (result == KernelMatch::unknown_kernel && K::accepts(data)) {
-                                if constexpr (K::template applies<P>) {
-                                    f.template operator()<K>();
-                                    result = KernelMatch::applied;
-                                } else {
-                                    result = KernelMatch::not_applicable;
-                                }
-                            }
-                        }
-                    }(),
-                    ...);
-                return result;
-            }(Kernels{});
-        },
+        [&](const auto& data) { return registry_detail::with_kernel_in<P>(Kernels{}, data, f); },
         info.data);
 }
 

@@ -321,14 +321,19 @@ std::string render_totals(const json& report) {
 
 void write_file_atomic(const std::string& path, const std::string& text) {
     const std::string tmp = path + ".tmp";
+    std::error_code ec;
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
         out << text;
         out.flush();
-        if (!out) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
+        if (!out) {
+            const int e = errno;
+            out.close();
+            std::filesystem::remove(tmp, ec); // a full disk keeps no partial file
+            throw OutputError(path + ": cannot write: " + std::strerror(e));
+        }
     }
-    std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
         std::filesystem::remove(tmp, ec);

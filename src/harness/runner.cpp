@@ -57,24 +57,6 @@ std::string reference_key(const CaseSpec& c, const std::vector<double>& times) {
     return key;
 }
 
-// Output grid shared by every step size of a case: a common multiple of all dt, at most ~20000
-// points; the last point is t_end.
-std::int64_t output_points(const CaseSpec& c) {
-    const double span = c.t_end - c.t0;
-    if (c.output_dt) return std::llround(span / *c.output_dt);
-    std::size_t coarse = 0;
-    for (std::size_t i = 1; i < c.dts.size(); ++i)
-        if (c.dts[i] > c.dts[coarse]) coarse = i;
-    for (double dt : c.dts) {
-        const double r = c.dts[coarse] / dt;
-        if (std::abs(r - std::round(r)) > 1e-9 * r) return 1; // no common grid: final time only
-    }
-    const std::int64_t n = c.steps[coarse];
-    for (std::int64_t k = 1; k <= n; ++k)
-        if (n % k == 0 && n / k <= 20000) return n / k;
-    return 1;
-}
-
 // From the diagnostic registry: a diagnostic that reads the grid, or "error" with a grid of more
 // than one point (src/diagnostics/diagnostic.hpp DiagnosticNeeds).
 bool case_needs_grid(const CaseSpec& c, std::int64_t points) {
@@ -270,7 +252,11 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
     std::vector<std::function<void()>> tasks;
     for (std::size_t i = 0; i < jobs.size(); ++i)
         tasks.emplace_back([&, i] {
+            // issue 17: the case's reference counts in its time budget; the clock is paused
+            // while the case waits for its runs' turn (limits.hpp)
+            jobs[i]->guard().start();
             if (!isolated(i, [&] { jobs[i]->prepare(); })) prepared[i] = 0;
+            jobs[i]->guard().pause();
             report(i);
         });
     run_parallel(tasks, options.jobs);

@@ -50,6 +50,7 @@ public:
             auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
                 ReferenceRequest req = reference_request(problem_, c_, ref_times_);
                 poison_reference(req, fault_for(c_.id, "(reference)")); // tests only (limits.hpp)
+                stop_reference_with(req, guard_); // issue 17: stops at the case's time budget
                 return certified_reference(req);
             });
             set_numerical_reference(*sol);

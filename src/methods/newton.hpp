@@ -18,6 +18,8 @@
 // Newton at θ ∈ [0.5, 1) up to θ/(1−θ)·1e-10‖X‖ short of the solution.)
 // A NaN update or a non-finite iterate ends the solve as failed, as does no convergence within
 // max_iterations; the caller then returns StepStatus::solve_failed and leaves its state unchanged.
+// A failed solve leaves its iterations, residual and last update in the counters
+// (failed_solve_*), so that the run's solve-failed record says how far it got.
 // Counters: newton_iters counts every iteration; the caller counts its own evaluations and the
 // iterations of a step (max_newton_iters_per_step), since a step may hold several solves.
 #pragma once
@@ -66,11 +68,12 @@ public:
             X -= dX;
             const double step_norm = dX.cwiseAbs().maxCoeff();
             const double scale = std::max(X.cwiseAbs().maxCoeff(), 1e-300);
-            if (!(step_norm == step_norm) || !std::isfinite(scale)) return 0; // NaN / inf
+            if (!(step_norm == step_norm) || !std::isfinite(scale)) // NaN / inf
+                return failed(counters, it, step_norm);
             if (newton_converged(step_norm, scale, previous)) return it;
             previous = step_norm;
         }
-        return 0;
+        return failed(counters, max_iterations, previous);
     }
 
     // Factorises S as it stands (e.g. the Newton matrix at the converged stages, for the
@@ -82,6 +85,15 @@ public:
     }
 
 private:
+    // Records a failed solve in the counters (R: the residual at the last iterate evaluated).
+    int failed(Counters& counters, int iterations, double update) const {
+        constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+        counters.failed_solve_iterations = iterations;
+        counters.failed_solve_residual = R.allFinite() ? R.cwiseAbs().maxCoeff() : nan;
+        counters.failed_solve_update = std::isfinite(update) ? update : nan;
+        return 0;
+    }
+
     Eigen::PartialPivLU<Mat> lu_;
 };
 
