@@ -21,13 +21,15 @@ flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
        -fno-sanitize-recover=all -I"$root/src" -I"$root" -isystem /usr/include/eigen3
        -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
 # The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
-lib=(src/harness/case.cpp src/harness/case_expect.cpp src/harness/case_util.cpp src/harness/limits.cpp
+lib=(src/harness/case.cpp src/harness/case_json.cpp src/harness/case_parse.cpp src/harness/case_expect.cpp
+     src/harness/case_util.cpp src/harness/case_figures.cpp src/harness/method_files.cpp src/harness/limits.cpp
+     src/harness/provenance.cpp
      src/harness/registry.cpp src/harness/compare.cpp src/harness/compare_input.cpp src/harness/shard.cpp
      src/harness/report.cpp src/harness/report_tables.cpp src/harness/junit.cpp
      src/diagnostics/*.cpp
      src/methods/catalog.cpp src/methods/tableaux.cpp src/methods/exponential_tableaux.cpp
      src/methods/glm_coefficients.cpp src/methods/coefficient_checks.cpp
-     src/methods/exponential_conditions.cpp
+     src/methods/exponential_conditions.cpp src/methods/coefficient_expr.cpp
      reference/gsl_reference.cpp reference/kepler_exact.cpp reference/oscillator_exact.cpp
      reference/rigid_body_exact.cpp)
 compile() { # source object extra-flags...
