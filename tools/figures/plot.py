@@ -38,8 +38,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.ticker import (FuncFormatter, LogLocator, MaxNLocator, NullFormatter,  # noqa: E402
-                               NullLocator)
+from matplotlib.ticker import (FixedLocator, FuncFormatter, LogLocator, MaxNLocator,  # noqa: E402
+                               NullFormatter, NullLocator)
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "figure.dpi": 100, "savefig.dpi": 100, "axes.grid": True, "grid.alpha": 0.3,
@@ -100,8 +100,15 @@ def tidy_log_axis(axis, lo, hi):
     elif decades >= 1:
         axis.set_major_locator(LogLocator(base=10, numticks=7))
         axis.set_minor_locator(LogLocator(base=10, subs=(2.0, 5.0), numticks=12))
-    else:  # less than a decade: label 1, 2, 5 × 10^k
-        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0), numticks=12))
+    else:  # less than a decade: 1, 2, 5 × 10^k, finer mantissas when fewer than two fall inside
+        # (LogLocator then falls back to linear ticks whose labels overlapped: "1.8×10⁻⁴2×10⁻⁴")
+        k0, k1 = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
+        for subs in ((1, 2, 5), (1, 1.5, 2, 3, 5, 7), (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8)):
+            ticks = [m * 10.0 ** k for k in range(k0, k1 + 1) for m in subs
+                     if lo <= m * 10.0 ** k <= hi]
+            if len(ticks) >= 2:
+                break
+        axis.set_major_locator(FixedLocator(ticks))
         axis.set_minor_locator(NullLocator())
 
 
