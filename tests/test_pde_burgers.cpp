@@ -21,23 +21,6 @@ using namespace dampsym::pde;
 
 namespace {
 
-double max_abs(const Vec& v) {
-    return v.cwiseAbs().maxCoeff();
-}
-
-double slope(const std::vector<double>& h, const std::vector<double>& e) {
-    const int n = static_cast<int>(h.size());
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (int i = 0; i < n; ++i) {
-        const double x = std::log(h[i]), y = std::log(e[i]);
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 Vec run(const PeriodicGrid& g, double gamma, double h, int n, BurgersScheme s, Vec u) {
     BurgersStepper st(g, gamma, h, s);
     for (int i = 0; i < n; ++i) REQUIRE(st.step(u));
@@ -71,16 +54,19 @@ TEST_CASE("pde burgers: time orders before the shock against fine references", "
         std::vector<double> hs, errs, loc;
         for (int n : {20, 40, 80, 160}) {
             hs.push_back(T / n);
-            errs.push_back(max_abs(run(g, gamma, T / n, n, BurgersScheme::csv_split, u0) - ref));
+            errs.push_back(dampsym::test::max_abs(
+                run(g, gamma, T / n, n, BurgersScheme::csv_split, u0) - ref));
         }
         for (int n : {1, 2, 4, 8}) { // local error: one step of h = 0.1/n … against the fine RK4
             const double h = 0.1 / n;
             const Vec rr = rk4([&](const Vec& u, Vec& o) { burgers_central_rhs(g, gamma, u, o); },
                                u0, h / 100, 100);
-            loc.push_back(max_abs(run(g, gamma, h, 1, BurgersScheme::csv_split, u0) - rr));
+            loc.push_back(
+                dampsym::test::max_abs(run(g, gamma, h, 1, BurgersScheme::csv_split, u0) - rr));
         }
         std::vector<double> lh{0.1, 0.05, 0.025, 0.0125};
-        const double s = slope(hs, errs), sl = slope(lh, loc);
+        const double s = dampsym::test::log_log_slope(hs, errs),
+                     sl = dampsym::test::log_log_slope(lh, loc);
         if (verbose()) std::printf("[pde burgers] (5.10): local slope %.3f, order %.3f\n", sl, s);
         INFO("(5.10) local slope " << sl << ", order " << s);
         CHECK_THAT(sl, WithinAbs(3.0, 0.1));
@@ -99,9 +85,10 @@ TEST_CASE("pde burgers: time orders before the shock against fine references", "
         std::vector<double> hs, errs;
         for (int n : {80, 160, 320, 640}) {
             hs.push_back(T / n);
-            errs.push_back(max_abs(run(g, gamma, T / n, n, BurgersScheme::box, u0) - ref));
+            errs.push_back(
+                dampsym::test::max_abs(run(g, gamma, T / n, n, BurgersScheme::box, u0) - ref));
         }
-        const double s = slope(hs, errs);
+        const double s = dampsym::test::log_log_slope(hs, errs);
         if (verbose())
             std::printf("[pde burgers] (5.12) M=%d: order %.3f (errors %.2e %.2e %.2e %.2e)\n", M,
                         s, errs[0], errs[1], errs[2], errs[3]);
@@ -117,9 +104,10 @@ TEST_CASE("pde burgers: time orders before the shock against fine references", "
         std::vector<double> hs, errs;
         for (int n : {20, 40, 80, 160}) {
             hs.push_back(T / n);
-            errs.push_back(max_abs(run(g, gamma, T / n, n, BurgersScheme::nsfd, u0) - ref));
+            errs.push_back(
+                dampsym::test::max_abs(run(g, gamma, T / n, n, BurgersScheme::nsfd, u0) - ref));
         }
-        const double s = slope(hs, errs);
+        const double s = dampsym::test::log_log_slope(hs, errs);
         if (verbose()) std::printf("[pde burgers] NSFD: order %.3f\n", s);
         CHECK_THAT(s, WithinAbs(1.0, 0.1));
     }
