@@ -21,7 +21,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -70,14 +69,20 @@ std::uint64_t bits(double x) {
     return std::bit_cast<std::uint64_t>(x);
 }
 
-// The final_state arrays as they appear in the report text, parsed with strtod, in file order.
+// The final_state arrays as they appear in the report text, parsed with strtod, in file order
+// (read from the text, not through a JSON parser, so that the digits written are what is checked).
 std::vector<std::vector<double>> final_states_in_text(const std::string& text) {
     std::vector<std::vector<double>> out;
-    const std::regex re(R"re("final_state"\s*:\s*\[([^\]]*)\])re");
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
-         ++it) {
+    const std::string key = "\"final_state\"";
+    for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at + key.size())) {
+        std::size_t open = at + key.size();
+        while (open < text.size() && (text[open] == ' ' || text[open] == ':' || text[open] == '\n'))
+            ++open;
+        if (open >= text.size() || text[open] != '[') continue;
+        const auto close = text.find(']', open);
+        if (close == std::string::npos) break;
         std::vector<double> v;
-        const std::string body = (*it)[1].str();
+        const std::string body = text.substr(open + 1, close - open - 1);
         const char* p = body.c_str();
         while (*p) {
             char* end = nullptr;

@@ -18,6 +18,7 @@
 
 #include "core/integrate.hpp"
 #include "core/types.hpp"
+#include "diagnostics/series.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -108,9 +109,12 @@ inline double relative_defect(double c, double e_abs, double jinv_norm) {
 // stepper.step_jacobian and measures E_k at every step. z is advanced in place (the final state);
 // the z arithmetic is the same as integrate()'s with step(). Never throws on a failed solve or a
 // divergence: they are reported in status.
+// series (figures, issue 14): when given, receives (t_{k+1}, E_k rel) of every step up to the
+// first whose relative defect is undefined.
 template <class K, class P>
 ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& problem, Vec& z,
-                                                     double t0, double h, std::int64_t n) {
+                                                     double t0, double h, std::int64_t n,
+                                                     MinMaxDecimator* series = nullptr) {
     ConformalSymplecticStats st;
     if constexpr (!is_canonical_problem<P>()) {
         st.applicability = ConformalSymplecticApplicability::not_canonical;
@@ -150,8 +154,10 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
             const double e_rel = relative_defect(c, e_abs, jinv_norm);
             if (!std::isfinite(e_rel)) {
                 ++st.rel_undefined_steps; // e^{−2ΔΓ_n} below the double range
+                series = nullptr;
                 continue;
             }
+            if (series) series->push(time_at(t0, h, k + 1), e_rel);
             st.last_rel = e_rel;
             if (e_rel > st.max_rel || st.max_rel_step == 0) {
                 st.max_rel = e_rel;

@@ -7,6 +7,9 @@
 #include "diagnostics/conformal_symplectic.hpp"
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
+
+#include <optional>
 
 namespace dampsym {
 
@@ -20,9 +23,12 @@ json conformal_symplectic_json(const ConformalSymplecticStats& st);
 
 // Typed hook: the Jacobian pass of kernel K over n steps from (t0, z0). Instantiated only for
 // kernels with a step Jacobian on canonical problems; the others report why without a pass.
+// series (figures, issue 14): when given, set to the per-step relative defect of the pass (left
+// empty when there is no pass).
 template <class K, class P>
 json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, double t0, double h,
-                                  std::int64_t n) {
+                                  std::int64_t n,
+                                  std::optional<MinMaxDecimator>* series = nullptr) {
     ConformalSymplecticStats st;
     if constexpr (!is_canonical_problem<P>()) {
         st.applicability = ConformalSymplecticApplicability::not_canonical;
@@ -32,7 +38,9 @@ json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, doub
         Counters counters;
         K stepper(problem, info, h, counters);
         Vec z = problem.initial_state();
-        st = conformal_symplectic_defect(stepper, problem, z, t0, h, n);
+        if (series) series->emplace(n);
+        st = conformal_symplectic_defect(stepper, problem, z, t0, h, n,
+                                         series ? &**series : nullptr);
     }
     return conformal_symplectic_json(st);
 }

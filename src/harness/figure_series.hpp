@@ -3,10 +3,12 @@
 // TypedCase::series() (typed_case.hpp), and only when figures are on: without --figures nothing
 // here runs, so the measured run, its bare-loop timing and every report number are untouched.
 //
-// Per-step series come from a SEPARATE pass with its own stepper (like the conformal-symplectic
-// diagnostic): the measured run keeps its observers and its wall time. They reproduce the formulas
-// of diagnostics/recorder.hpp and conformal_symplectic.hpp exactly, so the maximum of a decimated
-// series equals the maximum the report states (verify/figures/test_figure_data.py checks this).
+// Per-step series come from the measured run itself: its figure observer (FigureStepObserver,
+// beside the Recorder in one RunObserver) and the conformal-symplectic diagnostic's Jacobian pass
+// (its E_n series). No extra pass is made; with --figures a run's wall time includes the series'
+// bookkeeping (every other number is the same with or without). The observer reproduces the
+// formulas of diagnostics/recorder.hpp exactly, so the maximum of a decimated series equals the
+// maximum the report states (verify/figures/test_figure_data.py checks this).
 // Series on the output grid (state error, energy error and change, temperature, Poincaré points)
 // are read from the measured run's grid and the case's reference, which the diagnostics used.
 #pragma once
@@ -41,65 +43,27 @@ inline bool figure_series_for_dt(const CaseSpec& c, std::size_t d) {
     return true;
 }
 
-// E_n / (e^{−2ΔΓ_n} √d) per step: the loop of conformal_symplectic_defect
-// (conformal_symplectic.hpp) with a decimated series instead of its maxima.
-template <class K, class P>
-nlohmann::json conformal_symplectic_series(const P& problem, const MethodInfo& info,
-                                           const CaseSpec& c, double h, std::int64_t n) {
-    if constexpr (!is_canonical_problem<P>() || !kernel_has_step_jacobian<K>()) {
-        (void)problem, (void)info, (void)c, (void)h, (void)n;
-        return nullptr;
-    } else {
-        Counters counters;
-        K stepper(problem, info, h, counters);
-        Vec z = problem.initial_state();
-        const int d = problem.dim();
-        const Mat Jinv = canonical_J_inverse(d);
-        const double jinv_norm = std::sqrt(static_cast<double>(d));
-        Mat Psi(d, d), JPsi(d, d), W(d, d);
-        MinMaxDecimator rel(n);
-        for (std::int64_t k = 0; k < n; ++k) {
-            const double tk = time_at(c.t0, h, k);
-            if (stepper.step_jacobian(tk, z, Psi) != StepStatus::ok) break;
-            const double cdec = std::exp(-2.0 * problem.dGamma(tk, h));
-            JPsi.noalias() = Jinv * Psi;
-            W.noalias() = Psi.transpose() * JPsi;
-            W -= cdec * Jinv;
-            const double e_rel = W.norm() / (cdec * jinv_norm);
-            if (state_diverged(z) || !std::isfinite(e_rel)) break;
-            rel.push(time_at(c.t0, h, k + 1), e_rel);
-        }
-        return rel.to_json();
-    }
+// Whether the orbit of a run's figures is sampled from its steps (the figure observer) rather
+// than from its output grid of `cols` points: when the grid has fewer points than the step
+// samples (orbit_samples), a grid of a few points per revolution would draw a polygon.
+template <class P>
+bool figure_orbit_from_steps(const P& problem, Eigen::Index cols, std::int64_t n) {
+    return figure_wants_orbit<P>() &&
+           cols - 1 < std::min<std::int64_t>(n, orbit_samples(problem.dim()));
 }
 
-// Everything one run keeps for its figures. grid/ref: the measured run's output grid and the
-// reference on the same grid (ref_on_grid false when the reference is not on it).
-template <class K, class P>
-nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, const MethodInfo& info,
-                                  double h, std::int64_t n, const Mat& grid,
-                                  const std::vector<double>& grid_t, const Mat& ref,
-                                  bool ref_on_grid, const std::vector<Maximum>& maxima) {
+// Everything one run keeps for its figures. steps: the series the measured run's figure observer
+// (FigureStepObserver, with the conformal-symplectic pass's E_n series) recorded per step;
+// grid/ref: the measured run's output grid and the reference on the same grid (ref_on_grid false
+// when the reference is not on it); orbit_steps: figure_orbit_from_steps for this grid.
+template <class P>
+nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann::json steps,
+                                  const Mat& grid, const std::vector<double>& grid_t,
+                                  const Mat& ref, bool ref_on_grid,
+                                  const std::vector<Maximum>& maxima, bool orbit_steps) {
     using json = nlohmann::json;
-    json s = json::object();
-    // the separate per-step pass; the orbit from it when the output grid has fewer points than
-    // the step pass keeps (orbit_samples): a grid of a few points per revolution draws a polygon
+    json s = steps.is_object() ? std::move(steps) : json::object();
     const Eigen::Index cols = grid.cols();
-    const bool orbit_steps = figure_wants_orbit<P>() &&
-                             cols - 1 < std::min<std::int64_t>(n, orbit_samples(problem.dim()));
-    FigureStepObserver<P> obs(problem, c, h, n, orbit_steps);
-    if (obs.needed()) {
-        Counters counters;
-        K stepper(problem, info, h, counters);
-        Vec z = problem.initial_state();
-        obs.start(z);
-        integrate(stepper, z, c.t0, h, n, &obs);
-        s = obs.to_json();
-    }
-    if (c.wants("conformal-symplectic")) {
-        json cs = conformal_symplectic_series<K>(problem, info, c, h, n);
-        if (!cs.is_null()) s["conformal-symplectic.rel"] = cs;
-    }
     // series on the output grid (the formulas of TypedCase's error/energy/temperature metrics)
     if (cols > 1) {
         if (ref_on_grid && c.wants("error")) {

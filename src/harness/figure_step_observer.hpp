@@ -1,6 +1,7 @@
-// The separate per-step pass of a run's figures (issue 14, harness/figure_series.hpp): invariant,
+// The per-step series of a run's figures (issue 14, harness/figure_series.hpp): invariant,
 // momentum-law and energy-balance residual series and the orbit samples, with the formulas of
-// diagnostics/recorder.hpp. Runs only with `dampsym run --figures`.
+// diagnostics/recorder.hpp. Observes the measured run beside its Recorder (RunObserver), only
+// with `dampsym run --figures`.
 #pragma once
 
 #include "core/integrate.hpp"
@@ -233,6 +234,19 @@ private:
     std::vector<double> orbit_t_;
     std::vector<std::vector<double>> orbit_z_, orbit_ref_;
     Vec z0_, ref_;
+};
+
+// The observer of a measured run that observes its steps: the Recorder of its diagnostics and,
+// with --figures, the figure series, each only if present. One observer type per problem, so
+// each kernel's observed step loop is instantiated once, with or without figures.
+template <class P>
+struct RunObserver {
+    Recorder<P>* recorder;
+    FigureStepObserver<P>* figures;
+    void operator()(std::int64_t n, double t, const Vec& z) {
+        if (recorder) (*recorder)(n, t, z);
+        if (figures) (*figures)(n, t, z);
+    }
 };
 
 } // namespace dampsym::detail

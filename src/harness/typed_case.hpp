@@ -19,6 +19,7 @@
 #include "harness/registry.hpp"
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace dampsym::detail {
@@ -104,22 +105,29 @@ private:
     }
 
     // The step loop: bare (no observer: no virtual call, no allocation per step) unless a
-    // diagnostic of the case needs the trajectory.
+    // diagnostic of the case or its figures need the trajectory.
     template <class K>
     void integrate_with(const MethodInfo& info, double h, std::int64_t n, json& out) {
         Counters counters;
         K stepper(problem_, info, h, counters);
         Vec z = problem_.initial_state();
         Recorder<P> rec(problem_, c_.t0, h);
+        // Figures hook (issue 14): only with --figures, the per-step series from the same pass
+        // (the figure observer beside the recorder) and the E_n series from the
+        // conformal-symplectic pass below; every report number is the same with or without.
+        std::optional<FigureStepObserver<P>> fig = figure_observer(out, h, n);
         IntegrateOutcome res;
         // issue 17: the step loop in chunks with the case's time budget and stop requests tested
         // between them (src/harness/limits.hpp); a fault only where a test planted one
         const FaultPlan* fault = fault_for(c_.id, info.id);
         guard_.start();
         const auto start = Clock::now();
-        if (observes()) {
-            start_recorder(rec, info, h, n, z);
-            res = integrate_guarded(stepper, z, c_.t0, h, n, &rec, guard_, fault);
+        FigureStepObserver<P>* steps = fig && fig->needed() ? &*fig : nullptr;
+        if (observes() || steps) {
+            if (observes()) start_recorder(rec, info, h, n, z);
+            if (steps) steps->start(z);
+            RunObserver<P> obs{observes() ? &rec : nullptr, steps};
+            res = integrate_guarded(stepper, z, c_.t0, h, n, &obs, guard_, fault);
         } else {
             res = integrate_guarded(stepper, z, c_.t0, h, n, static_cast<NoObserver*>(nullptr),
                                     guard_, fault);
@@ -133,11 +141,10 @@ private:
         const bool ok = res.status == RunStatus::ok;
         json metrics = observed_metrics(rec, info, h, ok, z);
         if (produces("cost", ok)) metrics["cost"] = cost_metrics(counters, res.steps_done, wall);
-        kernel_metrics<K>(metrics, info, h, n);
+        std::optional<MinMaxDecimator> cs_series;
+        kernel_metrics<K>(metrics, info, h, n, fig ? &cs_series : nullptr);
         out["metrics"] = metrics;
-        // Figures hook (issue 14): only with --figures; a separate pass, the run above is
-        // untouched.
-        if (figures_ && ok) capture_figure_series<K>(info, h, n, rec, out);
+        if (fig && ok) capture_figure_series(*fig, cs_series, n, rec, out);
         // Work-precision timing (ladder cases): the bare step loop only, never a failed run.
         if (ok && time_budget_ > 0.0 && c_.dts.size() >= 2) {
             auto once = [&] {
@@ -152,19 +159,35 @@ private:
         }
     }
 
-    // Figures hook (issue 14): the series of the run whose record is `out` (a slot of runs_).
-    template <class K>
-    void capture_figure_series(const MethodInfo& info, double h, std::int64_t n,
-                               const Recorder<P>& rec, const json& out) {
-        const auto slot = static_cast<std::size_t>(&out - runs_.data());
-        if (!figure_series_for_dt(c_, slot % c_.dts.size())) return;
+    // Figures hook (issue 14): the figure observer of the run whose record is `out` (a slot of
+    // runs_), or none (no --figures, or a run of a ladder that keeps no series). It observes the
+    // steps only if it has per-step series to keep (needed()).
+    std::optional<FigureStepObserver<P>> figure_observer(const json& out, double h,
+                                                         std::int64_t n) const {
+        std::optional<FigureStepObserver<P>> fig;
+        if (!figures_ || !figure_series_for_dt(c_, run_index(out) % c_.dts.size())) return fig;
+        const Eigen::Index cols = facts_.needs_grid ? facts_.points + 1 : 0; // the run's grid
+        fig.emplace(problem_, c_, h, n, figure_orbit_from_steps(problem_, cols, n));
+        return fig;
+    }
+
+    std::size_t run_index(const json& out) const {
+        return static_cast<std::size_t>(&out - runs_.data());
+    }
+
+    // Figures hook (issue 14): the series of the run whose record is `out`.
+    void capture_figure_series(FigureStepObserver<P>& fig, std::optional<MinMaxDecimator>& cs,
+                               std::int64_t n, const Recorder<P>& rec, const json& out) {
         const Mat& g = rec.grid();
         std::vector<double> times;
         for (Eigen::Index i = 0; i < g.cols(); ++i) times.push_back(facts_.grid_time(i));
         const bool ref_on_grid =
             facts_.reference_ok && facts_.needs_grid && facts_.ref.cols() == g.cols();
-        series_[slot] = capture_run_series<K>(problem_, c_, info, h, n, g, times, facts_.ref,
-                                              ref_on_grid, rec.maxima());
+        json steps = fig.needed() ? fig.to_json() : json::object();
+        if (cs) steps["conformal-symplectic.rel"] = cs->to_json();
+        series_[run_index(out)] =
+            capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
+                               rec.maxima(), figure_orbit_from_steps(problem_, g.cols(), n));
     }
 
     void start_recorder(Recorder<P>& rec, const MethodInfo& info, double h, std::int64_t n,
@@ -227,11 +250,13 @@ private:
 
     // The metrics that step kernel K again (separate steppers: the run above is untouched).
     // Instantiated only for (kernel, problem) pairs that can use them.
+    // cs_series (figures): receives the per-step E_n series of the conformal-symplectic pass.
     template <class K>
-    void kernel_metrics(json& m, const MethodInfo& info, double h, std::int64_t n) const {
+    void kernel_metrics(json& m, const MethodInfo& info, double h, std::int64_t n,
+                        std::optional<MinMaxDecimator>* cs_series = nullptr) const {
         if (produces("conformal-symplectic", true))
             m["conformal-symplectic"] =
-                conformal_symplectic_metrics<K>(problem_, info, c_.t0, h, n);
+                conformal_symplectic_metrics<K>(problem_, info, c_.t0, h, n, cs_series);
         if constexpr (LinearOscillator<P>)
             if (produces("stability", true))
                 m["stability"] = stability_metrics(one_step_matrix<K>(problem_, info, h),
