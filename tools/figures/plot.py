@@ -177,9 +177,10 @@ def save(fig, case, kind):
     name = f"{case['id']}-{kind}"
     tidy(fig)
     for ext in FORMATS:
-        # zlib level 1: a third of the encoding time of the default 6, files ~20% larger
-        fig.savefig(os.path.join(OUT, "figures", f"{name}.{ext}"),
-                    **({"pil_kwargs": {"compress_level": 1}} if ext == "png" else {}))
+        # zlib level 1 with the run-length strategy (compress_type 3, Z_RLE): a third of the
+        # encoding time of the default level 6, files ~15% larger
+        png = {"pil_kwargs": {"compress_level": 1, "compress_type": 3}}
+        fig.savefig(os.path.join(OUT, "figures", f"{name}.{ext}"), **(png if ext == "png" else {}))
     recycle(fig)
     return f"figures/{name}.{primary_format()}"
 
