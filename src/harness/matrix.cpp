@@ -192,6 +192,33 @@ const std::vector<Property>& properties() {
             p.push_back(n);
         }
         {
+            Property r;
+            r.id = "quadratic-undamped";
+            r.header = "quadratic inv. γ = 0 (rigid body)";
+            r.title = "drift of the quadratic Casimir |z|² on BS's undamped rigid body: "
+                      "least-squares slope of |F_n/F_0 − 1| per unit time";
+            r.source = "verify/cases/rb-bs-glm4.json over 10^4 instead of 10^5 steps; BS, BD §3";
+            r.case_id = "matrix-quadratic-rigid-body";
+            r.problem = "rigid-body";
+            r.case_json = {{"problem",
+                            {{"id", "rigid-body"},
+                             {"epsilon", 0.0},
+                             {"I1", 4.0},
+                             {"I2", 3.0},
+                             {"I3", 2.0},
+                             {"z1", 4.0},
+                             {"z2", 3.0},
+                             {"z3", 0.0}}},
+                           {"t_end", 1000.0},
+                           {"dt", 0.1},
+                           {"diagnostics", {"invariants"}}};
+            r.metric = "invariants.casimir.ratio_dev_slope";
+            r.criterion = criterion(CheckOp::le, 1e-11, 0.0, true);
+            r.claim = claim_g_symplectic | claim_conformal_quadratic;
+            r.criterion_text = "|slope| ≤ 1e-11 per unit time";
+            p.push_back(r);
+        }
+        {
             Property d;
             d.id = "drift";
             d.header = "d(t) drift (oscillator)";
@@ -241,6 +268,11 @@ const std::vector<Property>& properties() {
 bool claims_property(const Property& p, const MethodInfo& m) {
     if (p.from == Source::order) return true; // every method declares its order
     if (p.from == Source::threshold) return false;
+    // an RK method on the plain form that is symplectic for γ = 0 conserves every quadratic
+    // invariant (B(1.18), HLW IV.2); a partitioned one only those of the form qᵀCp
+    if (p.id == "quadratic-undamped" && (m.claims & claim_symplectic_if_undamped) != 0 &&
+        m.form == Form::plain)
+        return true;
     return (m.claims & p.claim) != 0;
 }
 
