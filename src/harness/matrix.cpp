@@ -310,10 +310,18 @@ const json* dotted(const json& root, const std::string& path) {
     return cur;
 }
 
+// The method-level metrics of diagnostic `diag` of method m in a case's report, or nullptr.
+const json* method_metric(const json& c, const MethodInfo& m, const std::string& diag) {
+    const std::string id(m.id); // ids may hold characters dotted() would split on
+    if (!c.contains("method_metrics") || !c["method_metrics"].contains(id)) return nullptr;
+    const json& mm = c["method_metrics"][id];
+    return mm.contains(diag) ? &mm[diag] : nullptr;
+}
+
 struct Cell {
     std::optional<double> value;
     std::string verdict = "n/a"; // holds, fails, n/a
-    std::string role = "n/a";    // claimed, control, unclaimed, n/a
+    std::string role = "n/a";    // claimed, control (not claimed: a comparison), n/a
     bool claimed = false;
     std::string detail; // what the value is, or why n/a / why it fails
     json extra = json::object();
@@ -393,9 +401,7 @@ Cell judge_order(const Property& p, const MethodInfo& m, const json& c) {
     Cell cell;
     cell.extra["declared"] = m.order;
     cell.extra["ladder"] = order_ladder(m.order);
-    const json* o =
-        c.contains("method_metrics") ? dotted(c["method_metrics"], std::string(m.id)) : nullptr;
-    const json* fit = o ? dotted(*o, "order") : nullptr;
+    const json* fit = method_metric(c, m, "order");
     if (fit && fit->contains("slope") && (*fit)["slope"].is_number()) {
         cell.value = (*fit)["slope"].get<double>();
         CheckSpec crit = p.criterion;
@@ -414,9 +420,7 @@ Cell judge_order(const Property& p, const MethodInfo& m, const json& c) {
 
 Cell judge_threshold(const Property& p, const MethodInfo& m, const json& c) {
     Cell cell;
-    const json* s = c.contains("method_metrics")
-                        ? dotted(c["method_metrics"], std::string(m.id) + ".stability-sweep")
-                        : nullptr;
+    const json* s = method_metric(c, m, "stability-sweep");
     if (!s) {
         cell.detail = "no sweep";
         return cell;
