@@ -103,8 +103,8 @@ TEST_CASE("matrix: csv1, rk4 and the perturbed glifrk2 through the command line"
 
 TEST_CASE("matrix: built-in methods alone agree with their declarations", "[matrix]") {
     TempDir dir;
-    const std::vector<std::string> args = {"matrix",   "--method", "cimp",  "--method", "etdprk2",
-                                           "--method", "glm4",     "--out", dir.str(),  "--quiet"};
+    const std::vector<std::string> args = {"matrix",  "--method", "cimp",    "--method",
+                                           "etdprk2", "--out",    dir.str(), "--quiet"};
     const auto r = run(args);
     INFO(describe(args, r));
     REQUIRE(r.status == 0);
@@ -116,11 +116,9 @@ TEST_CASE("matrix: built-in methods alone agree with their declarations", "[matr
     CHECK(cell(m, "cimp", "linear-momentum")["metric"] == "momentum.linear.max_table_res");
     CHECK(cell(m, "cimp", "linear-momentum")["verdict"] == "holds");
     CHECK(cell(m, "cimp", "hgamma-oscillator")["verdict"] == "holds");
-    // glm4 (G-symplectic): no exact step Jacobian, so E_n is n/a; its quadratic invariant does
-    // not drift at γ = 0
-    CHECK(cell(m, "glm4", "en-pendulum")["verdict"] == "n/a");
-    CHECK(cell(m, "glm4", "quadratic-undamped")["role"] == "claimed");
-    CHECK(cell(m, "glm4", "quadratic-undamped")["verdict"] == "holds");
+    // (glm4's quadratic-invariant claim is checked by the ctest matrix.builtin in Release: under
+    // the sanitizers at -O0 its implicit runs cost seconds)
+    CHECK(cell(m, "cimp", "quadratic-undamped")["role"] == "claimed");
     CHECK(cell(m, "cimp", "quadratic-undamped")["verdict"] == "holds");
     // etdprk2 is separable: the rigid body is not its form
     CHECK(cell(m, "etdprk2", "quadratic-undamped")["verdict"] == "n/a");
