@@ -130,6 +130,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const Command commands[] = {
         add_list_command(app, ctx),    add_run_command(app, ctx),   add_plot_command(app, ctx),
         add_compare_command(app, ctx), add_merge_command(app, ctx), add_methods_command(app, ctx),
+        add_matrix_command(app, ctx), // issue 18: dampsym matrix (cli_matrix.cpp)
     };
     try {
         app.parse(argc, argv);

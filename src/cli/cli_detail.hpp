@@ -74,6 +74,7 @@ Command add_methods_command(CLI::App& app, CliContext& ctx); // cli_list.cpp
 Command add_run_command(CLI::App& app, CliContext& ctx);     // cli_run.cpp
 Command add_merge_command(CLI::App& app, CliContext& ctx);   // cli_run.cpp
 Command add_compare_command(CLI::App& app, CliContext& ctx); // cli_compare.cpp
+Command add_matrix_command(CLI::App& app, CliContext& ctx);  // cli_matrix.cpp (issue 18)
 
 // A report.json (or the report.json in a directory); InputError if unreadable or not JSON.
 json read_report(const std::string& arg);
