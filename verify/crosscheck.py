@@ -46,6 +46,8 @@ Tolerances (each justified in one line):
   local-error     rel 1e-6 + 8 eps |z(t0 + h)| (+ our exact solution's estimate): one step and
                   the exact value are each rounded to a few eps |z|.
   scale_initial   rel 64 eps: a function of z0 alone, a few sums of products.
+  precession      total, rate: rel 1e-6 or |diff| <= 8 pi n eps (/ span for the rate): a sum of n
+                  angle increments each rounded a few times (the reference's turn is round-off).
   scale_at_max_*  compared only when the maximum residual is > 1e-10 (else the argmax of
                   round-off), against S(z_k) at every step k whose residual is within rel 1e-6
                   of our maximum (near-ties between steps), rel 1e-6.
@@ -346,6 +348,24 @@ def metric_temperature(prob, traj):
     T = prob.temperature(traj)
     return dict(initial=float(T[0]), max=float(T.max()), min=float(T.min()), mean=float(T.mean()),
                 max_abs_dev_initial=float(np.max(np.abs(T - T[0]))))
+
+
+def metric_precession(prob, traj, ref=None):
+    """HLW Fig 2.1: the unwrapped turn of the perihelion direction atan2(A2, A1) of the
+    Laplace-Runge-Lenz vector (every step here; the C++ side samples the output grid: the same
+    total while no grid step turns it by pi)."""
+    def total(z):
+        A = prob.runge_lenz(z)
+        phi = np.arctan2(A[:, 1], A[:, 0])
+        return float(np.sum(np.remainder(np.diff(phi) + math.pi, 2 * math.pi) - math.pi)), A
+    tot, A = total(traj)
+    ecc = np.hypot(A[:, 0], A[:, 1])
+    out = dict(initial_angle=float(math.atan2(A[0, 1], A[0, 0])), min_eccentricity=float(ecc.min()),
+               total=tot)
+    if ref is not None:
+        out["reference_total"], _ = total(ref)
+        out["total_minus_reference"] = tot - out["reference_total"]
+    return out
 
 
 def table_factor(method, g, h):
@@ -743,7 +763,7 @@ def check_case(case):
         metrics = run.get("metrics") or {}
         need_traj = bool(metrics) and any(k in metrics for k in (
             "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
-            "dissipation-drift", "poincare"))
+            "dissipation-drift", "poincare", "precession"))
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
@@ -956,6 +976,18 @@ def check_case(case):
             if "temperature" in metrics and hasattr(prob, "temperature"):
                 for k, v in metric_temperature(prob, traj).items():
                     mm["temperature." + k] = v
+            if "precession" in metrics and hasattr(prob, "runge_lenz") and len(traj) >= 2:
+                Zr, _, _ = reference_states(prob, case, t0 + dt * np.arange(len(traj)))
+                pm = metric_precession(prob, traj, Zr)
+                pm["rate"] = pm["total"] / (t0 + dt * (len(traj) - 1) - t0)
+                # the largest turn between two points of the output grid (the C++ side's samples)
+                gp = int(get_path(run, "observed.grid_points") or 0)
+                A = prob.runge_lenz(traj[::max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1])
+                dphi = np.diff(np.arctan2(A[:, 1], A[:, 0]))
+                pm["max_grid_step"] = float(np.max(np.abs(np.remainder(dphi + math.pi, 2 * math.pi)
+                                                          - math.pi)))
+                for k, v in pm.items():
+                    mm["precession." + k] = v
             if "momentum" in metrics and hasattr(prob, "linear_momentum"):
                 for kk, vals in metric_momentum(prob, traj, dt, method).items():
                     for k, v in vals.items():
@@ -1185,6 +1217,14 @@ def check_case(case):
                     fl /= max(priv.get("local-error.norm", 0.0), TINY)
                 unc[key] = fl
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=fl))
+                continue
+            if key.startswith("precession.") and key.endswith(("total", "rate")):
+                # the unwrapped turn is a sum of n angle increments, each rounded to a few eps
+                # (atan2 of A, the remainder mod 2 pi, the sum): floor 8 pi n eps (rate: / span)
+                unc[key] = 8 * math.pi * max(nsteps, 1) * EPS
+                if key.endswith("rate"):
+                    unc[key] /= max(nsteps * dt, TINY)
+                comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=unc[key]))
                 continue
             if key == "conformal-symplectic.max_rel_step":
                 # the step of the maximum is only defined when E_n is above round-off

@@ -396,6 +396,12 @@ class Kepler(Problem):
     def energy_scale(self, z):    # T + |V| = |p|^2/2 + 1/|q|
         return self.kinetic(z) + np.abs(self.V(z[..., :2]))
 
+    def runge_lenz(self, z):
+        """Laplace-Runge-Lenz vector A = (p2 L - q1/r, -p1 L - q2/r): the perihelion direction."""
+        q1, q2, p1, p2 = z[..., 0], z[..., 1], z[..., 2], z[..., 3]
+        L, r = q1 * p2 - q2 * p1, np.hypot(q1, q2)
+        return np.stack([p2 * L - q1 / r, -p1 * L - q2 / r], axis=-1)
+
     def exact(self, t0, t):
         """Kepler's equation E - e sin E = t - t0 (period 2 pi, a = 1), solved by Newton."""
         e = self.e

@@ -15,6 +15,7 @@
 #include "diagnostics/momentum_diagnostic.hpp"
 #include "diagnostics/order_diagnostic.hpp"
 #include "diagnostics/poincare_diagnostic.hpp"
+#include "diagnostics/precession_diagnostic.hpp"
 #include "diagnostics/stability_diagnostic.hpp"
 #include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "diagnostics/temperature_diagnostic.hpp"
@@ -29,7 +30,7 @@ using DiagnosticList =
              DissipationDriftDiagnostic, StabilityDiagnostic, StabilitySweepDiagnostic,
              TraceTaylorDiagnostic, CostDiagnostic, MomentumDiagnostic, EnergyBalanceDiagnostic,
              PoincareDiagnostic, TemperatureDiagnostic, ConformalSymplecticDiagnostic,
-             LocalErrorDiagnostic, LocalOrderDiagnostic>;
+             LocalErrorDiagnostic, LocalOrderDiagnostic, PrecessionDiagnostic>;
 
 // The names of the diagnostics problem type P supports (each diagnostic's `supports<P>` concept),
 // for ProblemInfo (harness/registry.cpp).

@@ -241,6 +241,10 @@ private:
         if constexpr (HasForcingPeriod<P>)
             if (produces("poincare", ok))
                 m["poincare"] = poincare_metrics(facts_, rec.grid(), problem_.forcing_period());
+        if constexpr (HasRungeLenz<P>)
+            if (produces("precession", ok))
+                m["precession"] = precession_metrics(
+                    facts_, rec.grid(), [this](const Vec& v) { return problem_.runge_lenz(v); });
         if constexpr (HasTemperature<P>)
             if (produces("temperature", ok))
                 m["temperature"] = temperature_metrics(

@@ -62,6 +62,15 @@ struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler>, Param
     double L0() const { return std::sqrt((1.0 - e) * (1.0 + e)); }
     static constexpr double period() { return 2.0 * std::numbers::pi; }
 
+    // The Laplace–Runge–Lenz vector A = p × L e_z − q/|q| = (p2 L − q1/|q|, −p1 L − q2/|q|)
+    // (L = q1 p2 − q2 p1): constant along the exact flow, pointing to the perihelion, |A| = e
+    // (diagnostic "precession", HLW Fig 2.1). With HLW(2.9), A(0) = (e, 0).
+    std::array<double, 2> runge_lenz(const Vec& z) const {
+        const double L = z[0] * z[3] - z[1] * z[2];
+        const double r = std::hypot(z[0], z[1]);
+        return {z[3] * L - z[0] / r, -z[2] * L - z[1] / r};
+    }
+
     static constexpr int static_n = 2; // degrees of freedom (core/problem.hpp)
     int n() const { return static_n; }
     Vec initial_state() const { return Vec{{1.0 - e, 0.0, 0.0, std::sqrt((1.0 + e) / (1.0 - e))}}; }
