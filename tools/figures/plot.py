@@ -35,6 +35,7 @@ import numpy as np  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.colors  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
@@ -293,6 +294,17 @@ def run_label(case, r, multi_dt):
     return f"{r['method']} h={r['dt']:g}" if multi_dt else r["method"]
 
 
+def run_colour(r, dts):
+    """The method's colour for the run of the smallest step size in dts; each larger step size of
+    the same method a lighter shade of it (runs of one method at several h told apart)."""
+    c = matplotlib.colors.to_rgb(style(r["method"])[0])
+    steps = sorted(dts)
+    if len(steps) < 2:
+        return c
+    f = 0.55 * steps.index(r["dt"]) / (len(steps) - 1)
+    return tuple(x + (1 - x) * f for x in c)
+
+
 def flat_panel(ax, ys):
     """A panel whose values are all equal to ~1e-9 (e.g. the momentum factor 1 of an undamped
     run): matplotlib would label it with an offset like "1e−12+1"; show it around its value with
@@ -325,7 +337,9 @@ def fig_series(case, ser):
     panels = [p for p in fd.series_panels(ser) if has_data(runs, p[0], p[2])]
     if not panels:
         return []
-    multi_dt = len({r["dt"] for r in runs}) > 1
+    dts = sorted({r["dt"] for r in runs})
+    multi_dt = len(dts) > 1
+    colours = {}
     height = 1.1 + 1.9 * len(panels)
     fig, axs = subplots(len(panels), 1, (8, height), sharex=True)
     t0, t1 = ser.get("t0", 0.0), ser.get("t_end", 1.0)
@@ -337,7 +351,8 @@ def fig_series(case, ser):
             s = r["series"].get(key)
             if not s or not s["y"]:
                 continue
-            c, mk, ls = style(r["method"])
+            _, mk, ls = style(r["method"])
+            c = run_colour(r, dts)
             t, y = s["t"], s["y"]
             if scale == "log":
                 pts = [(a, b) for a, b in zip(t, y) if b > 0]
@@ -348,6 +363,7 @@ def fig_series(case, ser):
             lab = run_label(case, r, multi_dt)
             if lab not in shown:
                 shown.append(lab)
+                colours[lab] = c
             if key == "dissipation-drift.d":
                 ax.plot(t, y, mk, color=c, ms=2.5)
                 slope = fd.drift_fit(case, r["method"], r["dt"])
@@ -376,8 +392,7 @@ def fig_series(case, ser):
     # one legend for the runs (the same in every panel), under the title
     handles = []
     for lab in shown:
-        c, mk, ls = style(lab.split(" ")[0])
-        handles.append(Line2D([], [], color=c, ls="-", lw=1.6, label=lab))
+        handles.append(Line2D([], [], color=colours[lab], ls="-", lw=1.6, label=lab))
     ncol = min(len(handles), 4 if multi_dt else 6)
     rows = max(1, -(-len(handles) // max(1, ncol)))
     top = 1 - (0.62 + 0.17 * rows) / height
