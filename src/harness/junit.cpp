@@ -48,7 +48,7 @@ std::string xml(const std::string& s) {
 
 // The shortest of %.15g, %.16g, %.17g that reads back as the same double (0.1, not
 // 0.10000000000000001).
-std::string num(const json& v) {
+std::string junit_num(const json& v) {
     if (v.is_null()) return "null";
     if (!v.is_number_float()) return v.dump();
     const double x = v.get<double>();
@@ -69,11 +69,11 @@ std::string seconds(double s) {
 
 std::string expected_text(const json& ck) {
     const std::string op = ck["op"].get<std::string>();
-    std::string e = op == "near" ? num(ck["expected"]) + " +- " + num(ck["tolerance"])
-                    : op == "le" ? "<= " + num(ck["expected"])
-                    : op == "ge" ? ">= " + num(ck["expected"])
-                    : op == "lt" ? "< " + num(ck["expected"])
-                                 : "> " + num(ck["expected"]);
+    std::string e = op == "near" ? junit_num(ck["expected"]) + " +- " + junit_num(ck["tolerance"])
+                    : op == "le" ? "<= " + junit_num(ck["expected"])
+                    : op == "ge" ? ">= " + junit_num(ck["expected"])
+                    : op == "lt" ? "< " + junit_num(ck["expected"])
+                                 : "> " + junit_num(ck["expected"]);
     if (ck.value("abs", false)) e = "|x| " + e;
     return e;
 }
@@ -90,7 +90,7 @@ bool is_error(const json& ck) {
 
 std::string junit_test_name(const json& ck) {
     std::string name = ck["name"].get<std::string>() + " [" + ck["method"].get<std::string>();
-    if (ck.contains("dt")) name += ", dt=" + num(ck["dt"]);
+    if (ck.contains("dt")) name += ", dt=" + junit_num(ck["dt"]);
     return name + "]";
 }
 
@@ -137,15 +137,15 @@ std::string render_junit(const json& report) {
                 continue;
             }
             const std::string what = "metric " + ck["metric"].get<std::string>() + ": value " +
-                                     num(ck["value"]) + ", expected " + expected_text(ck);
+                                     junit_num(ck["value"]) + ", expected " + expected_text(ck);
             std::ostringstream detail;
             detail << "check: " << ck["name"].get<std::string>()
                    << (ck.value("negative_control", false) ? " (negative control)" : "")
                    << "\nmethod: " << ck["method"].get<std::string>();
-            if (ck.contains("dt")) detail << "\ndt: " << num(ck["dt"]);
+            if (ck.contains("dt")) detail << "\ndt: " << junit_num(ck["dt"]);
             detail << "\nmetric: " << ck["metric"].get<std::string>()
-                   << "\nvalue: " << num(ck["value"]) << "\nexpected: " << expected_text(ck);
-            if (ck.contains("tolerance")) detail << "\ntolerance: " << num(ck["tolerance"]);
+                   << "\nvalue: " << junit_num(ck["value"]) << "\nexpected: " << expected_text(ck);
+            if (ck.contains("tolerance")) detail << "\ntolerance: " << junit_num(ck["tolerance"]);
             if (ck.contains("message")) detail << "\nmessage: " << ck["message"].get<std::string>();
             if (ck.contains("note")) detail << "\nnote: " << ck["note"].get<std::string>();
             if (!c.value("source", std::string()).empty())
