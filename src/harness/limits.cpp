@@ -378,7 +378,10 @@ void add_limit_options(CLI::App& run, CliLimits& limits) {
         ->check(CLI::Range(0.0, 1e9));
     run.add_option("--max-memory", limits.max_memory,
                    "refuse (exit 2) a case whose estimated peak memory exceeds SIZE (bytes, or "
-                   "with K/M/G/T); default half the physical memory");
+                   "with K/M/G/T); default half the physical memory. The error diagnostic and "
+                   "measures stream over the output grid (no memory per output point) unless "
+                   "another diagnostic, a growth measure, --figures or a certified numerical "
+                   "reference stores it (docs/case-keys.md)");
 }
 
 void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits,
