@@ -2,6 +2,7 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "harness/case.hpp"
+#include "harness/case_figures.hpp"
 #include "harness/case_job.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/report.hpp"
@@ -247,7 +248,9 @@ MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs, bool figures) {
     const std::int64_t intervals = detail::output_points(c);
     const double points = static_cast<double>(intervals) + 1.0;
     const ProblemInfo* prob = find_problem(c.problem_id);
-    const GridPlan plan = grid_plan(c, intervals, prob && prob->has_exact, figures);
+    // as the runner: a case with "figures": false keeps no series (runner.cpp set_figures)
+    const GridPlan plan =
+        grid_plan(c, intervals, prob && prob->has_exact, figures && !case_figures_off(c));
     bool reference = false;
     for (const std::string& name : c.diagnostics)
         if (const DiagnosticInfo* d = find_diagnostic(name))
