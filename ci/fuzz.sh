@@ -76,6 +76,9 @@ for t in "${targets[@]}"; do
   nice -n 19 "$out/fuzz_$t" "$out/scratch/$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
     -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
     -artifact_prefix="$out/findings/$t/" 2>&1 | tee "$out/fuzz_$t.log" | grep -E "^#|ERROR|finding|stat::" | tail -n 40
-  # Keep the committed corpus small: merge what this run found into it (minimised).
-  nice -n 19 "$out/fuzz_$t" -merge=1 "$corpus" "$out/scratch/$t" >/dev/null 2>&1 || true
+  # Keep the committed corpus small: merge what this run found into it, a set cover of the new
+  # coverage edges (without hit counters: -merge=1 would keep every input with a new counter
+  # bucket, thousands of files).
+  nice -n 19 "$out/fuzz_$t" -set_cover_merge=1 -use_counters=0 "$corpus" "$out/scratch/$t" \
+    >/dev/null 2>&1 || true
 done
