@@ -6,7 +6,7 @@
 # the run and leaves its reproducer in build-fuzz/findings/<target>/ (commit it under
 # tests/fuzz/regressions/<target>/ once fixed: CI replays it).
 #
-# Usage: ci/fuzz.sh [SECONDS_PER_TARGET (default 600)] [TARGET...]   (targets: case set report)
+# Usage: ci/fuzz.sh [SECONDS_PER_TARGET (default 600)] [TARGET...]   (targets: case set report method)
 #        ci/fuzz.sh build                                             (build only)
 # Runs at nice 19 (the machine may be shared). Not part of CI: CI replays the corpus instead
 # (ctest -L fuzz in the ASan/UBSan build, seconds; tests/fuzz/CMakeLists.txt).
@@ -49,7 +49,7 @@ build() {
     objs+=("$o")
   done
   while [ "$running" -gt 0 ]; do wait -n || exit 1; running=$((running - 1)); done
-  for t in case set report; do
+  for t in case set report method; do
     compile "tests/fuzz/fuzz_$t.cpp" "$out/obj/fuzz_$t.o" -fsanitize=fuzzer-no-link
     nice -n 19 "$cxx" -fsanitize=fuzzer,address,undefined -o "$out/fuzz_$t" "$out/obj/fuzz_$t.o" \
       "${objs[@]}" -lgsl -lgslcblas -lquadmath
@@ -60,7 +60,7 @@ build
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(case set report)
+[ ${#targets[@]} -eq 0 ] && targets=(case set report method)
 for t in "${targets[@]}"; do
   corpus="tests/fuzz/corpus/$t"
   mkdir -p "$corpus" "$out/findings/$t" "$out/scratch/$t"
@@ -68,6 +68,7 @@ for t in "${targets[@]}"; do
   case "$t" in
     case|set) seeds=(verify/cases tests/data/bad tests/data/cases) ;;
     report)   seeds=(tests/fuzz/seeds/report) ;;
+    method)   seeds=(examples/methods tests/fuzz/seeds/method) ;;
   esac
   [ -d tests/fuzz/regressions/$t ] && seeds+=(tests/fuzz/regressions/$t)
   echo "fuzz: $t for ${seconds} s"
@@ -75,6 +76,9 @@ for t in "${targets[@]}"; do
   nice -n 19 "$out/fuzz_$t" "$out/scratch/$t" "$corpus" "${seeds[@]}" -max_total_time="$seconds" \
     -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
     -artifact_prefix="$out/findings/$t/" 2>&1 | tee "$out/fuzz_$t.log" | grep -E "^#|ERROR|finding|stat::" | tail -n 40
-  # Keep the committed corpus small: merge what this run found into it (minimised).
-  nice -n 19 "$out/fuzz_$t" -merge=1 "$corpus" "$out/scratch/$t" >/dev/null 2>&1 || true
+  # Keep the committed corpus small: merge what this run found into it, a set cover of the new
+  # coverage edges (without hit counters: -merge=1 would keep every input with a new counter
+  # bucket, thousands of files).
+  nice -n 19 "$out/fuzz_$t" -set_cover_merge=1 -use_counters=0 "$corpus" "$out/scratch/$t" \
+    >/dev/null 2>&1 || true
 done

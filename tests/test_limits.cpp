@@ -7,7 +7,9 @@
 // cases finish; I/O errors exit 3.
 #include "cli_support.hpp"
 
+#include "harness/case_job.hpp"
 #include "harness/limits.hpp"
+#include "harness/problem_info.hpp"
 #include "harness/runner.hpp"
 #include "methods/newton.hpp"
 
@@ -327,6 +329,7 @@ TEST_CASE("limits: memory estimate and --max-memory", "[limits]") {
     CHECK(dampsym::default_max_memory() > 0.0);
     json big = small_case("big-grid", 1e5, 1e-2); // 1e7 output points
     big["output_dt"] = 1e-2;
+    big["diagnostics"] = {"error", "energy"}; // energy reads the stored grid
     const CaseSpec c = spec(big);
     const auto est = dampsym::estimate_case_memory(c, 2);
     CHECK(est.key == "output_dt");
@@ -334,6 +337,14 @@ TEST_CASE("limits: memory estimate and --max-memory", "[limits]") {
     CHECK_THROWS_WITH(dampsym::check_memory({c}, 2, 200.0 * 1024 * 1024),
                       Catch::Contains("output_dt") && Catch::Contains("--max-memory") &&
                           Catch::Contains("big-grid.json"));
+    // The error alone against the exact solution streams (grid_plan): nothing per output point,
+    // unless --figures keeps the grid.
+    big["diagnostics"] = {"error"};
+    const CaseSpec streamed = spec(big);
+    CHECK(dampsym::estimate_case_memory(streamed, 2).bytes < 65.0 * 1024 * 1024);
+    CHECK_NOTHROW(dampsym::check_memory({streamed}, 2, 200.0 * 1024 * 1024));
+    CHECK_THROWS_WITH(dampsym::check_memory({streamed}, 2, 200.0 * 1024 * 1024, true),
+                      Catch::Contains("output_dt"));
     // negative control: the small case fits
     CHECK_NOTHROW(
         dampsym::check_memory({spec(small_case("s", 2.0, 0.01))}, 2, 200.0 * 1024 * 1024));
@@ -361,7 +372,10 @@ TEST_CASE("limits: the issue's memory case is refused in < 1 s naming output_dt"
         INFO(describe(args, r));
         CHECK(r.status == 2);
         CHECK(took < 1.0);
-        CHECK_THAT(r.err, Catch::Contains("output_dt"));
+        // the memory estimate refuses it, naming the estimate and the key (the pendulum's
+        // certified reference is stored on the grid: limits.hpp grid_plan)
+        CHECK_THAT(r.err, Catch::Contains("output_dt") && Catch::Contains("would need about") &&
+                              Catch::Contains("reference"));
         CHECK_FALSE(fs::exists(dir / "out" / "report.json"));
     }
     // --max-memory is validated
@@ -369,6 +383,145 @@ TEST_CASE("limits: the issue's memory case is refused in < 1 s naming output_dt"
                                "--max-memory", "lots"});
     CHECK(bad.status == 2);
     CHECK_THAT(bad.err, Catch::Contains("--max-memory"));
+}
+
+TEST_CASE("limits: what a case keeps of its output grid (grid_plan)", "[limits][memory]") {
+    const auto plan = [](const json& j, bool figures = false) {
+        const CaseSpec c = spec(j);
+        const dampsym::ProblemInfo* p = dampsym::find_problem(c.problem_id);
+        REQUIRE(p);
+        return dampsym::grid_plan(c, dampsym::detail::output_points(c), p->has_exact, figures);
+    };
+    json osc = small_case("osc", 10.0, 0.01);
+    osc["output_dt"] = 0.1;
+    auto p =
+        plan(osc); // error against the exact solution: streamed, reference evaluated on the fly
+    CHECK(p.grid);
+    CHECK_FALSE(p.store_grid);
+    CHECK_FALSE(p.store_reference);
+    p = plan(osc, true); // --figures reads the stored grid
+    CHECK(p.store_grid);
+    CHECK(p.store_reference);
+    json energy = osc;
+    energy["diagnostics"] = {"error", "energy"};
+    CHECK(plan(energy).store_grid);
+    json growth = osc;
+    growth["measures"] = {{"g", {{"over", "growth"}}}};
+    CHECK(plan(growth).store_grid);
+    json maxima = osc;
+    maxima["measures"] = {{"m", {{"over", "max"}, {"norm", "rel"}}}};
+    p = plan(maxima);
+    CHECK_FALSE(p.store_grid);
+    CHECK_FALSE(p.store_reference);
+    json drift = osc; // dissipation-drift reads the reference's grid: stored, the run's streamed
+    drift["diagnostics"] = {"error", "dissipation-drift"};
+    p = plan(drift);
+    CHECK_FALSE(p.store_grid);
+    CHECK(p.store_reference);
+    json pend = osc; // a certified numerical reference is stored (limits.hpp grid_plan)
+    pend["problem"] = {{"id", "pendulum"}};
+    p = plan(pend);
+    CHECK_FALSE(p.store_grid);
+    CHECK(p.store_reference);
+    json nogrid = small_case("final-only", 10.0, 0.01);
+    nogrid["dt_ladder"] = {0.01, 0.004}; // no common grid without output_dt: final time only
+    nogrid.erase("dt");
+    p = plan(nogrid);
+    CHECK_FALSE(p.grid);
+}
+
+TEST_CASE("limits: streamed error and measures equal the stored-grid ones bitwise",
+          "[limits][memory]") {
+    // The same cases run twice: streamed (no --figures) and with the grid stored (a series sink,
+    // as --figures: grid_plan stores the grid then). Exact and certified references, every
+    // streamable measure, relative ones included.
+    std::vector<CaseSpec> cases;
+    for (const char* problem : {"oscillator", "pendulum"}) {
+        json j = small_case(std::string("stream-") + problem, 20.0, 0.01);
+        if (std::string(problem) == "pendulum") j["problem"] = {{"id", "pendulum"}};
+        j["output_dt"] = 0.05;
+        j["measures"] = {
+            {"max", {{"over", "max"}}},
+            {"mean", {{"over", "mean"}, {"component", "q"}}},
+            {"rms", {{"over", "rms"}, {"norm", "rel"}}},
+            {"final", {{"over", "final"}}},
+            {"energy", {{"quantity", "energy-error"}, {"norm", "rel"}, {"over", "mean"}}}};
+        cases.push_back(spec(j));
+    }
+    const json streamed = dampsym::run_cases(cases, dampsym::RunOptions{});
+    dampsym::RunOptions stored_opts;
+    stored_opts.series_sink = [](const json&) {};
+    const json stored = dampsym::run_cases(cases, stored_opts);
+    for (std::size_t c = 0; c < cases.size(); ++c)
+        for (std::size_t r = 0; r < 2; ++r) {
+            const json& a = run_of(streamed, c, r);
+            const json& b = run_of(stored, c, r);
+            INFO(cases[c].id << " run " << r);
+            REQUIRE(a["status"] == "ok");
+            CHECK(a["metrics"]["error"].is_object());
+            CHECK(a["metrics"]["measure"].size() == 5);
+            CHECK(a["metrics"].dump() == b["metrics"].dump()); // every digit
+            CHECK(a["final_state"] == b["final_state"]);
+        }
+    CHECK(streamed["cases"][0]["reference"] == stored["cases"][0]["reference"]);
+}
+
+// Peak resident memory (KiB) of `dampsym ARGS`, its exit status in `status`.
+long peak_rss_kib(const std::vector<std::string>& args, const fs::path& dir, int& status) {
+    const pid_t pid = spawn(args, dir);
+    int raw = 0;
+    struct rusage ru {};
+    REQUIRE(wait4(pid, &raw, 0, &ru) == pid);
+    status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 1000 + WTERMSIG(raw);
+    return ru.ru_maxrss;
+}
+
+TEST_CASE("limits: a case whose error streams runs in bounded memory whatever its output grid",
+          "[limits][cli][memory]") {
+    TempDir dir;
+#if defined(__SANITIZE_ADDRESS__)
+    const double t_end = 2e3; // 2e6 output points: -O0 with ASan is ~30x slower
+#else
+    const double t_end = 1e4; // 1e7 output points
+#endif
+    json j = small_case("streamed", t_end, 1e-3);
+    j["methods"] = {"csv1"};
+    j["output_dt"] = 1e-3;
+    j["measures"] = {{"max", {{"over", "max"}}}};
+    write_text(dir / "streamed.json", j.dump());
+    const auto t0 = Clock::now();
+    int status = -1;
+    const long kib = peak_rss_kib(
+        {"run", (dir / "streamed.json").string(), "--out", (dir / "out").string(), "--quiet"},
+        dir.path(), status);
+    const double took = std::chrono::duration<double>(Clock::now() - t0).count();
+    INFO("peak RSS " << kib << " KiB, " << took << " s; stderr: " << read_text(dir / "stderr"));
+    CHECK(status == 0);
+    CHECK(kib <= 200 * 1024);
+    const json report = read_json(dir / "out" / "report.json");
+    const json& rec = run_of(report, 0, 0);
+    const double points = std::round(t_end / 1e-3) + 1;
+    CHECK(rec["observed"]["grid_points"].get<double>() == points);
+    CHECK(report["cases"][0]["reference"]["points"].get<double>() == points);
+    CHECK(rec["metrics"]["error"]["max_abs"].get<double>() > 0.0);
+    CHECK(rec["metrics"]["error"]["max_abs"].get<double>() < 1e-3);
+    // Stored, the same grid would not fit in 200 MiB: refused before running (exit 2, < 1 s).
+    const CliResult refused = run({"run", (dir / "streamed.json").string(), "--out",
+                                   (dir / "out2").string(), "--figures", "--max-memory", "200M"});
+    CHECK(refused.status == 2);
+    CHECK_THAT(refused.err, Catch::Contains("output_dt") && Catch::Contains("MiB"));
+#if !defined(__SANITIZE_ADDRESS__)
+    // Negative control: with a diagnostic that reads the stored grid (energy), the same run's
+    // peak memory is above the bound.
+    j["diagnostics"] = {"error", "energy"};
+    write_text(dir / "stored.json", j.dump());
+    const long stored_kib = peak_rss_kib(
+        {"run", (dir / "stored.json").string(), "--out", (dir / "out3").string(), "--quiet"},
+        dir.path(), status);
+    INFO("stored: peak RSS " << stored_kib << " KiB");
+    CHECK(status == 0);
+    CHECK(stored_kib > 200 * 1024);
+#endif
 }
 
 TEST_CASE("limits: I/O errors exit 3 from the executable with one message", "[limits][cli]") {

@@ -55,7 +55,8 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     const Selected selected = select_cases(sel, sets, cases_dir, true, true);
     check_output_dir(o.out_dir); // an unwritable --out fails before any case runs (exit 3)
     if (!o.junit.empty()) check_output_file(o.junit);
-    before_run(selected.cases, jobs, limits); // memory limit, SIGINT/SIGTERM (harness/limits.hpp)
+    // memory limit (the grid is stored with --figures), SIGINT/SIGTERM (harness/limits.hpp)
+    before_run(selected.cases, jobs, limits, o.figures);
     for (const auto& c : selected.cases) {
         const double secs = case_predicted_seconds(c);
         if (secs < 10.0) continue;

@@ -22,12 +22,19 @@ enum class DiagnosticLevel {
 struct DiagnosticNeeds {
     bool grid = false;           // the states on the output grid, whatever the grid's size
     bool grid_if_points = false; // ... only when the grid has more than one point (error)
-    bool reference = false;      // a reference solution (exact, or certified GSL) on that grid
-    bool observer = false;       // a hook in the step loop (the Recorder part `observer_part`)
-    bool jacobian_pass = false;  // a separate pass with the exact step Jacobian
-    bool ok_run = false;         // metrics only for a run that finished ("status": "ok")
-    bool reference_ok = false;   // ... and only when the reference did not fail
-    std::size_t min_dts = 0;     // the dt ladder needs at least this many step sizes
+    // Its pass over the grid is a running reduction: the runner feeds it each grid point on the
+    // fly and stores no trajectory when nothing else reads the grid (error; issue 17,
+    // harness/limits.hpp grid_plan).
+    bool streams = false;
+    // Reads the reference on the output grid when the case has one (dissipation-drift's reference
+    // maxima): the reference is then stored, never evaluated on the fly.
+    bool reference_grid = false;
+    bool reference = false;     // a reference solution (exact, or certified GSL) on that grid
+    bool observer = false;      // a hook in the step loop (the Recorder part `observer_part`)
+    bool jacobian_pass = false; // a separate pass with the exact step Jacobian
+    bool ok_run = false;        // metrics only for a run that finished ("status": "ok")
+    bool reference_ok = false;  // ... and only when the reference did not fail
+    std::size_t min_dts = 0;    // the dt ladder needs at least this many step sizes
 };
 
 // A column of the report's per-run metrics table (harness/report.cpp): the metric `key` of the

@@ -11,7 +11,7 @@ DiagnosticInfo DissipationDriftDiagnostic::info() {
     return {.name = "dissipation-drift",
             .what = "d(t) = ln(max q) + Gamma(t) at the maxima of q (F(4.4)), and its reference",
             .requirement = "one degree of freedom in separable form",
-            .needs = {.observer = true, .ok_run = true},
+            .needs = {.reference_grid = true, .observer = true, .ok_run = true},
             .observer_part = "maxima",
             .metrics = {"slope", "range", "maxima", "maxima_nonpositive", "slope_minus_reference",
                         "max_abs_diff_reference", "maxima_count_diff", "reference.slope"},

@@ -5,12 +5,36 @@
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
 
+#include <string>
+
 namespace dampsym {
 
 struct ErrorDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = true;
+};
+
+// The running reduction of the error over the output grid t_1..t_end (issue 17): fed one grid point
+// at a time, either on the fly during the run (harness/grid_stream.hpp: no trajectory stored) or
+// from a stored grid (error_metrics); the same operations in the same order either way, so the
+// metrics are bitwise the same.
+class ErrorAccumulator {
+public:
+    // ref_error: the reference's certified error estimate (0 for an exact solution).
+    explicit ErrorAccumulator(double ref_error) : ref_error_(ref_error) {}
+    // Grid point i >= 1 at time t (the initial point is exact): the run's state and the reference.
+    void add(const Eigen::Ref<const Vec>& z, const Eigen::Ref<const Vec>& ref, double t);
+    // The metrics, from the grid points added and the final state against the reference at t_end.
+    json finish(const Eigen::Ref<const Vec>& z_final, const Eigen::Ref<const Vec>& ref_final,
+                double t_end) const;
+
+private:
+    double rel_of(double e, double ref_norm, double t, std::string& undefined) const;
+    double ref_error_;
+    double max_abs_ = 0.0, max_rel_ = 0.0, sum_abs_ = 0.0;
+    Eigen::Index count_ = 0;
+    std::string rel_undefined_;
 };
 
 // grid: the run's states on the output grid (null when the case records none).

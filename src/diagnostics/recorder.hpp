@@ -2,7 +2,9 @@
 // enabled only when requested: states on the output grid (error, energy), per-step conformal laws
 // of the problem's invariants (invariants: I_{n+1} = e^{−2(Γ(t_{n+1})−Γ(t_n))} I_n, B Def. 2.3),
 // and oscillation maxima of q for d(t) = ln(max U(t)) + Γ(t) (dissipation-drift, F(4.4)).
-// Everything is streamed; nothing grows with the number of steps except the requested grid.
+// Everything is streamed; nothing grows with the number of steps except the requested grid, and
+// not even that when the grid's only readers reduce it on the fly (a GridSink: issue 17,
+// harness/grid_stream.hpp).
 #pragma once
 
 #include "core/types.hpp"
@@ -86,6 +88,16 @@ struct EnergyBalanceStats {
     std::int64_t count = 0;
 };
 
+// A reader of the output grid that reduces it on the fly (harness/grid_stream.hpp): given each grid
+// point i >= 1 (the state at step i × stride) as the run reaches it, instead of a stored grid.
+class GridSink {
+public:
+    virtual void point(Eigen::Index i, const Vec& z) = 0;
+
+protected:
+    ~GridSink() = default;
+};
+
 template <class P>
 class Recorder {
 public:
@@ -96,6 +108,11 @@ public:
     void record_grid(std::int64_t stride, std::int64_t points) {
         stride_ = stride;
         grid_.resize(p_.dim(), points);
+    }
+    // Grid points i >= 1 to `sink` (not stored; the sink must outlive the run).
+    void stream_grid(std::int64_t stride, GridSink* sink) {
+        sink_stride_ = stride;
+        sink_ = sink;
     }
     void track_invariants() { inv_on_ = true; }
     void track_maxima() { max_on_ = true; }
@@ -161,6 +178,7 @@ public:
 
     void operator()(std::int64_t n, double t, const Vec& z) {
         if (stride_ > 0 && n % stride_ == 0) grid_.col(n / stride_) = z;
+        if (sink_ && n % sink_stride_ == 0) sink_->point(n / sink_stride_, z);
         if (inv_on_) invariants_step(n, t, z);
         if constexpr (HasOneDofMaxima<P>)
             if (max_on_) finder_->feed(t, z);
@@ -331,6 +349,8 @@ private:
     double t0_, h_;
     std::int64_t stride_ = 0;
     Mat grid_;
+    std::int64_t sink_stride_ = 0;
+    GridSink* sink_ = nullptr;
     bool inv_on_ = false, max_on_ = false, mom_on_ = false, eb_on_ = false;
     std::array<double, max_invariants> inv_prev_{}, inv0_{}, scale_prev_{};
     std::vector<InvariantStats> stats_;

@@ -29,10 +29,12 @@ inline constexpr int max_depth = 16;                        // JSON nesting of a
 inline constexpr std::size_t max_id_length = 100;           // case id: [A-Za-z0-9._-], first alnum
 inline constexpr std::size_t max_ladder = 32;               // entries of dt_ladder
 inline constexpr double max_steps_per_run = 1e9;            // (t_end − t0)/dt for every dt
-inline constexpr double max_output_points = 1e7;            // (t_end − t0)/output_dt
-inline constexpr double max_abs_time = 1e9;                 // |t0|, |t_end|
-inline constexpr double max_sweep_cells = 1e6;              // stability_sweep γ × h grid points
-inline constexpr double min_reference_tol = 1e-15;          // reference.epsrel, reference.epsabs
+// (t_end − t0)/output_dt: at most the steps of a run (output_dt is a multiple of dt); the memory
+// its grid needs is bounded by `run --max-memory` (limits.hpp: a streamed grid needs none).
+inline constexpr double max_output_points = max_steps_per_run;
+inline constexpr double max_abs_time = 1e9;        // |t0|, |t_end|
+inline constexpr double max_sweep_cells = 1e6;     // stability_sweep γ × h grid points
+inline constexpr double min_reference_tol = 1e-15; // reference.epsrel, reference.epsabs
 inline constexpr double max_reference_tol = 1e-2;
 inline constexpr std::size_t max_message_value = 80; // characters of a bad value quoted in errors
 } // namespace limits

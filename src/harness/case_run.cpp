@@ -9,7 +9,7 @@
 
 namespace dampsym::detail {
 
-void CaseRun::plan() {
+void CaseRun::plan(bool has_exact) {
     runs_.assign(c_.methods.size() * c_.dts.size(), json());
     method_metrics_.assign(c_.methods.size(), json::object());
     facts_.t0 = c_.t0;
@@ -18,6 +18,7 @@ void CaseRun::plan() {
     // A trajectory grid only for diagnostics that read it; a reference only for those that
     // compare with it (the energy diagnostic without "error" reports changes only).
     facts_.needs_grid = case_needs_grid(c_, facts_.points);
+    grid_plan_ = grid_plan(c_, facts_.points, has_exact, figures_); // issue 17 (limits.hpp)
     observes_ = facts_.needs_grid;
     for (const std::string& name : c_.diagnostics) {
         const DiagnosticInfo* d = find_diagnostic(name);
@@ -28,7 +29,10 @@ void CaseRun::plan() {
             observer_parts_.push_back(d->observer_part);
         }
     }
-    if (needs_reference_) ref_times_ = reference_times(c_, facts_.points, facts_.needs_grid);
+    // an exact reference evaluated on the fly is stored at t_end only (issue 17)
+    if (needs_reference_)
+        ref_times_ =
+            reference_times(c_, facts_.points, facts_.needs_grid && grid_plan_.store_reference);
 }
 
 bool CaseRun::produces(const std::string& name, bool run_ok) const {
@@ -43,7 +47,10 @@ const MethodInfo& CaseRun::method(std::size_t m) const {
 
 void CaseRun::set_exact_reference(Mat states) {
     facts_.ref = std::move(states);
-    reference_ = {{"kind", "exact"}, {"error_estimate", 0.0}, {"points", facts_.ref.cols()}};
+    // the times compared, whether stored or evaluated during the runs (exact_on_the_fly)
+    reference_ = {{"kind", "exact"},
+                  {"error_estimate", 0.0},
+                  {"points", facts_.needs_grid ? facts_.points + 1 : std::int64_t{1}}};
 }
 
 // Certified GSL reference (conventions §4) on the output grid, shared through the cache.

@@ -25,8 +25,15 @@ public:
     json finish() override;
 
 protected:
-    // The output grid and what the case's diagnostics need of it (from the registry).
-    void plan();
+    // The output grid and what the case's diagnostics need of it (from the registry); has_exact:
+    // the problem's reference is its exact solution (issue 17: what is stored, grid_plan).
+    void plan(bool has_exact);
+    // issue 17 (limits.hpp grid_plan): the runs store the output grid / feed it on the fly to the
+    // error and measure reductions (harness/grid_stream.hpp); the exact reference is evaluated at
+    // each grid time during the runs instead of stored.
+    bool stores_grid() const { return grid_plan_.store_grid; }
+    bool streams_grid() const { return grid_plan_.grid && !grid_plan_.store_grid; }
+    bool exact_on_the_fly() const { return grid_plan_.grid && !grid_plan_.store_reference; }
     bool needs_reference() const { return needs_reference_; }
     // Whether the step loop carries an observer (a grid or a diagnostic's per-step hook).
     bool observes() const { return observes_; }
@@ -63,6 +70,7 @@ private:
     json case_json(json checks) const;
 
     bool needs_reference_ = false, observes_ = false;
+    GridPlan grid_plan_;
     std::vector<std::string> observer_parts_;
     std::vector<double> sweep_gammas_, sweep_hs_;
     std::vector<std::vector<SweepRow>> sweep_rows_; // [method][γ row], pre-sized in sweep_tasks
@@ -82,5 +90,34 @@ json evaluate_checks(const CaseSpec& c, const std::vector<json>& runs,
 json measure_metrics(const CaseSpec& c, const CaseFacts& f, const Mat* grid, const Vec& z_final,
                      const std::function<double(const Vec&)>& energy,
                      const std::function<double(const Vec&)>& energy_scale);
+
+// The case's measures as running reductions over the output grid t_1..t_end (measures.cpp): fed
+// one grid point at a time, on the fly during the run (harness/grid_stream.hpp, issue 17: no
+// trajectory stored) or from a stored grid (measure_metrics), with bitwise the same results.
+class MeasureAccumulator {
+public:
+    MeasureAccumulator(const CaseSpec& c, const CaseFacts& f,
+                       std::function<double(const Vec&)> energy,
+                       std::function<double(const Vec&)> energy_scale);
+    // Grid point i >= 1 at time t: the run's state and the reference's.
+    void add(const Vec& z, const Vec& ref, double t);
+    // The metrics; the final state and the reference at t_end serve "final" (and every measure
+    // when no grid point was added).
+    json finish(const Vec& z_final, const Vec& ref_final) const;
+
+private:
+    struct Stat {
+        bool undefined = false;
+        double max = 0.0, sum = 0.0;
+        std::int64_t count = 0;
+        std::vector<double> t, v; // growth only
+    };
+    double pointwise(const MeasureSpec& m, const Vec& u, const Vec& ref) const;
+    const CaseSpec& c_;
+    const CaseFacts& f_;
+    std::function<double(const Vec&)> energy_, energy_scale_;
+    std::vector<Stat> stats_;
+    bool fed_ = false;
+};
 
 } // namespace dampsym::detail

@@ -2,6 +2,9 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "harness/case.hpp"
+#include "harness/case_figures.hpp"
+#include "harness/case_job.hpp"
+#include "harness/problem_info.hpp"
 #include "harness/report.hpp"
 
 #include <CLI/CLI.hpp>
@@ -208,30 +211,56 @@ std::string format_bytes(double bytes) {
     return buf;
 }
 
+GridPlan grid_plan(const CaseSpec& c, std::int64_t points, bool has_exact, bool figures) {
+    GridPlan p;
+    // A "growth" measure is a least-squares fit over all its points (MeasureAccumulator keeps
+    // them).
+    bool streamable =
+        !figures && std::none_of(c.measures.begin(), c.measures.end(), [](const MeasureSpec& m) {
+            return m.over == MeasureStat::growth;
+        });
+    bool reference_grid = false;
+    for (const std::string& name : c.diagnostics) {
+        const DiagnosticInfo* d = find_diagnostic(name);
+        if (!d) continue;
+        if (d->needs.grid || (d->needs.grid_if_points && points > 1)) {
+            p.grid = true;
+            if (!d->needs.streams) streamable = false;
+        }
+        reference_grid = reference_grid || d->needs.reference_grid;
+    }
+    p.store_grid = p.grid && !streamable;
+    p.store_reference = p.grid && (p.store_grid || !has_exact || reference_grid);
+    return p;
+}
+
 // What a case holds at once (typed_case.hpp, recorder.hpp, gsl_reference.cpp):
 // - per run in flight (at most min(jobs, runs)): the Recorder's output grid, (points+1) × dim
-//   doubles, when a diagnostic reads the grid;
-// - per case: the reference on the grid, (points+1) × dim doubles held three times (the certified
-//   solve, its certifier, the case's copy) and its times (points+1 doubles, three times);
+//   doubles, when the grid is stored (grid_plan);
+// - per case: the reference on the grid when it is stored, (points+1) × dim doubles held three
+//   times (the certified solve, its certifier, the case's copy), its times (points+1 doubles, three
+//   times) and the reference cache's key (~26 characters per time);
 // - the stability sweep: its rows (about 64 bytes per (γ, h) cell).
-// Output points as the runner chooses them (runner.cpp output_points): (t_end − t0)/output_dt, else
-// at most ~20000.
-MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs) {
+// A streamed grid (grid_plan) costs nothing per point.
+MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs, bool figures) {
     MemoryEstimate est;
     const double dim = std::max(1, c.dim);
-    const double points = c.output_dt ? std::round((c.t_end - c.t0) / *c.output_dt) + 1.0 : 20001.0;
-    // what the case's diagnostics need, from the registry (a grid whatever its size, at most)
-    bool grid = false, reference = false;
+    const std::int64_t intervals = detail::output_points(c);
+    const double points = static_cast<double>(intervals) + 1.0;
+    const ProblemInfo* prob = find_problem(c.problem_id);
+    // as the runner: a case with "figures": false keeps no series (runner.cpp set_figures)
+    const GridPlan plan =
+        grid_plan(c, intervals, prob && prob->has_exact, figures && !case_figures_off(c));
+    bool reference = false;
     for (const std::string& name : c.diagnostics)
-        if (const DiagnosticInfo* d = find_diagnostic(name)) {
-            grid = grid || d->needs.grid || d->needs.grid_if_points;
+        if (const DiagnosticInfo* d = find_diagnostic(name))
             reference = reference || d->needs.reference;
-        }
     const double runs = static_cast<double>(c.methods.size() * c.dts.size());
     const double at_once = std::max(1.0, std::min<double>(std::max(1, jobs), runs));
     double grid_bytes = 0.0, ref_bytes = 0.0, sweep_bytes = 0.0;
-    if (grid) grid_bytes = at_once * points * dim * 8.0;
-    if (reference) ref_bytes = 3.0 * points * (dim + 1.0) * 8.0;
+    if (plan.store_grid) grid_bytes = at_once * points * dim * 8.0;
+    if (reference && plan.store_reference)
+        ref_bytes = 3.0 * points * (dim + 1.0) * 8.0 + 26.0 * points;
     if (c.sweep) {
         const auto cells = [](const Range3& r) {
             return std::floor((r.to - r.from) / r.step + 1e-9) + 1.0;
@@ -240,25 +269,34 @@ MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs) {
                       cells(c.sweep->h) * 64.0;
     }
     est.bytes = 64.0 * 1024 * 1024 + grid_bytes + ref_bytes + sweep_bytes; // + the program itself
-    char buf[256];
+    char buf[512];
     if (sweep_bytes > grid_bytes + ref_bytes) {
         std::snprintf(buf, sizeof buf, "stability sweep: %.3g cells x %zu methods",
                       sweep_bytes / 64.0 / static_cast<double>(c.methods.size()), c.methods.size());
         est.largest = buf;
         est.key = "stability_sweep";
-    } else {
+    } else if (grid_bytes > 0.0) {
         std::snprintf(buf, sizeof buf,
                       "output grid of %.3g points x %d state components (%g runs at once%s)",
-                      points, c.dim, at_once, reference ? ", plus the reference on it" : "");
+                      points, c.dim, at_once, ref_bytes > 0.0 ? ", plus the reference on it" : "");
+        est.largest = buf;
+        est.key = c.output_dt ? "output_dt" : "t_end";
+    } else {
+        // The runs stream the grid; the certified numerical reference is stored (grid_plan).
+        std::snprintf(buf, sizeof buf,
+                      "certified reference on the output grid of %.3g points x %d state "
+                      "components; the runs compare on the fly, but a numerical reference is "
+                      "stored: docs/case-keys.md",
+                      points, c.dim);
         est.largest = buf;
         est.key = c.output_dt ? "output_dt" : "t_end";
     }
     return est;
 }
 
-void check_memory(const std::vector<CaseSpec>& cases, int jobs, double max_bytes) {
+void check_memory(const std::vector<CaseSpec>& cases, int jobs, double max_bytes, bool figures) {
     for (const CaseSpec& c : cases) {
-        const MemoryEstimate est = estimate_case_memory(c, jobs);
+        const MemoryEstimate est = estimate_case_memory(c, jobs, figures);
         if (est.bytes <= max_bytes) continue;
         throw InputError(c.file + ": " + est.key + ": case '" + c.id + "' would need about " +
                          format_bytes(est.bytes) + " of memory (" + est.largest +
@@ -343,13 +381,17 @@ void add_limit_options(CLI::App& run, CliLimits& limits) {
         ->check(CLI::Range(0.0, 1e9));
     run.add_option("--max-memory", limits.max_memory,
                    "refuse (exit 2) a case whose estimated peak memory exceeds SIZE (bytes, or "
-                   "with K/M/G/T); default half the physical memory");
+                   "with K/M/G/T); default half the physical memory. The error diagnostic and "
+                   "measures stream over the output grid (no memory per output point) unless "
+                   "another diagnostic, a growth measure, --figures or a certified numerical "
+                   "reference stores it (docs/case-keys.md)");
 }
 
-void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits) {
+void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits,
+                bool figures) {
     const double max_bytes =
         limits.max_memory.empty() ? default_max_memory() : parse_memory_size(limits.max_memory);
-    check_memory(cases, jobs, max_bytes);
+    check_memory(cases, jobs, max_bytes, figures);
     install_stop_handlers();
 }
 

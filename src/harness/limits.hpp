@@ -13,7 +13,10 @@
 // - Memory: before anything runs, each case's peak memory is estimated (output grid × state size
 //   × the copies held at once, reference grid, stability sweep) and a case above `--max-memory`
 //   (default half the physical memory) is refused, exit 2, naming the estimate and the key to
-//   change.
+//   change. The error diagnostic (and the case's measures) stream: when nothing else reads the
+//   output grid, each grid point is compared on the fly and no trajectory is stored, and against
+//   an exact solution the reference is evaluated at each output time instead of stored, so such a
+//   case needs memory independent of its number of output points (grid_plan).
 //
 // The step loop itself stays the bare loop of core/integrate.hpp: integrate_guarded runs it in
 // chunks and tests the stop state between chunks only (one clock read per chunk; chunks grow
@@ -52,7 +55,8 @@ struct CliLimits {
 // Adds --case-timeout and --max-memory to `dampsym run`.
 void add_limit_options(CLI::App& run, CliLimits& limits);
 // Before running: the memory check (exit 2 through InputError) and the stop handlers.
-void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits);
+void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits,
+                bool figures = false);
 // After running, before the report is written: marks it "interrupted" (with the signal) if a stop
 // was requested.
 void mark_interrupted(nlohmann::json& report);
@@ -180,16 +184,41 @@ double default_max_memory();
 double parse_memory_size(const std::string& text);
 std::string format_bytes(double bytes);
 
+// What a case keeps of its output grid t0..t_end (issue 17). The error diagnostic and the case's
+// measures are running reductions over the grid (ErrorAccumulator, MeasureAccumulator): when
+// nothing else reads the grid — no diagnostic that needs the stored grid (energy, poincare,
+// temperature), no "growth" measure (a least-squares fit over all its points), no --figures
+// series — the runs feed them each grid point on the fly (harness/grid_stream.hpp) and store no
+// trajectory. The reference is then not stored either when it is the problem's exact solution and
+// no diagnostic reads the reference's grid (dissipation-drift): the exact solution is evaluated at
+// each output time, during each run. A certified numerical reference stays stored on the grid: it
+// is one adaptive GSL integration (with its certifier) shared by every run of the case and, through
+// the reference cache, by other cases, and its certified error estimate — which decides where a
+// relative error is defined — is a maximum over the whole grid, known only once the whole
+// reference is computed; evaluating it in chunks alongside each run would repeat it per run and
+// change the metric's definition. Such a case is refused above --max-memory for its reference.
+struct GridPlan {
+    bool grid = false;            // the runs observe the output grid (points + 1 states)
+    bool store_grid = false;      // ... and store it (else: streamed, nothing kept per point)
+    bool store_reference = false; // the reference is stored on the grid (else, with a grid: the
+                                  // exact solution is evaluated at each output time)
+};
+// points: the output grid's intervals (output_points); has_exact: the problem has an exact
+// solution; figures: `dampsym run --figures` (its series read the stored grid).
+GridPlan grid_plan(const CaseSpec& c, std::int64_t points, bool has_exact, bool figures);
+
 struct MemoryEstimate {
     double bytes = 0.0;
     std::string largest; // what dominates, e.g. "output grid: 1e+07 points x 4 components x 3"
     std::string key;     // the case key to change, e.g. "output_dt"
 };
 // Peak memory of a case with `jobs` runs at once (a rough upper estimate, docs/case-keys.md).
-MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs);
+// figures: with --figures (the grid is then stored: grid_plan).
+MemoryEstimate estimate_case_memory(const CaseSpec& c, int jobs, bool figures = false);
 // Throws InputError naming the file, the estimate and the key to change for the first case above
 // max_bytes.
-void check_memory(const std::vector<CaseSpec>& cases, int jobs, double max_bytes);
+void check_memory(const std::vector<CaseSpec>& cases, int jobs, double max_bytes,
+                  bool figures = false);
 
 // Validates the case keys of this file (timeout_seconds: a number > 0). Throws InputError naming
 // file and key. Called from parse_case (case.cpp).

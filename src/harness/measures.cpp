@@ -52,54 +52,103 @@ double reduce(const MeasureSpec& m, const std::vector<double>& t, const std::vec
 
 } // namespace
 
-json measure_metrics(const CaseSpec& c, const CaseFacts& f, const Mat* grid, const Vec& z_final,
-                     const std::function<double(const Vec&)>& energy,
-                     const std::function<double(const Vec&)>& energy_scale) {
+MeasureAccumulator::MeasureAccumulator(const CaseSpec& c, const CaseFacts& f,
+                                       std::function<double(const Vec&)> energy,
+                                       std::function<double(const Vec&)> energy_scale)
+    : c_(c), f_(f), energy_(std::move(energy)), energy_scale_(std::move(energy_scale)),
+      stats_(c.measures.size()) {}
+
+double MeasureAccumulator::pointwise(const MeasureSpec& m, const Vec& u, const Vec& ref) const {
+    double e = 0.0, scale = 1.0, floor = 1e-300;
+    if (m.quantity == MeasureQuantity::energy_error) {
+        if (energy_) {
+            const double exact = energy_(ref);
+            e = std::abs(energy_(u) - exact);
+            scale = std::abs(exact);
+            // The paper's |H − H_ref|/|H_ref| is kept, but where |H_ref| is within 100 ulps of its
+            // energy scale S_H (T + |V|) of zero, H_ref is round-off and the ratio is undefined
+            // (docs/conventions.md, "Law residuals and their scales").
+            if (energy_scale_)
+                floor = std::max(floor, 100.0 * std::numeric_limits<double>::epsilon() *
+                                            energy_scale_(ref));
+        }
+    } else {
+        e = (u.segment(m.first, m.count) - ref.segment(m.first, m.count)).norm();
+        scale = ref.segment(m.first, m.count).norm();
+        // as error.max_rel: the reference cannot resolve a relative error below 100 times its
+        // certified error estimate
+        floor = std::max(floor, 100.0 * f_.ref_error);
+    }
+    // relative to a reference that is not resolved: undefined (never a huge ratio)
+    if (m.relative && !(scale > floor)) return std::numeric_limits<double>::quiet_NaN();
+    return m.relative ? e / scale : e;
+}
+
+// max, mean and rms as running reductions (the same operations in the same order as over a
+// stored vector of the pointwise values); growth keeps its points (never streamed: grid_plan,
+// harness/limits.hpp).
+void MeasureAccumulator::add(const Vec& z, const Vec& ref, double t) {
+    fed_ = true;
+    for (std::size_t k = 0; k < c_.measures.size(); ++k) {
+        const MeasureSpec& m = c_.measures[k];
+        if (m.over == MeasureStat::final_value) continue;
+        Stat& s = stats_[k];
+        const double e = pointwise(m, z, ref);
+        if (std::isnan(e)) s.undefined = true;
+        switch (m.over) {
+        case MeasureStat::max:
+            if (s.count == 0 || s.max < e) s.max = e; // as std::max_element: the first largest
+            break;
+        case MeasureStat::mean:
+            s.sum += e;
+            break;
+        case MeasureStat::rms:
+            s.sum += e * e;
+            break;
+        case MeasureStat::growth:
+            s.t.push_back(t);
+            s.v.push_back(e);
+            break;
+        case MeasureStat::final_value:
+            break;
+        }
+        ++s.count;
+    }
+}
+
+json MeasureAccumulator::finish(const Vec& z_final, const Vec& ref_final) const {
     json out = json::object();
-    for (const MeasureSpec& m : c.measures) {
-        auto pointwise = [&](const Vec& u, const Vec& ref) {
-            double e = 0.0, scale = 1.0, floor = 1e-300;
-            if (m.quantity == MeasureQuantity::energy_error) {
-                if (energy) {
-                    const double exact = energy(ref);
-                    e = std::abs(energy(u) - exact);
-                    scale = std::abs(exact);
-                    // The paper's |H − H_ref|/|H_ref| is kept, but where |H_ref| is within 100
-                    // ulps of its energy scale S_H (T + |V|) of zero, H_ref is round-off and the
-                    // ratio is undefined (docs/conventions.md, "Law residuals and their scales").
-                    if (energy_scale)
-                        floor = std::max(floor, 100.0 * std::numeric_limits<double>::epsilon() *
-                                                    energy_scale(ref));
-                }
+    for (std::size_t k = 0; k < c_.measures.size(); ++k) {
+        const MeasureSpec& m = c_.measures[k];
+        const Stat& s = stats_[k];
+        bool produced = true;
+        double x = 0.0;
+        if (fed_ && m.over != MeasureStat::final_value && m.over != MeasureStat::growth) {
+            // One undefined point makes the whole statistic undefined.
+            if (s.undefined) {
+                x = std::numeric_limits<double>::quiet_NaN();
+            } else if (m.over == MeasureStat::max) {
+                x = s.max;
             } else {
-                e = (u.segment(m.first, m.count) - ref.segment(m.first, m.count)).norm();
-                scale = ref.segment(m.first, m.count).norm();
-                // as error.max_rel: the reference cannot resolve a relative error below 100
-                // times its certified error estimate
-                floor = std::max(floor, 100.0 * f.ref_error);
-            }
-            // relative to a reference that is not resolved: undefined (never a huge ratio)
-            if (m.relative && !(scale > floor)) return std::numeric_limits<double>::quiet_NaN();
-            return m.relative ? e / scale : e;
-        };
-        std::vector<double> t, v;
-        if (f.needs_grid && grid && m.over != MeasureStat::final_value) {
-            const Mat& g = *grid;
-            for (Eigen::Index i = 1; i < g.cols(); ++i) {
-                t.push_back(f.grid_time(i));
-                v.push_back(pointwise(Vec(g.col(i)), Vec(f.ref.col(i))));
+                x = s.sum / static_cast<double>(s.count);
+                if (m.over == MeasureStat::rms) x = std::sqrt(x);
             }
         } else {
-            t.push_back(c.t_end);
-            v.push_back(pointwise(z_final, Vec(f.ref.col(f.ref.cols() - 1))));
+            std::vector<double> t, v;
+            if (fed_ && m.over == MeasureStat::growth) {
+                t = s.t;
+                v = s.v;
+            } else {
+                t.push_back(c_.t_end);
+                v.push_back(pointwise(m, z_final, ref_final));
+            }
+            // One undefined point makes the whole statistic undefined (max_element and the sums
+            // would otherwise skip or propagate it depending on its position).
+            const bool any_undefined =
+                std::any_of(v.begin(), v.end(), [](double e) { return std::isnan(e); });
+            x = any_undefined ? std::numeric_limits<double>::quiet_NaN()
+                              : reduce(m, t, v, c_.t0, produced);
         }
-        // One undefined point makes the whole statistic undefined (max_element and the sums
-        // would otherwise skip or propagate it depending on its position).
-        const bool any_undefined =
-            std::any_of(v.begin(), v.end(), [](double e) { return std::isnan(e); });
-        bool produced = true;
-        const double x = any_undefined ? std::numeric_limits<double>::quiet_NaN()
-                                       : reduce(m, t, v, c.t0, produced);
         if (!produced) continue;
         if (!std::isfinite(x)) {
             out[m.name] = nullptr;
@@ -112,6 +161,18 @@ json measure_metrics(const CaseSpec& c, const CaseFacts& f, const Mat* grid, con
         out[m.name] = x;
     }
     return out;
+}
+
+json measure_metrics(const CaseSpec& c, const CaseFacts& f, const Mat* grid, const Vec& z_final,
+                     const std::function<double(const Vec&)>& energy,
+                     const std::function<double(const Vec&)>& energy_scale) {
+    MeasureAccumulator acc(c, f, energy, energy_scale);
+    if (f.needs_grid && grid) {
+        const Mat& g = *grid;
+        for (Eigen::Index i = 1; i < g.cols(); ++i)
+            acc.add(Vec(g.col(i)), Vec(f.ref.col(i)), f.grid_time(i));
+    }
+    return acc.finish(z_final, Vec(f.ref.col(f.ref.cols() - 1)));
 }
 
 } // namespace dampsym::detail

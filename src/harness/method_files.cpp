@@ -694,6 +694,12 @@ std::vector<const MethodInfo*> load_method_file(const std::string& path) {
     return out;
 }
 
+std::string check_method_text(const std::string& text, const std::string& file) {
+    const json j = parse_json_checked(text, file); // as read_case_json after reading the file
+    Reader r(file);
+    return parse_method(j, r).id;
+}
+
 void load_method_folder(const std::string& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) return;

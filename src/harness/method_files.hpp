@@ -25,6 +25,13 @@ namespace dampsym {
 // Loads every method of the file (throws InputError naming the file and the key) and returns
 // them (also when the file was loaded before).
 std::vector<const MethodInfo*> load_method_file(const std::string& path);
+// Validates a method file's text exactly as load_method_file validates a file's contents (the JSON
+// limits of parse_json_checked, keys, coefficients and their expressions, claims, the id neither
+// built in nor loaded already) without registering anything; returns the method's id. Throws
+// InputError naming `file` and the key. For the fuzz target tests/fuzz/fuzz_method.cpp: fuzzing
+// load_method_file would register every valid input, so the registry would grow without bound
+// and later inputs with a registered id would stop at the duplicate-id check.
+std::string check_method_text(const std::string& text, const std::string& file);
 // Loads every *.json file of `dir` in name order; a missing directory loads nothing.
 void load_method_folder(const std::string& dir);
 // The file a loaded method came from ("" for a built-in or unknown id).

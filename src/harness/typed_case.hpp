@@ -15,6 +15,7 @@
 #include "diagnostics/recorder.hpp"
 #include "harness/case_run.hpp"
 #include "harness/figure_series.hpp" // figures hook (issue 14)
+#include "harness/grid_stream.hpp"   // issue 17: the output grid streamed
 #include "harness/limits.hpp"
 #include "harness/registry.hpp"
 
@@ -31,7 +32,7 @@ public:
         : CaseRun(spec), problem_(P::from_params(spec.params)) {}
 
     void prepare() override {
-        plan();
+        plan(HasExactSolution<P>);
         if (figures_) series_.assign(runs_.size(), json()); // figures hook (issue 14)
         if (!needs_reference()) {
             reference_ = {{"kind", "none"}};
@@ -116,6 +117,11 @@ private:
         // (the figure observer beside the recorder) and the E_n series from the
         // conformal-symplectic pass below; every report number is the same with or without.
         std::optional<FigureStepObserver<P>> fig = figure_observer(out, h, n);
+        // issue 17: the error and measures reduced on the fly when nothing else reads the grid
+        std::optional<GridStream<P>> stream;
+        if (streams_grid() && facts_.reference_ok)
+            stream.emplace(problem_, c_, facts_, exact_on_the_fly(), c_.wants("error"),
+                           !c_.measures.empty());
         IntegrateOutcome res;
         // issue 17: the step loop in chunks with the case's time budget and stop requests tested
         // between them (src/harness/limits.hpp); a fault only where a test planted one
@@ -124,7 +130,7 @@ private:
         const auto start = Clock::now();
         FigureStepObserver<P>* steps = fig && fig->needed() ? &*fig : nullptr;
         if (observes() || steps) {
-            if (observes()) start_recorder(rec, info, h, n, z);
+            if (observes()) start_recorder(rec, info, h, n, z, stream ? &*stream : nullptr);
             if (steps) steps->start(z);
             RunObserver<P> obs{observes() ? &rec : nullptr, steps};
             res = integrate_guarded(stepper, z, c_.t0, h, n, &obs, guard_, fault);
@@ -139,7 +145,7 @@ private:
             return;
         }
         const bool ok = res.status == RunStatus::ok;
-        json metrics = observed_metrics(rec, info, h, ok, z);
+        json metrics = observed_metrics(rec, info, h, ok, z, stream ? &*stream : nullptr);
         if (produces("cost", ok)) metrics["cost"] = cost_metrics(counters, res.steps_done, wall);
         std::optional<MinMaxDecimator> cs_series;
         kernel_metrics<K>(metrics, info, h, n, fig ? &cs_series : nullptr);
@@ -166,7 +172,7 @@ private:
                                                          std::int64_t n) const {
         std::optional<FigureStepObserver<P>> fig;
         if (!figures_ || !figure_series_for_dt(c_, run_index(out) % c_.dts.size())) return fig;
-        const Eigen::Index cols = facts_.needs_grid ? facts_.points + 1 : 0; // the run's grid
+        const Eigen::Index cols = stores_grid() ? facts_.points + 1 : 0; // the run's stored grid
         fig.emplace(problem_, c_, h, n, figure_orbit_from_steps(problem_, cols, n));
         return fig;
     }
@@ -191,8 +197,9 @@ private:
     }
 
     void start_recorder(Recorder<P>& rec, const MethodInfo& info, double h, std::int64_t n,
-                        const Vec& z) const {
-        if (facts_.needs_grid) rec.record_grid(n / facts_.points, facts_.points + 1);
+                        const Vec& z, GridSink* stream) const {
+        if (stores_grid()) rec.record_grid(n / facts_.points, facts_.points + 1);
+        if (stream) rec.stream_grid(n / facts_.points, stream); // issue 17 (grid_stream.hpp)
         for (const std::string& part : observer_parts()) rec.enable(part, table_factor(info, h));
         rec.start(z);
     }
@@ -202,18 +209,21 @@ private:
     }
 
     // The metrics read from the observer and the final state (typed on P only, not on the kernel).
+    // stream: the streamed error and measures (issue 17), else null (they read the stored grid).
     json observed_metrics(const Recorder<P>& rec, const MethodInfo& info, double h, bool ok,
-                          const Vec& z) const {
+                          const Vec& z, const GridStream<P>* stream) const {
         json m = json::object();
-        const Mat* grid = facts_.needs_grid ? &rec.grid() : nullptr;
+        const Mat* grid = stores_grid() ? &rec.grid() : nullptr;
         StateFunction energy, energy_scale;
         if constexpr (HasEnergy<P>) {
             energy = [this](const Vec& v) { return problem_.energy(v); };
             energy_scale = [this](const Vec& v) { return problem_.energy_scale(v); };
         }
-        if (produces("error", ok)) m["error"] = error_metrics(facts_, grid, z);
+        if (produces("error", ok))
+            m["error"] = stream ? stream->error_metrics(z) : error_metrics(facts_, grid, z);
         if (ok && facts_.reference_ok && !c_.measures.empty())
-            m["measure"] = measure_metrics(c_, facts_, grid, z, energy, energy_scale);
+            m["measure"] = stream ? stream->measure_metrics(z)
+                                  : measure_metrics(c_, facts_, grid, z, energy, energy_scale);
         if constexpr (HasEnergy<P>)
             if (produces("energy", ok))
                 m["energy"] = energy_metrics(facts_, rec.grid(), energy, [this](const Vec& v) {
