@@ -23,7 +23,7 @@ flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
 # The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
 lib=(src/harness/case.cpp src/harness/case_json.cpp src/harness/case_parse.cpp src/harness/case_expect.cpp
      src/harness/case_util.cpp src/harness/case_figures.cpp src/harness/method_files.cpp
-     src/harness/method_file_parse.cpp src/harness/limits.cpp
+     src/harness/method_file_parse.cpp src/harness/limits.cpp src/harness/memory_limits.cpp
      src/harness/registry.cpp src/harness/compare.cpp src/harness/compare_input.cpp src/harness/shard.cpp
      src/harness/report.cpp src/harness/report_tables.cpp src/harness/junit.cpp
      src/diagnostics/*.cpp

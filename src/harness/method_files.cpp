@@ -161,8 +161,8 @@ std::vector<const MethodInfo*> load_method_file(const std::string& path) {
 
 std::string check_method_text(const std::string& text, const std::string& file) {
     const json j = parse_json_checked(text, file); // as read_case_json after reading the file
-    Reader r(file);
-    return parse_method(j, r).id;
+    method_file::Reader r(file);
+    return method_file::parse_method(j, r).id;
 }
 
 void load_method_folder(const std::string& dir) {
