@@ -75,10 +75,12 @@ struct BurgersSemi {
     pde::PeriodicGrid grid{S == BurgersSpace::box ? 65 : 64, std::numbers::pi};
     double gamma = 0.1;
 
-    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M); 0 ≤ γ ≤ 1.
+    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M; burgers-box: odd
+    // 1 ≤ M ≤ 8191, so that both edges are valid and a fraction is reported as not whole); 0 ≤ γ
+    // ≤ 1.
     static std::vector<ParamSpec> param_specs() {
         return {
-            integer_param("M", S == BurgersSpace::box ? 65 : 64, S == BurgersSpace::box ? 3 : 2,
+            integer_param("M", S == BurgersSpace::box ? 65 : 64, S == BurgersSpace::box ? 1 : 2,
                           8191 + (S == BurgersSpace::box ? 0 : 1),
                           S == BurgersSpace::box
                               ? "grid points on [-pi, pi) (dx = 2 pi / M), odd: A_x invertible"
