@@ -84,5 +84,6 @@ void register_harness_benchmarks();  // bench_harness.cpp: catalog × problems
 void register_peer_benchmarks();     // bench_peers.cpp: bare csv1 loop, Boost.Odeint, GSL
 void register_reference_benchmark(); // bench_reference.cpp: certified GSL reference
 void register_overhead_benchmarks(); // bench_overhead.cpp: run_cases vs bare integrate()
+void register_pde_benchmarks();      // bench_pde.cpp: B ch. 5 schemes, M = 256 ... 8192
 
 } // namespace dampsym::bench

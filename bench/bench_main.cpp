@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
     register_peer_benchmarks();
     register_reference_benchmark();
     register_overhead_benchmarks();
+    register_pde_benchmarks();
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;

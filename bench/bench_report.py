@@ -297,6 +297,23 @@ def main():
                "ns_per_step", 1.10)
     kernel_row("stormer-verlet from a method file / built-in (ns per step)", "stormer-verlet-file",
                "stormer-verlet", "ns_per_step", 1.10)
+    # PDE schemes of B ch. 5 (issue 15 item 7, bench/bench_pde.cpp): cost per step linear in M
+    # for the explicit KG scheme (5.3) and the banded box scheme (5.5) (ideal 32 for 256 -> 8192),
+    # O(M log M) for the FFT-based NLS IF (4.15) (ideal 32 * 13/8 = 52; limit 1.25 x that), and the
+    # box scheme at most 10x the explicit scheme at M = 1024.
+    def pde_ns(name, M):
+        return value(runs, f"pde/{name}/{M}", "ns_per_step")
+
+    for name, label in (("kg-csv1", "explicit KG (5.3) = csv1"), ("kg-box", "KG box scheme (5.5)")):
+        row(f"{label}: time per step M = 8192 / M = 256 (linear: 32)",
+            ratio(pde_ns(name, 8192), pde_ns(name, 256)), "<=", 40.0,
+            f"pde/{name}/8192 ÷ pde/{name}/256 (ns per step)")
+    row("NLS IF (4.15), FFT: time per step M = 8192 / M = 256 (M log M: 52)",
+        ratio(pde_ns("nls-if", 8192), pde_ns("nls-if", 256)), "<=", 65.0,
+        "pde/nls-if/8192 ÷ pde/nls-if/256 (ns per step)")
+    row("KG box (5.5) / explicit KG (5.3) per step at M = 1024",
+        ratio(pde_ns("kg-box", 1024), pde_ns("kg-csv1", 1024)), "<=", 10.0,
+        "pde/kg-box/1024 ÷ pde/kg-csv1/1024 (ns per step)")
     suites = None
     if a.suite_jobs1:
         w1, w2 = suite_wall(a.suite_jobs1), suite_wall(a.suite_jobs2)

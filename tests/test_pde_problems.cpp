@@ -4,6 +4,7 @@
 // B's printed equations); the forms' Jacobians are the derivatives of N; the Burgers Casimir law
 // uses the rate factor ½ and the NLS invariants agree with pde::nls_invariants (B (5.29)).
 #include "core/method.hpp"
+#include "methods/burgers_b.hpp"
 #include "methods/cimp.hpp"
 #include "methods/exponential_rk.hpp"
 #include "methods/implicit_rk.hpp"
@@ -15,10 +16,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <numbers>
+#include <stdexcept>
 #include <type_traits>
 
 using dampsym::Counters;
@@ -173,4 +176,56 @@ TEST_CASE("pde problems: Burgers N_jacobian and the Casimir law with rate factor
     const Vec w1 = run<dampsym::ImplicitRK>(p, "implicit-midpoint", h, 1, z0);
     p.invariants(h, w1, &c1);
     CHECK(std::abs(c1 - std::exp(-2 * 0.1 * h) * c0) >= 1e-8 * c0);
+}
+
+TEST_CASE("pde problems: burgers-box and burgers-upwind (the dt -> 0 limits of B (5.12), (4.18)); "
+          "B's Burgers schemes as kernels are pde::BurgersStepper",
+          "[pde]") {
+    dampsym::ParamMap m;
+    m["M"] = 33;
+    m["gamma"] = 0.1;
+    const auto box = dampsym::BurgersBox::from_params(m);
+    const auto up = dampsym::BurgersUpwind::from_params(m);
+    const Vec z0 = box.initial_state() + 0.2 * Vec::LinSpaced(33, 0.0, 1.0).array().sin().matrix();
+    CHECK(jacobian_defect(box, z0) <= 1e-8);
+    CHECK(jacobian_defect(up, z0) <= 1e-8);
+    // box: A_x N = -D_x(u^2/2) row by row, and sum N = 0 (the Casimir); upwind: sum N = -(1/2dx)
+    // sum (u_j - u_{j-1})^2 (not conservative)
+    Vec n(33);
+    box.N(0.0, z0, n);
+    double worst = 0.0, sq = 0.0;
+    const double dx = box.grid.dx;
+    for (int j = 0; j < 33; ++j) {
+        const int r = (j + 1) % 33, l = (j + 32) % 33;
+        worst = std::max(
+            worst, std::abs(0.5 * (n[j] + n[r]) + (z0[r] * z0[r] - z0[j] * z0[j]) / (2.0 * dx)));
+        sq += (z0[j] - z0[l]) * (z0[j] - z0[l]);
+    }
+    CHECK(worst <= 1e-13);
+    CHECK(std::abs(n.sum()) <= 1e-13 * n.cwiseAbs().sum());
+    up.N(0.0, z0, n);
+    CHECK_THAT(n.sum(), Catch::Matchers::WithinRel(-0.5 * sq / dx, 1e-12));
+    m["M"] = 32;
+    CHECK_THROWS_AS(dampsym::BurgersBox::from_params(m), std::invalid_argument); // even M
+    // the kernels step exactly as the library stepper (bitwise), each only on its own problem
+    const auto central = dampsym::Burgers::from_params(m);
+    const auto up32 = dampsym::BurgersUpwind::from_params(m);
+    auto lib = [](const auto& p, dampsym::pde::BurgersScheme s, double h, int steps) {
+        Vec u = p.initial_state();
+        dampsym::pde::BurgersStepper st(p.grid, p.gamma, h, s);
+        for (int i = 0; i < steps; ++i) REQUIRE(st.step(u));
+        return u;
+    };
+    using dampsym::pde::BurgersScheme;
+    CHECK(run<dampsym::BurgersCsv>(central, "burgers-csv", 0.05, 20, central.initial_state()) ==
+          lib(central, BurgersScheme::csv_split, 0.05, 20));
+    CHECK(run<dampsym::BurgersBoxScheme>(box, "burgers-box", 0.05, 20, box.initial_state()) ==
+          lib(box, BurgersScheme::box, 0.05, 20));
+    CHECK(run<dampsym::BurgersNsfd>(up32, "burgers-nsfd", 0.05, 20, up32.initial_state()) ==
+          lib(up32, BurgersScheme::nsfd, 0.05, 20));
+    STATIC_REQUIRE(dampsym::BurgersCsv<dampsym::Burgers>::applies<dampsym::Burgers>);
+    STATIC_REQUIRE(!dampsym::BurgersCsv<dampsym::Burgers>::applies<dampsym::BurgersBox>);
+    STATIC_REQUIRE(!dampsym::BurgersBoxScheme<dampsym::Burgers>::applies<dampsym::Burgers>);
+    STATIC_REQUIRE(dampsym::BurgersNsfd<dampsym::Burgers>::applies<dampsym::BurgersUpwind>);
+    STATIC_REQUIRE(!dampsym::BurgersNsfd<dampsym::Burgers>::applies<dampsym::NLS>);
 }

@@ -441,17 +441,77 @@ class GLM:
 # (2.22) and HLW (3.6); one for B (2.18), (2.19) and HLW (1.8)
 EXPLICIT_EVALS = {"euler": 1, "heun": 2, "rk3": 3, "rk4": 4, "csv1": 2, "csv2": 2, "csv1-perk": 2,
                   "csv2-perk": 2, "etdprk2": 2, "cse-if": 1, "cse-etd": 1, "symplectic-euler": 1,
-                  "symplectic-euler-adjoint": 1, "stormer-verlet": 2}
+                  "symplectic-euler-adjoint": 1, "stormer-verlet": 2,
+                  "burgers-csv": 2, "burgers-nsfd": 1}
 
 IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "glifrk1",
             "glifrk2", "glifrk3", "cimp", "etdrk2", "glm4"}
 NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
                    "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}
 NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
-METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE
+# B's Burgers schemes (5.10), (5.12), (4.18), each on its own semi-discretisation (docs/pde.md)
+BURGERS_B = {"burgers-csv": "burgers", "burgers-box": "burgers-box", "burgers-nsfd": "burgers-upwind"}
+METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE | set(BURGERS_B)
+
+
+def burgers_b_step(method, prob, h):
+    """B's Burgers schemes written from B (5.10), (5.12), (4.18) (gamma = B's gamma = prob.gB):
+    (5.10) on the even/odd split (v = even, w = odd grid points, flux = delta_x(u^2/2)):
+        w^{i+1/2} = e^{-g h} w^i - (h/2) f_w(u),  v^{i+1} = e^{-g h}(e^{-g h} v^i - h f_v(u)),
+        w^{i+1} = e^{-g h}(w^{i+1/2} - (h/2) f_w(u));
+    (5.12) D_t^g A_x u + (1/2) D_x (A_t^g u)^2 = 0 in X = e^{g h} u^{i+1}, Y = e^{-g h} u^i, dense
+        Newton;
+    (4.18) (u^{i+1} - u^i)/phi + u^i (u^{i+1}_n - u^{i+1}_{n-1})/dx = -2 g u^i,
+        phi = (1 - e^{-2 g h})/(2 g), dense linear solve.
+    (5.10) takes batch axes and complex steps; (5.12) and (4.18) one real state."""
+    if prob.pid != BURGERS_B[method]:
+        raise NotApplicable("%s applies to problem %s only" % (method, BURGERS_B[method]))
+    g, dx, M = prob.gB, prob.dx, prob.M
+    e = math.exp(-g * h)
+    if method == "burgers-csv":
+        ev, od = np.arange(0, M, 2), np.arange(1, M, 2)
+
+        def flux(u):
+            return (np.roll(u, -1, axis=-1) ** 2 - np.roll(u, 1, axis=-1) ** 2) / (4.0 * dx)
+
+        def step(t, z):
+            u = np.array(z)                       # batch axes and complex steps allowed
+            u[..., od] = e * u[..., od] - 0.5 * h * flux(u)[..., od]
+            u[..., ev] = e * (e * u[..., ev] - h * flux(u)[..., ev])
+            u[..., od] = e * (u[..., od] - 0.5 * h * flux(u)[..., od])
+            return u, 0
+        return step
+    if method == "burgers-nsfd":
+        phi = -math.expm1(-2.0 * g * h) / (2.0 * g) if g != 0.0 else h
+        back = np.roll(np.eye(M), -1, axis=1)    # row n picks X_{n-1}
+
+        def step(t, z):
+            u = np.asarray(z, float)
+            A = np.diag(1.0 / phi + u / dx) - np.diag(u / dx) @ back
+            return np.linalg.solve(A, u * (1.0 / phi - 2.0 * g)), 1
+        return step
+    S = np.roll(np.eye(M), 1, axis=1)              # (S x)_n = x_{n+1}
+
+    def step(t, z):
+        Y = e * np.asarray(z, float)
+        X = Y.copy()
+        last = np.inf
+        for it in range(1, 60):
+            W = 0.5 * (X + Y)
+            F = (X + S @ X - Y - S @ Y) / (2.0 * h) + (S @ (W * W) - W * W) / (2.0 * dx)
+            J = (np.eye(M) + S) / (2.0 * h) + (S * W[None, :] - np.diag(W)) / (2.0 * dx)
+            dX = np.linalg.solve(J, -F)
+            X = X + dX
+            done, last = _converged(dX, X, last, it)
+            if done:
+                return e * X, it
+        raise SolveFailed("burgers-box: Newton did not converge")
+    return step
 
 
 def make_stepper(method, prob, h):
+    if method in BURGERS_B:
+        return burgers_b_step(method, prob, h)
     if method in NEEDS_SEPARABLE and not prob.separable:
         raise NotApplicable("%s needs a separable q/p problem" % method)
     if method in EXPLICIT_RK:

@@ -16,7 +16,11 @@ Independently of the report it checks:
   - the PDE solution (5.1) against a fine-grid (M = 512) scipy integration of the PDE: the
     difference must match the predicted space error of the M = 512 grid, |W - W_d| t, to 10 %;
   - Burgers (5.10): Casimir residual (5.15) <= 1e-13; NSFD (4.18) >= 1e-6 (negative control);
-  - NLS IF (4.15): R_2 (5.29) <= 1e-13 on damped NLS, IMP (5.28) >= 1e-8.
+  - NLS IF (4.15): R_2 (5.29) <= 1e-13 on damped NLS, IMP (5.28) >= 1e-8;
+  - Burgers (5.10) is conformal Poisson (item 5 of issue 15, docs/pde.md "Conformal Poisson"):
+    its step Jacobian Psi (complex step) satisfies Psi D Psi^T = e^{-4 gamma h} D with B's
+    structure matrix D of (5.9) (on the full grid: the skew central difference), relative
+    Frobenius defect <= 1e-13; heun's defect >= 1e-8 (negative control).
 Exit 0 if everything agrees, 1 otherwise (the failures are printed).
 """
 import json
@@ -190,6 +194,55 @@ def burgers():
     check(r >= 1e-6, f"burgers NSFD (4.18): Casimir residual {r:.2e} >= 1e-6 (negative control)")
 
 
+def burgers_conformal_poisson():
+    """E_n of docs/pde.md for the Burgers semi-discrete map (5.10) with B's singular D of (5.9).
+    (5.9) is z' = D grad H - 2 gamma z, D = skew central difference (D_{j,j+1} = 1, D_{j,j-1} = -1,
+    up to a constant), H = -sum u^3/6 (times that constant). With y = e^{2 gamma t} z the flow is
+    a Poisson map of D (time-dependent Hamiltonian), so the damped step map satisfies
+    Psi D Psi^T = e^{-4 gamma h} D = e^{-2 dGamma} D (Gamma = 2 gamma t, docs/pde.md item 1): the
+    same power as the canonical law.  D is singular (kernel: the Casimir gradient 1 and, for even
+    M, the alternating vector), so this is the Poisson (not symplectic) condition; it is the one
+    the splitting (5.10) keeps, each of its three substeps being the exact flow of a Poisson
+    subsystem times a damping factor."""
+    M, g, h = 16, 0.1, 0.05
+    dx = 2 * math.pi / M
+    x = -math.pi + dx * np.arange(M)
+    D = np.roll(np.eye(M), 1, axis=1) - np.roll(np.eye(M), -1, axis=1)   # D[j, j+1] = 1
+    e = math.exp(-g * h)
+    odd, even = np.arange(1, M, 2), np.arange(0, M, 2)
+
+    def flux(u):
+        return (np.roll(u, -1, axis=-1) ** 2 - np.roll(u, 1, axis=-1) ** 2) / (4 * dx)
+
+    def csv(u):
+        u = np.array(u)
+        u[..., odd] = e * u[..., odd] - 0.5 * h * flux(u)[..., odd]
+        u[..., even] = e * (e * u[..., even] - h * flux(u)[..., even])
+        u[..., odd] = e * (u[..., odd] - 0.5 * h * flux(u)[..., odd])
+        return u
+
+    def heun(u):
+        f = lambda v: -flux(v) - 2 * g * v
+        k1 = f(u)
+        return u + 0.5 * h * (k1 + f(u + h * k1))
+
+    def defect(step):
+        u = np.exp(-0.5 * x * x) / math.sqrt(2 * math.pi) + 0.3 * np.sin(3 * x)
+        worst = 0.0
+        for _ in range(40):
+            Z = u[None, :] + 1e-30j * np.eye(M)
+            P = (np.imag(step(Z)) / 1e-30).T
+            E = P @ D @ P.T - math.exp(-4 * g * h) * D
+            worst = max(worst, np.linalg.norm(E) / (math.exp(-4 * g * h) * np.linalg.norm(D)))
+            u = step(u)
+        return worst
+
+    r = defect(csv)
+    check(r <= 1e-13, f"burgers (5.10): Psi D Psi^T = e^{{-4 gamma h}} D, defect {r:.2e} <= 1e-13")
+    r = defect(heun)
+    check(r >= 1e-8, f"burgers heun: Poisson defect {r:.2e} >= 1e-8 (negative control)")
+
+
 # ---------------------------------------------------------------- NLS (B 5.3)
 def nls():
     M, g, lam, h = 64, 0.1, 2.0, 0.01
@@ -242,6 +295,7 @@ def main():
     check(seen > 0, f"{seen} pde-* Klein-Gordon cases in the report")
     kg_pde_vs_fine_grid()
     burgers()
+    burgers_conformal_poisson()
     nls()
     print(f"{len(FAIL)} failure(s)")
     return 1 if FAIL else 0

@@ -721,6 +721,42 @@ class Burgers(Problem):
         return {"casimir": lambda z: self.dx * np.sum(np.abs(z), axis=-1)}
 
 
+class BurgersBox(Burgers):
+    """The semi-discretisation B's box scheme (5.12) tends to as dt -> 0 (docs/pde.md):
+    A_x (u' + 2 gamma u) + D_x (u^2/2) = 0 with B (1.14)'s forward A_x u_n = (u_n + u_{n+1})/2,
+    D_x u_n = (u_{n+1} - u_n)/dx, i.e. N = -A_x^{-1} D_x (u^2/2); A_x is inverted here by its
+    Fourier symbol (1 + e^{i theta_j})/2, nonzero for odd M.  The real linear operator is applied
+    to the real and imaginary parts separately so that the complex-step Jacobian stays exact."""
+    pid = "burgers-box"
+
+    def __init__(self, M, gamma):
+        super().__init__(M, gamma)
+        if self.M % 2 == 0:
+            raise TypeError("burgers-box needs an odd M")
+        th = 2.0 * math.pi * np.arange(self.M) / self.M
+        self.ax_symbol = 0.5 * (1.0 + np.exp(1j * th))
+
+    def _ainv(self, r):
+        return np.real(np.fft.ifft(np.fft.fft(r, axis=-1) / self.ax_symbol, axis=-1))
+
+    def N(self, t, z):
+        w = 0.5 * z * z
+        r = -(np.roll(w, -1, axis=-1) - w) / self.dx
+        if np.iscomplexobj(r):
+            return self._ainv(r.real) + 1j * self._ainv(r.imag)
+        return self._ainv(r)
+
+
+class BurgersUpwind(Burgers):
+    """The semi-discretisation NSFD (4.18) tends to as dt -> 0: u_j' = -u_j (u_j - u_{j-1})/dx
+    - 2 gamma u_j.  Not conservative (sum u_j (u_j - u_{j-1}) = (1/2) sum (u_j - u_{j-1})^2), so the
+    Casimir law is no law of this flow: it is kept for NSFD's negative control (docs/pde.md)."""
+    pid = "burgers-upwind"
+
+    def N(self, t, z):
+        return -z * (z - np.roll(z, 1, axis=-1)) / self.dx
+
+
 class SchrodingerBase(Problem):
     """i psi_t + psi_xx + V'(|psi|^2) psi + 2 i gamma psi = 0 (B (4.7), F = 0) on [-L, L),
     periodic, with the central second difference d2 of B (1.14) for psi_xx (the spatial operator
@@ -839,7 +875,7 @@ class NLS(SchrodingerBase):
 
 PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
                                NBody, OuterSolarSystem, Argon, LotkaVolterra, KleinGordon,
-                               Burgers, Schrodinger, NLS)}
+                               Burgers, BurgersBox, BurgersUpwind, Schrodinger, NLS)}
 
 
 def make_problem(pid, params):

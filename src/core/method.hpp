@@ -104,7 +104,8 @@ struct GeneralLinearCoefficients {
     const GlmCoefficients* glm;
 };
 // A hand-written scheme: its kernel is the code (src/methods/cimp.hpp, csv1.hpp, csv2.hpp).
-enum class Scheme { cimp, csv1, csv2 };
+// burgers_*: B's Burgers schemes (5.10), (5.12), (4.18) (src/methods/burgers_b.hpp).
+enum class Scheme { cimp, csv1, csv2, burgers_csv, burgers_box, burgers_nsfd };
 struct HandWrittenScheme {
     Scheme scheme;
 };

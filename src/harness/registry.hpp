@@ -9,6 +9,7 @@
 #include "core/problem.hpp"
 #include "core/problem_concepts.hpp"
 #include "harness/problem_info.hpp"
+#include "methods/burgers_b.hpp" // B's Burgers schemes (5.10), (5.12), (4.18), issue 15
 #include "methods/cimp.hpp"
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
@@ -44,7 +45,7 @@ namespace dampsym {
 
 using ProblemList =
     TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra, NBody, Kepler,
-             OuterSolarSystem, Argon, KleinGordon, Burgers, Schrodinger,
+             OuterSolarSystem, Argon, KleinGordon, Burgers, BurgersBox, BurgersUpwind, Schrodinger,
              NLS>; // PDEs: issue 15 (B (4.3), (4.5), (4.7), docs/pde.md)
 
 // Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
@@ -59,7 +60,8 @@ static_assert(all_problems(ProblemList{}),
 template <template <class> class... Ks>
 struct KernelList {};
 using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
-                           GeneralLinear, ExponentialRK, PartitionedExponentialRK>;
+                           GeneralLinear, ExponentialRK, PartitionedExponentialRK, BurgersCsv,
+                           BurgersBoxScheme, BurgersNsfd>; // B (5.10), (5.12), (4.18)
 
 // Calls f.template operator()<P>() for the problem type with this id; false if none.
 template <class F>

@@ -51,6 +51,14 @@ const std::vector<MethodInfo>& method_catalog() {
          HandWrittenScheme{Scheme::csv1}},
         {"csv2", 2, false, separable, csv_claims | claim_linear_momentum_cayley, "F(2.16), B(2.21)",
          HandWrittenScheme{Scheme::csv2}},
+        // ---- B's Burgers schemes, each on its own semi-discretisation only
+        // (src/methods/burgers_b.hpp, src/problems/pde/burgers.hpp; docs/pde.md) ----
+        {"burgers-csv", 2, false, conformal, claim_none, "B(5.10)",
+         HandWrittenScheme{Scheme::burgers_csv}},
+        {"burgers-box", 2, true, conformal, claim_none, "B(5.12)",
+         HandWrittenScheme{Scheme::burgers_box}},
+        {"burgers-nsfd", 1, false, conformal, claim_none, "B(4.18)",
+         HandWrittenScheme{Scheme::burgers_nsfd}},
         // ---- explicit RK on the full vector field (src/methods/explicit_rk.hpp) ----
         {"euler", 1, false, plain, claim_none, "HLW(1.4)", RungeKuttaTableau{&euler_tableau}},
         {"heun", 2, false, plain, claim_none, "B(3.8)", RungeKuttaTableau{&heun_tableau}},

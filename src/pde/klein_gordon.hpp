@@ -81,7 +81,13 @@ private:
     PeriodicGrid g_;
     double c_, gamma_, dt_, E2_;
     double a_, b_; // cyclic tridiagonal coefficients of the step matrix (divided by e^{γΔt})
-    Vec u0_, u1_, rhs_, tmp_;
+    Vec u0_, u1_, rhs_, tmp_, wa_, wd_;
+    // Factorisation of the constant step matrix (klein_gordon.cpp): pivots, Thomas coefficients,
+    // the Sherman–Morrison vector and denominator.
+    Vec piv_, cf_, zf_;
+    double denom_ = 1.0;
+    void factorise();
+    void solve_factorised(const Vec& r, Vec& x) const;
 };
 
 } // namespace dampsym::pde

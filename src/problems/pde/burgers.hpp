@@ -17,6 +17,18 @@
 // schemes (5.10), (5.12), (4.18) are src/pde/burgers.hpp (unit tests); here any dampsym method
 // steps the semi-discrete system (cimp = conformal implicit midpoint in time, B (2.11)). Background
 // and conventions: docs/pde.md.
+//
+// Two more semi-discretisations, the ones B's fully discrete (5.12) and (4.18) tend to as Δt → 0,
+// so that those schemes have a reference of their own semi-discrete system (time order, B §5.2):
+//  - `burgers-box`: A_x(u' + 2γu) + D_x(u²/2) = 0 (the box scheme (5.12) with D_t^γ → ∂_t + 2γ,
+//    A_t^γ → 1), i.e. N = −A_x⁻¹ D_x(u²/2) (B (1.14)'s forward A_x, D_x), one O(M) cyclic
+//    bidiagonal solve. A_x is singular for even M (alternating mode, docs/pde.md), so M must be
+//    odd. Σ_n N_n = Σ_n (A_x N)_n = −Σ_n D_x(u²/2)_n = 0: the Casimir is conserved by N.
+//  - `burgers-upwind`: N_j = −u_j (u_j − u_{j−1})/Δx (NSFD (4.18) as Δt → 0). Not conservative:
+//    Σ_j u_j (u_j − u_{j−1}) = ½ Σ_j (u_j − u_{j−1})² ≥ 0, so the Casimir law is not a law of this
+//    flow either; the problem keeps the `casimir` invariant so that the residual (5.15) of NSFD
+//    can be measured as B's negative control of Theorem 5.2.
+// B's schemes are the kernels of src/methods/burgers_b.hpp, each applicable to its own one.
 #pragma once
 
 #include "core/problem.hpp"
@@ -30,10 +42,24 @@
 
 namespace dampsym {
 
-struct Burgers {
-    static constexpr std::string_view id = "burgers";
+// The semi-discretisation of u_t + u u_x = −2γu a Burgers problem steps (see the header comment).
+enum class BurgersSpace { central, box, upwind };
+
+template <BurgersSpace S>
+struct BurgersSemi {
+    static constexpr BurgersSpace burgers_space = S;
+    static constexpr std::string_view id = S == BurgersSpace::central ? "burgers"
+                                           : S == BurgersSpace::box   ? "burgers-box"
+                                                                      : "burgers-upwind";
     static constexpr std::string_view title =
-        "modified Burgers u_t + u u_x = -2 gamma u, periodic, central semi-discrete (B 4.5, 5.9)";
+        S == BurgersSpace::central
+            ? "modified Burgers u_t + u u_x = -2 gamma u, periodic, central semi-discrete (B 4.5, "
+              "5.9)"
+        : S == BurgersSpace::box
+            ? "modified Burgers, box semi-discretisation A_x(u_t + 2 gamma u) + D_x(u^2/2) = 0 "
+              "(limit of B 5.12), odd M"
+            : "modified Burgers, upwind semi-discretisation u_t = -u (u_j - u_{j-1})/dx - 2 gamma "
+              "u (limit of NSFD, B 4.18)";
     static constexpr bool has_separable = false;
     static constexpr bool has_conformal = true;
     static constexpr bool is_canonical = false; // structure matrix D of (5.9) is singular
@@ -46,19 +72,29 @@ struct Burgers {
     // C decays as e^{-Γ} = e^{-2γt}: rate factor ½ (core/problem.hpp).
     static constexpr std::array<double, 1> invariant_rate_factors{0.5};
 
-    pde::PeriodicGrid grid{64, std::numbers::pi};
+    pde::PeriodicGrid grid{S == BurgersSpace::box ? 65 : 64, std::numbers::pi};
     double gamma = 0.1;
 
-    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M); 0 ≤ γ ≤ 1.
+    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M; burgers-box: odd
+    // 1 ≤ M ≤ 8191, so that both edges are valid and a fraction is reported as not whole); 0 ≤ γ
+    // ≤ 1.
     static std::vector<ParamSpec> param_specs() {
         return {
-            integer_param("M", 64, 2, 8192, "grid points on [-pi, pi) (dx = 2 pi / M)"),
+            integer_param("M", S == BurgersSpace::box ? 65 : 64, S == BurgersSpace::box ? 1 : 2,
+                          8191 + (S == BurgersSpace::box ? 0 : 1),
+                          S == BurgersSpace::box
+                              ? "grid points on [-pi, pi) (dx = 2 pi / M), odd: A_x invertible"
+                              : "grid points on [-pi, pi) (dx = 2 pi / M)"),
             {"gamma", 0.1, Range::closed(0.0, 1.0), "damping γ of B (4.5): u_t + u u_x = -2γu"}};
     }
-    static Burgers from_params(const ParamMap& m) {
-        Burgers p;
+    static BurgersSemi from_params(const ParamMap& m) {
+        BurgersSemi p;
         const double M = m.at("M");
         if (M != std::floor(M)) throw std::invalid_argument("M must be a whole number");
+        if (S == BurgersSpace::box && static_cast<long>(M) % 2 == 0)
+            throw std::invalid_argument(
+                "M must be odd for burgers-box (A_x is singular on the alternating mode for even "
+                "M, docs/pde.md)");
         p.grid = pde::PeriodicGrid(static_cast<int>(M), std::numbers::pi);
         p.gamma = m.at("gamma");
         return p;
@@ -72,20 +108,52 @@ struct Burgers {
 
     void N(double, const Vec& z, Vec& out) const {
         const int M = grid.M;
-        const double s = 1.0 / (4.0 * grid.dx);
-        for (int j = 0; j < M; ++j) {
-            const double l = z[j == 0 ? M - 1 : j - 1], r = z[j + 1 == M ? 0 : j + 1];
-            out[j] = -(r * r - l * l) * s;
+        if constexpr (S == BurgersSpace::central) {
+            const double s = 1.0 / (4.0 * grid.dx);
+            for (int j = 0; j < M; ++j) {
+                const double l = z[j == 0 ? M - 1 : j - 1], r = z[j + 1 == M ? 0 : j + 1];
+                out[j] = -(r * r - l * l) * s;
+            }
+        } else if constexpr (S == BurgersSpace::box) {
+            // (N_n + N_{n+1})/2 = −(u_{n+1}² − u_n²)/(2Δx)
+            Vec r(M), x;
+            for (int n = 0; n < M; ++n) {
+                const double un = z[n], um = z[n + 1 == M ? 0 : n + 1];
+                r[n] = -(um * um - un * un) / (2.0 * grid.dx);
+            }
+            solve_box(r, x);
+            out = x;
+        } else {
+            for (int j = 0; j < M; ++j)
+                out[j] = -z[j] * (z[j] - z[j == 0 ? M - 1 : j - 1]) / grid.dx;
         }
     }
     void N_jacobian(double, const Vec& z, Mat& J) const {
         const int M = grid.M;
-        const double s = 1.0 / (2.0 * grid.dx);
         J.setZero();
-        for (int j = 0; j < M; ++j) {
-            const int jl = j == 0 ? M - 1 : j - 1, jr = j + 1 == M ? 0 : j + 1;
-            J(j, jr) -= z[jr] * s;
-            J(j, jl) += z[jl] * s;
+        if constexpr (S == BurgersSpace::central) {
+            const double s = 1.0 / (2.0 * grid.dx);
+            for (int j = 0; j < M; ++j) {
+                const int jl = j == 0 ? M - 1 : j - 1, jr = j + 1 == M ? 0 : j + 1;
+                J(j, jr) -= z[jr] * s;
+                J(j, jl) += z[jl] * s;
+            }
+        } else if constexpr (S == BurgersSpace::box) {
+            // J = −A_x⁻¹ D_x diag(u): column k of D_x diag(u) is u_k/Δx at row k−1, −u_k/Δx at k.
+            Vec r(M), x;
+            for (int k = 0; k < M; ++k) {
+                r.setZero();
+                r[k == 0 ? M - 1 : k - 1] = -z[k] / grid.dx;
+                r[k] = z[k] / grid.dx;
+                solve_box(r, x);
+                J.col(k) = x;
+            }
+        } else {
+            for (int j = 0; j < M; ++j) {
+                const int jl = j == 0 ? M - 1 : j - 1;
+                J(j, j) -= (2.0 * z[j] - z[jl]) / grid.dx;
+                J(j, jl) += z[j] / grid.dx;
+            }
         }
     }
     void rhs(double t, const Vec& z, Vec& out) const {
@@ -101,6 +169,17 @@ struct Burgers {
     void invariant_scales(double, const Vec& z, double* out) const {
         out[0] = grid.dx * z.cwiseAbs().sum();
     }
+
+private:
+    // A_x x = r, (x_n + x_{n+1})/2 = r_n, periodic; odd M (closure denominator 2).
+    void solve_box(const Vec& r, Vec& x) const {
+        const Vec half = Vec::Constant(grid.M, 0.5);
+        pde::solve_cyclic_bidiagonal(half, half, r, x);
+    }
 };
+
+using Burgers = BurgersSemi<BurgersSpace::central>;
+using BurgersBox = BurgersSemi<BurgersSpace::box>;
+using BurgersUpwind = BurgersSemi<BurgersSpace::upwind>;
 
 } // namespace dampsym
