@@ -51,8 +51,7 @@ const std::vector<MethodInfo>& method_catalog() {
          HandWrittenScheme{Scheme::csv1}},
         {"csv2", 2, false, separable, csv_claims | claim_linear_momentum_cayley, "F(2.16), B(2.21)",
          HandWrittenScheme{Scheme::csv2}},
-        // ---- B's Burgers schemes, each on its own semi-discretisation only
-        // (src/methods/burgers_b.hpp, src/problems/pde/burgers.hpp; docs/pde.md) ----
+        // ---- B's Burgers schemes, each on its own semi-discretisation (burgers_b.hpp) ----
         {"burgers-csv", 2, false, conformal, claim_none, "B(5.10)",
          HandWrittenScheme{Scheme::burgers_csv}},
         {"burgers-box", 2, true, conformal, claim_none, "B(5.12)",
@@ -97,9 +96,8 @@ const std::vector<MethodInfo>& method_catalog() {
         {"glm4", 4, true, plain, claim_g_symplectic,
          "BS: 2-stage 2-value G-symplectic GLM with starting method",
          GeneralLinearCoefficients{&butcher_glm4()}},
-        // ---- exponential RK, B §2.1 (RK engine, src/methods/exponential_rk.hpp, and the
-        // partitioned engine, src/methods/partitioned_exponential_rk.hpp); coefficient functions
-        // of the damping argument in src/methods/exponential_tableaux.hpp ----
+        // ---- exponential RK, B §2.1 (RK engine, exponential_rk.hpp; partitioned engine,
+        // partitioned_exponential_rk.hpp; coefficients in exponential_tableaux.hpp) ----
         // B(2.30), B(2.31) hold: B Thm 2.11 and Thm 2.6 (angular momentum is quadratic).
         {"etdrk2", 2, true, conformal,
          claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum, "B(2.13)",
