@@ -91,6 +91,8 @@ COEFFICIENT_SOURCES = {
     "symplectic-euler": "HLW (1.8) with u = p implicit (damping at p_{n+1}, closed form), v = q explicit",
     "symplectic-euler-adjoint": "adjoint of HLW (1.8): q explicit with p_n, p explicit with q_{n+1}",
     "stormer-verlet": "HLW (3.6)-(3.7): Psi^{ie}_{h/2} o Psi^{ei}_{h/2} on the full vector field",
+    "symplectic-euler-partitioned": "HLW (1.8) on (1.7): u_{n+1} = u_n + h a(u_{n+1}, v_n), "
+                                    "v_{n+1} = v_n + h b(u_{n+1}, v_n)",
     "glm4": "Butcher's G-symplectic GLM (BS): A, U, B, V and the starting method typed from "
             "the slides' surds (3 +- sqrt 3)/6 etc., sqrt evaluated in double",
 }
@@ -353,6 +355,33 @@ def symplectic_euler_step(prob, h, adjoint):
     return step
 
 
+def symplectic_euler_partitioned_step(prob, h):
+    """HLW (1.8) on a partitioned system (1.7) z = (u, v) (the halves of the state) in the plain
+    form: u1 = u + h a(t + h, u1, v) by Newton with the complex-step Jacobian of a in u, then
+    v1 = v + h b(t + h, u1, v)."""
+    if not getattr(prob, "partitioned_halves", False):
+        raise NotApplicable("symplectic-euler-partitioned needs a problem declared as halves (u, v)")
+
+    def step(t, z):
+        z = np.asarray(z, float)
+        m = z.shape[-1] // 2
+        u, v = z[:m], z[m:]
+        U, last = u.copy(), np.inf
+        for it in range(1, 60):
+            zz = np.concatenate([U, v])
+            R = U - u - h * prob.f(t + h, zz)[:m]
+            J = np.eye(m) - h * jac_cs(prob.f, t + h, zz)[:m, :m]
+            dU = np.linalg.solve(J, -R)
+            U = U + dU
+            if not np.all(np.isfinite(U)):
+                raise SolveFailed("non-finite Newton iterate")
+            done, last = _converged(dU, U, last, it)
+            if done:
+                return np.concatenate([U, v + h * prob.f(t + h, np.concatenate([U, v]))[m:]]), it
+        raise SolveFailed("Newton did not converge")
+    return step
+
+
 def stormer_verlet_step(prob, h):
     """HLW (3.7): Psi^{ie}_{h/2} o Psi^{ei}_{h/2} on the full field b(q, p) = force - 2 gamma p:
     p_half = p + h/2 b(q, p_half) (linear in p_half), q1 = q + h dT(p_half),
@@ -445,7 +474,7 @@ EXPLICIT_EVALS = {"euler": 1, "heun": 2, "rk3": 3, "rk4": 4, "csv1": 2, "csv2": 
                   "burgers-csv": 2, "burgers-nsfd": 1}
 
 IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "glifrk1",
-            "glifrk2", "glifrk3", "cimp", "etdrk2", "glm4"}
+            "glifrk2", "glifrk3", "cimp", "etdrk2", "glm4", "symplectic-euler-partitioned"}
 NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
                    "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}
 NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
@@ -549,4 +578,6 @@ def make_stepper(method, prob, h):
         return symplectic_euler_step(prob, h, adjoint=method.endswith("adjoint"))
     if method == "stormer-verlet":
         return stormer_verlet_step(prob, h)
+    if method == "symplectic-euler-partitioned":
+        return symplectic_euler_partitioned_step(prob, h)
     raise KeyError(method)

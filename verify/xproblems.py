@@ -562,6 +562,7 @@ class LotkaVolterra(Problem):
     params = ("u0", "v0")
     separable = False
     canonical = False
+    partitioned_halves = True   # z = (u, v), HLW (1.7): HLW's symplectic Euler (1.8) applies
 
     def __init__(self, u0, v0):
         self.d = 2

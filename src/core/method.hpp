@@ -105,7 +105,17 @@ struct GeneralLinearCoefficients {
 };
 // A hand-written scheme: its kernel is the code (src/methods/cimp.hpp, csv1.hpp, csv2.hpp).
 // burgers_*: B's Burgers schemes (5.10), (5.12), (4.18) (src/methods/burgers_b.hpp).
-enum class Scheme { cimp, csv1, csv2, burgers_csv, burgers_box, burgers_nsfd };
+// symplectic_euler_partitioned: HLW (1.8) on a partitioned system (1.7)
+// (src/methods/symplectic_euler_partitioned.hpp).
+enum class Scheme {
+    cimp,
+    csv1,
+    csv2,
+    burgers_csv,
+    burgers_box,
+    burgers_nsfd,
+    symplectic_euler_partitioned
+};
 struct HandWrittenScheme {
     Scheme scheme;
 };

@@ -20,6 +20,7 @@
 #include "methods/implicit_rk.hpp"
 #include "methods/partitioned_exponential_rk.hpp"
 #include "methods/partitioned_rk.hpp"
+#include "methods/symplectic_euler_partitioned.hpp"
 #include "problems/argon.hpp"
 #include "problems/driven_pendulum.hpp"
 #include "problems/hill.hpp"
@@ -61,7 +62,8 @@ template <template <class> class... Ks>
 struct KernelList {};
 using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
                            GeneralLinear, ExponentialRK, PartitionedExponentialRK, BurgersCsv,
-                           BurgersBoxScheme, BurgersNsfd>; // B (5.10), (5.12), (4.18)
+                           BurgersBoxScheme, BurgersNsfd, // B (5.10), (5.12), (4.18)
+                           SymplecticEulerPartitioned>;   // HLW (1.8) on (1.7)
 
 // Calls f.template operator()<P>() for the problem type with this id; false if none.
 template <class F>

@@ -37,12 +37,12 @@ constexpr unsigned glifrk_claims =
 constexpr unsigned csv_claims =
     claim_conformal_symplectic | claim_angular_momentum; // + linear momentum for csv1 (below)
 
-} // namespace
-
-const std::vector<MethodInfo>& method_catalog() {
+// Hand-written schemes (src/methods/cimp.hpp, csv1.hpp, csv2.hpp; B's Burgers schemes, each on
+// its own semi-discretisation, burgers_b.hpp; HLW (1.8) on (1.7),
+// symplectic_euler_partitioned.hpp).
+std::vector<MethodInfo> hand_written_rows() {
     using enum Form;
-    static const std::vector<MethodInfo> catalog{
-        // ---- hand-written schemes (src/methods/cimp.hpp, csv1.hpp, csv2.hpp) ----
+    return {
         {"cimp", 2, true, conformal,
          claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum |
              claim_linear_momentum_cayley,
@@ -51,72 +51,96 @@ const std::vector<MethodInfo>& method_catalog() {
          HandWrittenScheme{Scheme::csv1}},
         {"csv2", 2, false, separable, csv_claims | claim_linear_momentum_cayley, "F(2.16), B(2.21)",
          HandWrittenScheme{Scheme::csv2}},
-        // ---- B's Burgers schemes, each on its own semi-discretisation (burgers_b.hpp) ----
         {"burgers-csv", 2, false, conformal, claim_none, "B(5.10)",
          HandWrittenScheme{Scheme::burgers_csv}},
         {"burgers-box", 2, true, conformal, claim_none, "B(5.12)",
          HandWrittenScheme{Scheme::burgers_box}},
         {"burgers-nsfd", 1, false, conformal, claim_none, "B(4.18)",
          HandWrittenScheme{Scheme::burgers_nsfd}},
-        // ---- explicit RK on the full vector field (src/methods/explicit_rk.hpp) ----
-        {"euler", 1, false, plain, claim_none, "HLW(1.4)", RungeKuttaTableau{&euler_tableau}},
-        {"heun", 2, false, plain, claim_none, "B(3.8)", RungeKuttaTableau{&heun_tableau}},
-        {"rk3", 3, false, plain, claim_none, "Kutta, F ch.4", RungeKuttaTableau{&rk3_tableau}},
-        {"rk4", 4, false, plain, claim_none, "classical RK4", RungeKuttaTableau{&rk4_tableau}},
-        // ---- implicit RK on the full vector field (RK engine, src/methods/implicit_rk.hpp);
-        // Gauss coefficients generated from the Legendre roots (src/methods/tableaux.cpp) ----
-        {"implicit-euler", 1, true, plain, claim_none, "HLW(1.5)",
-         RungeKuttaTableau{&implicit_euler_tableau()}},
-        {"implicit-midpoint", 2, true, plain, claim_symplectic_if_undamped, "HLW(1.6) (= gauss1)",
-         RungeKuttaTableau{&gauss_tableau(1)}},
-        {"gauss1", 2, true, plain, claim_symplectic_if_undamped,
-         "1-stage Gauss-Legendre, HLW II.1, BS", RungeKuttaTableau{&gauss_tableau(1)}},
-        {"gauss2", 4, true, plain, claim_symplectic_if_undamped,
-         "2-stage Gauss-Legendre, B Fig. 3.3, BS", RungeKuttaTableau{&gauss_tableau(2)}},
-        {"gauss3", 6, true, plain, claim_symplectic_if_undamped,
-         "3-stage Gauss-Legendre, B Fig. 3.3", RungeKuttaTableau{&gauss_tableau(3)}},
-        // ---- partitioned RK on the full vector field (partitioned engine,
-        // src/methods/partitioned_rk.hpp): q tableau, p tableau ----
-        {"symplectic-euler", 1, false, separable, claim_symplectic_if_undamped, "HLW(1.8)",
-         PartitionedTableau{&explicit_euler_tableau(), &implicit_euler_tableau()}},
-        {"symplectic-euler-adjoint", 1, false, separable, claim_symplectic_if_undamped, "HLW(1.9)",
-         PartitionedTableau{&implicit_euler_tableau(), &explicit_euler_tableau()}},
-        {"stormer-verlet", 2, false, separable, claim_symplectic_if_undamped,
-         "HLW(3.6), Lobatto IIIA-IIIB",
-         PartitionedTableau{&lobatto_iiia2_tableau(), &lobatto_iiib2_tableau()}},
-        // ---- Gauss-Legendre under the integrating factor, B(2.5) (RK engine,
-        // src/methods/ifrk.hpp) ----
-        {"glifrk1", 2, true, conformal, glifrk_claims, "B(2.5), B(2.11)",
-         IntegratingFactorTableau{&gauss_tableau(1)}},
-        {"glifrk2", 4, true, conformal, glifrk_claims, "B(2.5), B(2.12)",
-         IntegratingFactorTableau{&gauss_tableau(2)}},
-        {"glifrk3", 6, true, conformal, glifrk_claims, "B(2.5), 3-stage Gauss",
-         IntegratingFactorTableau{&gauss_tableau(3)}},
-        // ---- general linear methods (src/methods/general_linear.hpp) ----
-        {"glm4", 4, true, plain, claim_g_symplectic,
-         "BS: 2-stage 2-value G-symplectic GLM with starting method",
-         GeneralLinearCoefficients{&butcher_glm4()}},
-        // ---- exponential RK, B §2.1 (RK engine, exponential_rk.hpp; partitioned engine,
-        // partitioned_exponential_rk.hpp; coefficients in exponential_tableaux.hpp) ----
-        // B(2.30), B(2.31) hold: B Thm 2.11 and Thm 2.6 (angular momentum is quadratic).
-        {"etdrk2", 2, true, conformal,
-         claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum, "B(2.13)",
-         ExponentialCoefficients{&etdrk2_data()}},
-        // B(2.18), B(2.19) are PERK methods (B Example 2.2: symplectic Euler under the integrating
-        // factor / ETD), so they are stepped by the partitioned engine.
-        {"cse-if", 1, false, separable, csv_claims | claim_linear_momentum, "B(2.18)",
-         PartitionedExponentialCoefficients{&cse_if_data()}},
-        {"cse-etd", 1, false, separable, csv_claims | claim_linear_momentum, "B(2.19)",
-         PartitionedExponentialCoefficients{&cse_etd_data()}},
-        {"csv1-perk", 2, false, separable, csv_claims | claim_linear_momentum, // = csv1
-         "B(2.20) (= csv1, F(2.12))", PartitionedExponentialCoefficients{&csv1_perk_data()}},
-        {"csv2-perk", 2, false, separable, csv_claims | claim_linear_momentum_cayley, // = csv2
-         "B(2.21) with F(2.16)'s e^{-gamma_B h/4} in the q tableau (= csv2)",
-         PartitionedExponentialCoefficients{&csv2_perk_data()}},
-        // Negative control: det Ψ = e^{−2γh}(1 + γω²h³/4 + O(h⁴)).
-        {"etdprk2", 2, false, separable, claim_none, "B(2.22)",
-         PartitionedExponentialCoefficients{&etdprk2_data()}},
+        {"symplectic-euler-partitioned", 1, true, plain, claim_none, "HLW(1.8) on (1.7)",
+         HandWrittenScheme{Scheme::symplectic_euler_partitioned}},
     };
+}
+
+} // namespace
+
+const std::vector<MethodInfo>& method_catalog() {
+    using enum Form;
+    static const std::vector<MethodInfo> catalog = [] {
+        std::vector<MethodInfo> rows = hand_written_rows();
+        rows.insert(
+            rows.end(),
+            {
+                // ---- explicit RK on the full vector field (src/methods/explicit_rk.hpp) ----
+                {"euler", 1, false, plain, claim_none, "HLW(1.4)",
+                 RungeKuttaTableau{&euler_tableau}},
+                {"heun", 2, false, plain, claim_none, "B(3.8)", RungeKuttaTableau{&heun_tableau}},
+                {"rk3", 3, false, plain, claim_none, "Kutta, F ch.4",
+                 RungeKuttaTableau{&rk3_tableau}},
+                {"rk4", 4, false, plain, claim_none, "classical RK4",
+                 RungeKuttaTableau{&rk4_tableau}},
+                // ---- implicit RK on the full vector field (RK engine,
+                // src/methods/implicit_rk.hpp);
+                // Gauss coefficients generated from the Legendre roots (src/methods/tableaux.cpp)
+                // ----
+                {"implicit-euler", 1, true, plain, claim_none, "HLW(1.5)",
+                 RungeKuttaTableau{&implicit_euler_tableau()}},
+                {"implicit-midpoint", 2, true, plain, claim_symplectic_if_undamped,
+                 "HLW(1.6) (= gauss1)", RungeKuttaTableau{&gauss_tableau(1)}},
+                {"gauss1", 2, true, plain, claim_symplectic_if_undamped,
+                 "1-stage Gauss-Legendre, HLW II.1, BS", RungeKuttaTableau{&gauss_tableau(1)}},
+                {"gauss2", 4, true, plain, claim_symplectic_if_undamped,
+                 "2-stage Gauss-Legendre, B Fig. 3.3, BS", RungeKuttaTableau{&gauss_tableau(2)}},
+                {"gauss3", 6, true, plain, claim_symplectic_if_undamped,
+                 "3-stage Gauss-Legendre, B Fig. 3.3", RungeKuttaTableau{&gauss_tableau(3)}},
+                // ---- partitioned RK (partitioned engine, partitioned_rk.hpp): q tableau, p
+                // tableau ----
+                {"symplectic-euler", 1, false, separable, claim_symplectic_if_undamped, "HLW(1.8)",
+                 PartitionedTableau{&explicit_euler_tableau(), &implicit_euler_tableau()}},
+                {"symplectic-euler-adjoint", 1, false, separable, claim_symplectic_if_undamped,
+                 "HLW(1.9)",
+                 PartitionedTableau{&implicit_euler_tableau(), &explicit_euler_tableau()}},
+                {"stormer-verlet", 2, false, separable, claim_symplectic_if_undamped,
+                 "HLW(3.6), Lobatto IIIA-IIIB",
+                 PartitionedTableau{&lobatto_iiia2_tableau(), &lobatto_iiib2_tableau()}},
+                // ---- Gauss-Legendre under the integrating factor, B(2.5) (RK engine, ifrk.hpp)
+                // ----
+                {"glifrk1", 2, true, conformal, glifrk_claims, "B(2.5), B(2.11)",
+                 IntegratingFactorTableau{&gauss_tableau(1)}},
+                {"glifrk2", 4, true, conformal, glifrk_claims, "B(2.5), B(2.12)",
+                 IntegratingFactorTableau{&gauss_tableau(2)}},
+                {"glifrk3", 6, true, conformal, glifrk_claims, "B(2.5), 3-stage Gauss",
+                 IntegratingFactorTableau{&gauss_tableau(3)}},
+                // ---- general linear methods (src/methods/general_linear.hpp) ----
+                {"glm4", 4, true, plain, claim_g_symplectic,
+                 "BS: 2-stage 2-value G-symplectic GLM with starting method",
+                 GeneralLinearCoefficients{&butcher_glm4()}},
+                // ---- exponential RK, B §2.1 (RK engine, exponential_rk.hpp; partitioned engine,
+                // partitioned_exponential_rk.hpp; coefficients in exponential_tableaux.hpp) ----
+                // B(2.30), B(2.31) hold: B Thm 2.11 and Thm 2.6 (angular momentum is quadratic).
+                {"etdrk2", 2, true, conformal,
+                 claim_conformal_symplectic | claim_conformal_quadratic | claim_angular_momentum,
+                 "B(2.13)", ExponentialCoefficients{&etdrk2_data()}},
+                // B(2.18), B(2.19) are PERK methods (B Example 2.2: symplectic Euler under the
+                // integrating
+                // factor / ETD), so they are stepped by the partitioned engine.
+                {"cse-if", 1, false, separable, csv_claims | claim_linear_momentum, "B(2.18)",
+                 PartitionedExponentialCoefficients{&cse_if_data()}},
+                {"cse-etd", 1, false, separable, csv_claims | claim_linear_momentum, "B(2.19)",
+                 PartitionedExponentialCoefficients{&cse_etd_data()}},
+                {"csv1-perk", 2, false, separable, csv_claims | claim_linear_momentum, // = csv1
+                 "B(2.20) (= csv1, F(2.12))",
+                 PartitionedExponentialCoefficients{&csv1_perk_data()}},
+                {"csv2-perk", 2, false, separable,
+                 csv_claims | claim_linear_momentum_cayley, // = csv2
+                 "B(2.21) with F(2.16)'s e^{-gamma_B h/4} in the q tableau (= csv2)",
+                 PartitionedExponentialCoefficients{&csv2_perk_data()}},
+                // Negative control: det Ψ = e^{−2γh}(1 + γω²h³/4 + O(h⁴)).
+                {"etdprk2", 2, false, separable, claim_none, "B(2.22)",
+                 PartitionedExponentialCoefficients{&etdprk2_data()}},
+            });
+        return rows;
+    }();
     return catalog;
 }
 

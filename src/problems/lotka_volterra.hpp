@@ -2,9 +2,11 @@
 //   u' = u(v − 2),   v' = v(1 − u),
 // with the first integral I(u, v) = ln u − u + 2 ln v − v (HLW(1.2)). Not a damped Hamiltonian
 // system in q/p form: only the plain form f(z) is offered (no separable or conformal form, so
-// cimp, csv1 and csv2 do not apply), no damping (Γ ≡ 0, so the "conformal law" of I is plain
-// conservation). HLW Fig 1.1: h = 0.12, (u0, v0) = (2, 2) for explicit Euler, (4, 8) for
-// implicit Euler, (4, 2) and (6, 2) for symplectic Euler. Numerical (certified GSL) reference.
+// cimp, csv1 and csv2 do not apply; HLW's symplectic Euler (1.8) is the method
+// symplectic-euler-partitioned, on the halves z = (u, v)), no damping (Γ ≡ 0, so the "conformal
+// law" of I is plain conservation). HLW Fig 1.1: h = 0.12, (u0, v0) = (2, 2) for explicit Euler,
+// (4, 8) for implicit Euler, (4, 2) and (6, 2) for symplectic Euler. Numerical (certified GSL)
+// reference.
 #pragma once
 
 #include "core/param_table.hpp"
@@ -26,6 +28,9 @@ struct LotkaVolterra : ParamTable<LotkaVolterra> {
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;
     static constexpr bool has_energy = false;
+    // z = (u, v) is a partitioned system HLW (1.7): HLW's symplectic Euler (1.8) applies
+    // (methods/symplectic_euler_partitioned.hpp).
+    static constexpr bool partitioned_halves = true;
     static constexpr std::array<std::string_view, 1> invariant_names{"I"};
     // Law residual scale (docs/conventions.md): I ≤ max(ln u − u) + max(2 ln v − v) =
     // −1 + 2 ln 2 − 2 ≈ −1.61 on the whole domain, so I is bounded away from zero and |I| is its
