@@ -284,7 +284,8 @@ _HB = np.array([[1, 0, 0, -10, 15, -6], [0, 1, 0, -6, 8, -3], [0, 0, .5, -1.5, 1
 def dissipation_drift(prob, traj, t0, h):
     """F (4.4): d = ln(max q) + Gamma(t) at the maxima of q, each located by the quintic Hermite
     interpolant through (q, q', q'') at both ends of the step where q' changes sign from + to -
-    (docs/conventions.md §5); its least-squares slope, range, first and last (t, d)."""
+    (docs/conventions.md §5; the largest of its local maxima when it has several in the step);
+    its least-squares slope, range, first and last (t, d)."""
     q = traj[:, 0]
     p = traj[:, prob.nq:prob.nq + 1]
     n = np.arange(len(q))
@@ -297,13 +298,50 @@ def dissipation_drift(prob, traj, t0, h):
     coef = np.stack([q[k], h * qd[k], h * h * qdd[k], h * h * qdd[k + 1], h * qd[k + 1], q[k + 1]], axis=-1) @ _HB
     dcoef = coef[:, 1:] * np.arange(1, 6)
     ddcoef = dcoef[:, 1:] * np.arange(1, 5)
+    # dH(0) > 0 >= dH(1): Newton kept inside the bracket [lo, hi] of the root, bisection where a
+    # Newton step would leave it or dH is not concave (an unguarded Newton step can run to the
+    # far end of the step when the interpolant is not concave there)
     s = qd[k] / (qd[k] - qd[k + 1])
-    for _ in range(60):
+    lo, hi = np.zeros_like(s), np.ones_like(s)
+    active = np.ones(len(s), bool)
+    for _ in range(100):
         pw = s[:, None] ** np.arange(5)
-        ds = (dcoef * pw).sum(-1) / (ddcoef * pw[:, :4]).sum(-1)
-        s = np.clip(s - ds, 0.0, 1.0)
-        if np.all(np.abs(ds) <= 4 * EPS):
+        g = (dcoef * pw).sum(-1)
+        dd = (ddcoef * pw[:, :4]).sum(-1)
+        lo = np.where(active & (g > 0), s, lo)
+        hi = np.where(active & ~(g > 0), s, hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            nxt = np.where(dd < 0, s - g / np.where(dd < 0, dd, 1.0), 0.5 * (lo + hi))
+        nxt = np.where((nxt > lo) & (nxt < hi), nxt, 0.5 * (lo + hi))
+        done = np.abs(nxt - s) <= 1e-16
+        s = np.where(active, nxt, s)
+        active &= ~done
+        if not active.any():
             break
+    # several local maxima of the interpolant in one step (coarse steps): the largest. The
+    # critical points are the real roots of the quartic H' in (0, 1) (numpy's companion-matrix
+    # eigenvalues), each a local maximum where H'' < 0, polished by bisection on H'.
+    for r in range(len(s)):
+        roots = np.roots(dcoef[r][::-1])
+        cand = sorted(x.real for x in roots if abs(x.imag) <= 1e-9 and 0.0 < x.real < 1.0
+                      and (ddcoef[r] * x.real ** np.arange(4)).sum() < 0)
+        if len(cand) < 2:
+            continue
+        best = None
+        for x in cand:
+            lo, hi = max(0.0, x - 1e-6), min(1.0, x + 1e-6)
+            dh = lambda y: (dcoef[r] * y ** np.arange(5)).sum()
+            if not (dh(lo) > 0 >= dh(hi)):
+                lo, hi = x, x
+            for _ in range(100):
+                mid = 0.5 * (lo + hi)
+                if mid in (lo, hi):
+                    break
+                lo, hi = (mid, hi) if dh(mid) > 0 else (lo, mid)
+            val = (coef[r] * lo ** np.arange(6)).sum()
+            if best is None or val > best[0]:
+                best = (val, lo)
+        s[r] = best[1]
     qm = (coef * s[:, None] ** np.arange(6)).sum(-1)
     tm = t[k] + s * h
     ok = qm > 0
@@ -372,7 +410,7 @@ def table_factor(method, g, h):
     """B Table 3.1: per-step linear-momentum factor each conformal method achieves."""
     if method in ("csv1", "csv1-perk"):
         return math.exp(-2 * g * h)
-    if method in ("csv2", "cimp"):
+    if method in ("csv2", "csv2-perk", "cimp"):   # csv2-perk is csv2 as a PERK pair (B (2.21))
         return math.exp(-g * h) * (2 - g * h) / (2 + g * h)
     return None
 
@@ -439,7 +477,8 @@ def metric_conformal_symplectic(method, prob, h, t0, traj):
     Ea = np.array([e for e, _ in E])
     Er = np.array([e / (f * math.sqrt(d)) for e, f in E])
     return dict(max_abs=float(Ea.max()), max_rel=float(Er.max()), last_abs=float(Ea[-1]),
-                last_rel=float(Er[-1]), steps_measured=len(E), max_rel_step=int(np.argmax(Er)) + 1)
+                last_rel=float(Er[-1]), steps_measured=len(E), max_rel_step=int(np.argmax(Er)) + 1,
+                _Er=Er)
 
 
 def metric_stability(method, prob, h):
@@ -782,9 +821,12 @@ def check_case(case):
         if status != "ok" or mine["status"] != "ok":
             ok = mine["status"] == status
             if ok and "steps" in run and status == "diverged":
-                ok = mine["steps"] == int(run["steps"])
+                # a run that overflows: the step where a value first becomes inf depends on the
+                # rounding of the last finite step (values near 1e308), so one step either way
+                ok = abs(mine["steps"] - int(run["steps"])) <= 1
             comps.append(comp("status", mine["status"] + (" at %d" % mine["steps"] if mine["status"] != "ok" else ""),
-                              status + (" at %s" % run.get("steps") if status != "ok" else ""), ok, "equal"))
+                              status + (" at %s" % run.get("steps") if status != "ok" else ""), ok,
+                              "equal (a divergence step within 1)"))
             rec["verdict"] = "agree" if ok else "disagree"
             continue
         chaotic = None
@@ -996,7 +1038,7 @@ def check_case(case):
             # (dampsym reports E_n as not applicable for it, as for a Poisson problem)
             if "conformal-symplectic" in metrics and prob.canonical and method != "glm4":
                 for k, v in metric_conformal_symplectic(method, prob, dt, t0, traj).items():
-                    mm["conformal-symplectic." + k] = v
+                    (priv if k.startswith("_") else mm)["conformal-symplectic." + k] = v
         if "cost" in metrics and method in xm.EXPLICIT_EVALS:
             # implicit methods' counts depend on each side's Newton: not reproduced
             mm["cost.rhs_evals_per_step"] = float(xm.EXPLICIT_EVALS[method])
@@ -1229,9 +1271,15 @@ def check_case(case):
                 comps.append(cmp_rel(key, ours, th, TOL_METRIC, abs_floor=unc[key]))
                 continue
             if key == "conformal-symplectic.max_rel_step":
-                # the step of the maximum is only defined when E_n is above round-off
+                # the step of the maximum is only defined when E_n is above round-off, and only
+                # up to ties: dampsym's step agrees when our E_n there is the maximum to 1e-9
+                # relative (a defect nearly constant over the steps has no well-defined argmax)
                 if num(flat.get("conformal-symplectic.max_rel")) > 1e-10:
-                    comps.append(comp(key, ours, th, ours == th, "equal"))
+                    Er = priv.get("conformal-symplectic._Er")
+                    ok = ours == th or (Er is not None and isinstance(th, (int, float))
+                                        and 1 <= th <= len(Er)
+                                        and Er[int(th) - 1] >= Er.max() * (1 - 1e-9))
+                    comps.append(comp(key, ours, th, ok, "equal, or a tie to 1e-9"))
                 continue
             if key.startswith("invariants.") and key.endswith("global_res_slope"):
                 # slope of a residual whose round-off floor is 8 n eps (see below) over the span

@@ -350,7 +350,8 @@ def symplectic_euler_step(prob, h, adjoint):
             q1 = q + h * prob.dT(p1)
         else:
             q1 = q + h * prob.dT(p)
-            p1 = p + h * (prob.force(t + h, q1) - 2 * g * p)
+            # p's explicit Euler at the q stage's time t + h (implicit Euler's c = 1)
+            p1 = p + h * (prob.force(t + h, q1) - 2 * prob.gamma(t + h) * p)
         return np.concatenate([q1, p1], axis=-1), 0
     return step
 
@@ -393,7 +394,8 @@ def stormer_verlet_step(prob, h):
         g = prob.gamma(t)
         ph = (p + 0.5 * h * prob.force(t, q)) / (1 + g * h)
         q1 = q + h * prob.dT(ph)
-        p1 = ph + 0.5 * h * (prob.force(t + h, q1) - 2 * g * ph)
+        # the second half's field at t + h, its damping too (Lobatto IIIA's c = (0, 1))
+        p1 = ph + 0.5 * h * (prob.force(t + h, q1) - 2 * prob.gamma(t + h) * ph)
         return np.concatenate([q1, p1], axis=-1), 0
     return step
 
@@ -419,8 +421,9 @@ class GLM:
     def _stages(self, A):
         prob, h = self.prob, self.h
         cache = {"age": 99}
+        c = A.sum(axis=1)   # stage abscissae c = A e (U's first column is e: BS)
 
-        def solve(t, Yp):   # Y = Yp + h A f(Y), diagonally implicit, solved stage by stage
+        def solve(t, Yp):   # Y = Yp + h A f(t + c h, Y), diagonally implicit, stage by stage
             d = Yp.shape[-1]
             Y = np.array(Yp)
             K = np.zeros_like(Yp)
@@ -431,25 +434,36 @@ class GLM:
                 if i == 0:
                     if cache["age"] >= 8:      # simplified Newton matrix refreshed every 8 steps
                         zr = (y.real if np.iscomplexobj(y) else y).reshape(-1, d)[0]
-                        J = jac_cs(prob.f, t, zr)
+                        J = jac_cs(prob.f, t + c[0] * h, zr)
                         cache.update(age=0, Minv=[np.linalg.inv(np.eye(d) - h * A[k, k] * J)
                                                   for k in range(2)])
                     cache["age"] += 1
                 Minv = cache["Minv"][i]
-                last, it = math.inf, 0
+                last, it, fresh = math.inf, 0, cache["age"] == 1
                 while True:
                     it += 1
-                    R = y - base - h * A[i, i] * prob.f(t, y)
+                    R = y - base - h * A[i, i] * prob.f(t + c[i] * h, y)
                     dy = R @ Minv.T
                     y = y - dy
                     done, last = _converged(dy, y, last, it)
                     if done:
                         break
+                    if (it > 30 or not np.all(np.isfinite(y))) and not fresh:
+                        # a Newton matrix from an earlier step that no longer contracts (a
+                        # time-dependent field at a large step): refresh it here and restart
+                        zr = (base.real if np.iscomplexobj(base) else base).reshape(-1, d)[0]
+                        J = jac_cs(prob.f, t + c[i] * h, zr)
+                        cache.update(age=1, Minv=[np.linalg.inv(np.eye(d) - h * A[k, k] * J)
+                                                  for k in range(2)])
+                        Minv, y, last, fresh = cache["Minv"][i], base.copy(), math.inf, True
+                        its += it
+                        it = 0
+                        continue
                     if it > 100:
                         raise SolveFailed("GLM stage did not converge")
                 its += it
                 Y[..., i, :] = y
-                K[..., i, :] = prob.f(t, y)
+                K[..., i, :] = prob.f(t + c[i] * h, y)
             return Y, K, its
         return solve
 
