@@ -281,6 +281,15 @@ _HB = np.array([[1, 0, 0, -10, 15, -6], [0, 1, 0, -6, 8, -3], [0, 0, .5, -1.5, 1
                 [0, 0, 0, .5, -1, .5], [0, 0, 0, -4, 7, -3], [0, 0, 0, 10, -15, 6]], float)
 
 
+def _horner(c, x):
+    """sum_j c[..., j] x^j row by row (c: rows x coefficients, low to high; x: rows, or rows x
+    points when c has a point axis inserted)."""
+    acc = c[..., -1]
+    for j in range(c.shape[-1] - 2, -1, -1):
+        acc = acc * x + c[..., j]
+    return acc
+
+
 def dissipation_drift(prob, traj, t0, h):
     """F (4.4): d = ln(max q) + Gamma(t) at the maxima of q, each located by the quintic Hermite
     interpolant through (q, q', q'') at both ends of the step where q' changes sign from + to -
@@ -302,26 +311,40 @@ def dissipation_drift(prob, traj, t0, h):
     # Newton step would leave it or dH is not concave (an unguarded Newton step can run to the
     # far end of the step when the interpolant is not concave there)
     s = qd[k] / (qd[k] - qd[k + 1])
-    lo, hi = np.zeros_like(s), np.ones_like(s)
-    active = np.ones(len(s), bool)
+    idx, S = np.arange(len(s)), s.copy()  # the rows still iterating and their iterates
+    L, U, D1, D2 = np.zeros_like(s), np.ones_like(s), dcoef, ddcoef
     for _ in range(100):
-        pw = s[:, None] ** np.arange(5)
-        g = (dcoef * pw).sum(-1)
-        dd = (ddcoef * pw[:, :4]).sum(-1)
-        lo = np.where(active & (g > 0), s, lo)
-        hi = np.where(active & ~(g > 0), s, hi)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            nxt = np.where(dd < 0, s - g / np.where(dd < 0, dd, 1.0), 0.5 * (lo + hi))
-        nxt = np.where((nxt > lo) & (nxt < hi), nxt, 0.5 * (lo + hi))
-        done = np.abs(nxt - s) <= 1e-16
-        s = np.where(active, nxt, s)
-        active &= ~done
-        if not active.any():
+        if len(idx) == 0:
             break
+        g, dd = _horner(D1, S), _horner(D2, S)
+        L, U = np.where(g > 0, S, L), np.where(g > 0, U, S)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            nxt = np.where(dd < 0, S - g / np.where(dd < 0, dd, 1.0), 0.5 * (L + U))
+        nxt = np.where((nxt > L) & (nxt < U), nxt, 0.5 * (L + U))
+        conv = (np.abs(nxt - S) <= 4 * EPS) | (U - L <= 4 * EPS)
+        s[idx] = nxt
+        keep = ~conv
+        idx, S, L, U, D1, D2 = idx[keep], nxt[keep], L[keep], U[keep], D1[keep], D2[keep]
     # several local maxima of the interpolant in one step (coarse steps): the largest. The
     # critical points are the real roots of the quartic H' in (0, 1) (numpy's companion-matrix
     # eigenvalues), each a local maximum where H'' < 0, polished by bisection on H'.
-    for r in range(len(s)):
+    # Only a step where H'' changes sign twice between the roots of H''' (a quadratic) can hold
+    # more than one root of H' (an odd number of them, as H'(0) > 0 >= H'(1)): those few rows go
+    # to np.roots.
+    qa, qb, qc = 60.0 * coef[:, 5], 24.0 * coef[:, 4], 6.0 * coef[:, 3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = qb * qb - 4.0 * qa * qc
+        sq = np.sqrt(np.where(disc > 0, disc, 0.0))
+        den = 2.0 * np.where(qa != 0, qa, 1.0)
+        r1 = np.where((qa != 0) & (disc > 0), (-qb - sq) / den, 0.0)
+        r2 = np.where((qa != 0) & (disc > 0), (-qb + sq) / den, 0.0)
+        r1 = np.where((qa == 0) & (qb != 0), -qc / np.where(qb != 0, qb, 1.0), r1)
+    cuts = np.stack([np.zeros_like(r1), np.where((r1 > 0) & (r1 < 1), r1, 0.0),
+                     np.where((r2 > 0) & (r2 < 1), r2, 0.0), np.ones_like(r1)], axis=-1)
+    cuts.sort(axis=-1)
+    dd_pos = _horner(ddcoef[:, None, :], cuts) > 0
+    candidates = np.nonzero((dd_pos[:, 1:] != dd_pos[:, :-1]).sum(1) >= 2)[0]
+    for r in candidates:
         roots = np.roots(dcoef[r][::-1])
         cand = sorted(x.real for x in roots if abs(x.imag) <= 1e-9 and 0.0 < x.real < 1.0
                       and (ddcoef[r] * x.real ** np.arange(4)).sum() < 0)
