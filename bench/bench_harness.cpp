@@ -5,11 +5,13 @@
 // kernel does not apply to a problem are not registered.
 //
 // Benchmark names: harness/<problem>/<method>; harness/pendulum/rk4-file and
-// harness/pendulum/stormer-verlet-file are the same methods loaded from examples/methods/.
+// harness/pendulum/stormer-verlet-file are the same methods loaded from examples/methods/;
+// harness/pendulum/plugin-csv1 is csv1 as the example C plugin (examples/plugins).
 #include "bench/bench_common.hpp"
 
 #include "core/integrate.hpp"
 #include "harness/method_files.hpp"
+#include "harness/plugins.hpp"
 #include "harness/provenance.hpp"
 #include "harness/registry.hpp"
 
@@ -68,6 +70,12 @@ void register_problem(const std::string& label, const P& p, std::int64_t n) {
         for (const char* file : {"rk4.json", "stormer-verlet.json"})
             for (const MethodInfo* info :
                  load_method_file(dampsym::source_dir() + "/examples/methods/" + file))
+                with_kernel<P>(
+                    *info, [&]<class K>() { register_one<K, P>(label, problem, *info, n, true); });
+    // A C plugin's csv1 (examples/plugins, docs/plugins.md) against the built-in csv1.
+    if (label == "pendulum")
+        for (const MethodInfo* info : load_plugin(DAMPSYM_EXAMPLE_PLUGIN))
+            if (info->id == "plugin-csv1")
                 with_kernel<P>(
                     *info, [&]<class K>() { register_one<K, P>(label, problem, *info, n, true); });
 }

@@ -297,6 +297,12 @@ def main():
                "ns_per_step", 1.10)
     kernel_row("stormer-verlet from a method file / built-in (ns per step)", "stormer-verlet-file",
                "stormer-verlet", "ns_per_step", 1.10)
+    # A C plugin's csv1 (examples/plugins, docs/plugins.md) against the built-in csv1: the price of
+    # the indirect step call, of three host callbacks per step (copies into the problem's vectors)
+    # and of the two damping factors exp(-2 dGamma) the plugin asks for at every step (csv1 forms
+    # them once); no limit in the issue, 6x here so that a regression shows.
+    kernel_row("plugin-csv1 (C plugin) / built-in csv1 (ns per step)", "plugin-csv1", "csv1",
+               "ns_per_step", 6.0)
     # PDE schemes of B ch. 5 (issue 15 item 7, bench/bench_pde.cpp): cost per step linear in M
     # for the explicit KG scheme (5.3) and the banded box scheme (5.5) (ideal 32 for 256 -> 8192),
     # O(M log M) for the FFT-based NLS IF (4.15) (ideal 32 * 13/8 = 52; limit 1.25 x that), and the

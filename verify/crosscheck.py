@@ -1124,6 +1124,7 @@ def check_case(case):
                 continue            # provenance strings (table_source, formula_source, ...)
             if key.startswith("error.") or key.endswith("wall_seconds") \
                     or key in ("conformal-symplectic.norm", "conformal-symplectic.status",
+                               "conformal-symplectic.jacobian",
                                "stability.formula_source", "stability.eigenvalues"):
                 continue
             if th is None or isinstance(mm.get(key), Undef):

@@ -46,6 +46,10 @@ void add_selection_options(CLI::App& sub, Selection& sel) {
                    "method file(s) (.json, docs/method-files.md) to load before the cases; "
                    "repeatable")
         ->allow_extra_args(false);
+    sub.add_option("--plugin", sel.plugins,
+                   "C plugin library (.so, docs/plugins.md) whose methods the cases may name; "
+                   "repeatable")
+        ->allow_extra_args(false);
 }
 
 } // namespace cli_detail

@@ -30,6 +30,7 @@ struct Selection {
     std::string shard; // "K/N", "none", or "" (read the CI engines' variables)
     std::string costs; // measured case costs for sharding ("" = next to the cases directory)
     std::vector<std::string> method_files; // --methods (issue 18, harness/method_files.hpp)
+    std::vector<std::string> plugins;      // --plugin (issue 18, harness/plugins.hpp)
 };
 
 struct Selected {

@@ -4,6 +4,7 @@
 
 #include "harness/case.hpp"
 #include "harness/method_files.hpp"
+#include "harness/plugins.hpp"
 #include "harness/problem_info.hpp"
 #include "methods/coefficient_checks.hpp"
 #include "methods/runtime_methods.hpp"
@@ -173,7 +174,7 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
 // the built-in ones, each with its file, checked by method_file_checks (the same checks, plus the
 // exponential families' B(2.30)/(2.23) conditions).
 int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
-                std::ostream& out) {
+                const std::vector<std::string>& plugins, std::ostream& out) {
     auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
     json methods = json::array();
     int agree = 0, disagree = 0, unchecked = 0;
@@ -181,7 +182,10 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
     for (const auto& f : files)
         for (const MethodInfo* m : load_method_file(f))
             if (std::find(rows.begin(), rows.end(), m) == rows.end()) rows.push_back(m);
-    if (files.empty())
+    for (const auto& lib : plugins) // C plugins (harness/plugins.hpp): no coefficients to check
+        for (const MethodInfo* m : load_plugin(lib))
+            if (std::find(rows.begin(), rows.end(), m) == rows.end()) rows.push_back(m);
+    if (files.empty() && plugins.empty())
         for (const auto& m : method_catalog()) rows.push_back(&m);
     for (const MethodInfo* mp : rows) {
         const MethodInfo& m = *mp;
@@ -279,7 +283,7 @@ Command add_list_command(CLI::App& app, CliContext& ctx) {
 Command add_methods_command(CLI::App& app, CliContext& ctx) {
     struct State {
         bool check = false, as_json = false;
-        std::vector<std::string> files;
+        std::vector<std::string> files, plugins;
     };
     auto s = std::make_shared<State>();
     auto* methods =
@@ -293,7 +297,12 @@ Command add_methods_command(CLI::App& app, CliContext& ctx) {
                      "list (and --check) the methods of these method files instead of the "
                      "built-in ones (docs/method-files.md)")
         ->allow_extra_args(false);
-    return {methods, [s, &ctx] { return cmd_methods(s->check, s->as_json, s->files, ctx.out); }};
+    methods
+        ->add_option("--plugin", s->plugins,
+                     "list the methods of these C plugin libraries (docs/plugins.md)")
+        ->allow_extra_args(false);
+    return {methods,
+            [s, &ctx] { return cmd_methods(s->check, s->as_json, s->files, s->plugins, ctx.out); }};
 }
 
 } // namespace dampsym::cli_detail

@@ -6,6 +6,7 @@
 #include "harness/limits.hpp"
 #include "harness/matrix.hpp"
 #include "harness/method_files.hpp"
+#include "harness/plugins.hpp"
 #include "harness/provenance.hpp"
 #include "harness/report.hpp"
 #include "harness/runner.hpp"
@@ -18,6 +19,7 @@ namespace {
 
 struct MatrixArgs {
     std::vector<std::string> method_files; // --methods
+    std::vector<std::string> plugins;      // --plugin
     std::vector<std::string> globs;        // --method
     std::string out_dir = "matrix";
     int jobs = 1;
@@ -29,8 +31,9 @@ int cmd_matrix(const MatrixArgs& a, const std::string& cases_dir,
     // as `dampsym run`: the methods/ folder beside the cases directory, then --methods files
     load_method_folder(method_folder_beside(cases_dir));
     for (const auto& f : a.method_files) load_method_file(f); // InputError: exit 2
-    // Plugins (issue 18 item 3, `--plugin LIB`) load here, after the method files: their rows join
-    // the same runtime catalog (methods/runtime_methods.hpp), which matrix_methods reads.
+    // Plugins (issue 18 item 3, `--plugin LIB`) load after the method files: their rows join the
+    // same runtime catalog (methods/runtime_methods.hpp), which matrix_methods reads.
+    for (const auto& lib : a.plugins) load_plugin(lib); // InputError: exit 2
     const auto methods = matrix_methods(a.globs);
     if (methods.empty())
         throw InputError("--method: no built-in or loaded method matches the given glob(s)");
@@ -73,6 +76,10 @@ Command add_matrix_command(CLI::App& app, CliContext& ctx) {
                   "(docs/matrix.md)");
     sub->add_option("--methods", a->method_files,
                     "method file(s) (.json, docs/method-files.md) whose methods join the matrix; "
+                    "repeatable")
+        ->allow_extra_args(false);
+    sub->add_option("--plugin", a->plugins,
+                    "C plugin library (.so, docs/plugins.md) whose methods join the matrix; "
                     "repeatable")
         ->allow_extra_args(false);
     sub->add_option("--method", a->globs, "glob on method ids (repeatable): only these rows")

@@ -4,6 +4,7 @@
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
 #include "harness/method_files.hpp"
+#include "harness/plugins.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/progress.hpp"
 #include "harness/provenance.hpp"
@@ -120,6 +121,7 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
     // a case's own "method_files" are loaded by parse_case.
     load_method_folder(method_folder_beside(cases_dir));
     for (const auto& f : sel.method_files) load_method_file(f);
+    for (const auto& lib : sel.plugins) load_plugin(lib); // C plugins (harness/plugins.hpp)
     std::vector<std::string> paths;
     std::vector<CaseFile> files;
     auto ensure_scanned = [&] {

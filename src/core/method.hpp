@@ -20,6 +20,8 @@
 #include <variant>
 #include <vector>
 
+struct dampsym_method; // a C plugin's method (include/dampsym/plugin.h, docs/plugins.md)
+
 namespace dampsym {
 
 struct GlmCoefficients;
@@ -120,9 +122,16 @@ struct HandWrittenScheme {
     Scheme scheme;
 };
 
-using MethodData = std::variant<HandWrittenScheme, RungeKuttaTableau, IntegratingFactorTableau,
-                                PartitionedTableau, ExponentialCoefficients,
-                                PartitionedExponentialCoefficients, GeneralLinearCoefficients>;
+// A hand-written step of a C plugin loaded with --plugin (src/methods/plugin_kernel.hpp,
+// src/harness/plugins.hpp); the row's form says which problem form it steps.
+struct PluginStep {
+    const dampsym_method* method;
+};
+
+using MethodData =
+    std::variant<HandWrittenScheme, RungeKuttaTableau, IntegratingFactorTableau, PartitionedTableau,
+                 ExponentialCoefficients, PartitionedExponentialCoefficients,
+                 GeneralLinearCoefficients, PluginStep>;
 
 struct MethodInfo {
     std::string_view id;

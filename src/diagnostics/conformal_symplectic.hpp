@@ -1,7 +1,9 @@
 // Conformal symplecticness of the discrete step map (conventions §5 "conformal-symplectic",
 // B(2.42), B(3.2)). For every step n → n+1 the kernel returns Ψ = ∂z_{n+1}/∂z_n, the exact
 // derivative of the scheme itself (step_jacobian(): chain rule through explicit stages,
-// implicit-function theorem at converged implicit solves; never finite differences), and the
+// implicit-function theorem at converged implicit solves; never finite differences, except for a
+// C plugin's method without a Jacobian of its own: central differences of its step,
+// methods/plugin_kernel.hpp, reported as "jacobian": "central-differences"), and the
 // diagnostic measures
 //   E_n = ‖Ψᵀ J⁻¹ Ψ − e^{−2ΔΓ_n} J⁻¹‖_F,   ΔΓ_n = Γ(t_{n+1}) − Γ(t_n) = problem.dGamma(t_n, h),
 // in the Frobenius norm, and the relative defect E_n / (e^{−2ΔΓ_n} ‖J⁻¹‖_F), ‖J⁻¹‖_F = √d.
@@ -65,6 +67,9 @@ struct ConformalSymplecticStats {
     std::int64_t max_rel_step = 0;
     std::int64_t rel_undefined_steps = 0;
     static constexpr const char* norm = "frobenius";
+    // How Ψ was obtained: "exact" (the kernel's step_jacobian), or for a C plugin's method
+    // "plugin-jacobian" / "central-differences" (methods/plugin_kernel.hpp, docs/plugins.md).
+    const char* jacobian = "exact";
 };
 
 // Whether the problem is in canonical coordinates z = [q; p] (see the header comment).
@@ -123,6 +128,8 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
         st.applicability = ConformalSymplecticApplicability::no_step_jacobian;
         return st;
     } else {
+        if constexpr (requires { stepper.jacobian_source(); }) // a plugin's kernel
+            st.jacobian = stepper.jacobian_source();
         const int d = problem.dim();
         const Mat Jinv = canonical_J_inverse(d);
         const double jinv_norm = std::sqrt(static_cast<double>(d)); // ‖J⁻¹‖_F

@@ -19,6 +19,7 @@ json conformal_symplectic_json(const ConformalSymplecticStats& st) {
                 {"max_rel_step", st.max_rel_step},
                 {"steps_measured", st.steps_measured},
                 {"norm", ConformalSymplecticStats::norm},
+                {"jacobian", st.jacobian},
                 {"status", to_string(st.status)}};
     if (st.status != RunStatus::ok) out["failed_at_step"] = st.failed_step;
     if (st.rel_undefined_steps > 0) {

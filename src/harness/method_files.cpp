@@ -130,6 +130,20 @@ const MethodInfo* find_loaded_method(std::string_view id) {
     return nullptr;
 }
 
+const MethodInfo* register_runtime_method(const MethodInfo& row, const std::string& source) {
+    method_file::Registry& reg = method_file::registry();
+    MethodInfo m = row;
+    m.id = method_file::keep(std::string(row.id));
+    m.citation = method_file::keep(std::string(row.citation));
+    reg.rows.push_back(m);
+    reg.file_of.emplace(std::string(m.id), source);
+    return &reg.rows.back();
+}
+
+std::string loaded_method_source(std::string_view id) {
+    return method_file::file_defining(id);
+}
+
 std::vector<const MethodInfo*> loaded_methods() {
     std::vector<const MethodInfo*> out;
     for (const MethodInfo& m : method_file::registry().rows) out.push_back(&m);

@@ -36,6 +36,12 @@ std::string check_method_text(const std::string& text, const std::string& file);
 void load_method_folder(const std::string& dir);
 // The file a loaded method came from ("" for a built-in or unknown id).
 std::string method_file_of(std::string_view id);
+// Registers a row defined elsewhere (a C plugin's method, harness/plugins.hpp) like a method
+// file's: its id and citation are copied into stable storage and `source` is reported as its
+// file. The caller has checked that the id is neither built in nor loaded (file_defining).
+const MethodInfo* register_runtime_method(const MethodInfo& row, const std::string& source);
+// The file (or plugin library) that defines a loaded id, "" if none.
+std::string loaded_method_source(std::string_view id);
 // The `methods/` folder beside a cases directory (verify/cases -> verify/methods).
 std::string method_folder_beside(const std::string& cases_dir);
 

@@ -20,6 +20,7 @@
 #include "methods/implicit_rk.hpp"
 #include "methods/partitioned_exponential_rk.hpp"
 #include "methods/partitioned_rk.hpp"
+#include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md), issue 18
 #include "methods/symplectic_euler_partitioned.hpp"
 #include "problems/argon.hpp"
 #include "problems/driven_pendulum.hpp"
@@ -63,7 +64,8 @@ struct KernelList {};
 using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
                            GeneralLinear, ExponentialRK, PartitionedExponentialRK, BurgersCsv,
                            BurgersBoxScheme, BurgersNsfd, // B (5.10), (5.12), (4.18)
-                           SymplecticEulerPartitioned>;   // HLW (1.8) on (1.7)
+                           SymplecticEulerPartitioned,    // HLW (1.8) on (1.7)
+                           PluginPlain, PluginConformal, PluginSeparable>; // plugins
 
 // Calls f.template operator()<P>() for the problem type with this id; false if none.
 template <class F>

@@ -1,0 +1,28 @@
+// C plugins (issue 18, docs/plugins.md, include/dampsym/plugin.h): shared libraries whose
+// hand-written steps become method rows (PluginStep, stepped by methods/plugin_kernel.hpp), found
+// by find_method after the built-in catalog like a method file's rows, so every diagnostic, the
+// matrix and the reports treat them as built-in methods.
+//
+// Sources: `dampsym run|methods|matrix --plugin LIB` (repeatable). A library is loaded once per
+// process (by canonical path) and stays loaded until the process ends.
+//
+// Every fault of loading — dlopen failure, no entry symbol, an entry that returns nonzero, an ABI
+// version other than 1, a malformed descriptor (no methods or more than 1000, a null id or step,
+// an id that is not a valid method id, a duplicate id, an id of a built-in method or of a loaded
+// method, an unknown form, an order outside 1..20, an unknown claim bit) — is an InputError
+// "LIB: what" (exit 2); nothing of a bad library is registered.
+#pragma once
+
+#include "core/method.hpp"
+
+#include <string>
+#include <vector>
+
+namespace dampsym {
+
+// Loads the plugin library and registers its methods; returns them (also when loaded before).
+std::vector<const MethodInfo*> load_plugin(const std::string& path);
+// Whether the method row is a plugin's.
+bool is_plugin_method(const MethodInfo& m);
+
+} // namespace dampsym

@@ -1,0 +1,85 @@
+/* The bad-plugin corpus (docs/plugins.md, tests/plugins/CMakeLists.txt): one source compiled once
+ * per fault, selected by a BAD_* definition. Load-time faults must give exit 2 naming the library;
+ * RUNTIME is a loadable plugin whose methods fail while stepping (NaN, a refused step, a write
+ * past z_next[dim)), which must be reported run statuses, never a crash. */
+#include "dampsym/plugin.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+__attribute__((unused)) static int copy_step(void* ctx, const dampsym_host* host, double t,
+                                             double h, const double* z, double* z_next) {
+    (void)ctx;
+    (void)t;
+    (void)h;
+    memcpy(z_next, z, sizeof(double) * (size_t)host->dim(host->host_ctx));
+    return 0;
+}
+
+#ifdef RUNTIME
+static int nan_step(void* ctx, const dampsym_host* host, double t, double h, const double* z,
+                    double* z_next) {
+    copy_step(ctx, host, t, h, z, z_next);
+    if (t > 0.45) z_next[0] = NAN;
+    return 0;
+}
+static int refusing_step(void* ctx, const dampsym_host* host, double t, double h, const double* z,
+                         double* z_next) {
+    copy_step(ctx, host, t, h, z, z_next);
+    return t > 0.45 ? 7 : 0;
+}
+static int overflowing_step(void* ctx, const dampsym_host* host, double t, double h,
+                            const double* z, double* z_next) {
+    const int d = host->dim(host->host_ctx);
+    copy_step(ctx, host, t, h, z, z_next);
+    z_next[d] = 0.0; /* one past the end: the host's guard cell */
+    return 0;
+}
+#endif
+
+static const dampsym_method methods[] = {
+#if defined(RUNTIME)
+    {"bad-nan", "returns NaN after t = 0.45", 1, DAMPSYM_FORM_PLAIN, 0, nan_step, NULL, NULL},
+    {"bad-refuse", "refuses the step after t = 0.45", 1, DAMPSYM_FORM_PLAIN, 0, refusing_step,
+     NULL, NULL},
+    {"bad-oob", "writes z_next[dim]", 1, DAMPSYM_FORM_PLAIN, 0, overflowing_step, NULL, NULL},
+#elif defined(BAD_NULL_STEP)
+    {"bad-null-step", NULL, 1, DAMPSYM_FORM_PLAIN, 0, NULL, NULL, NULL},
+#elif defined(BAD_DUPLICATE)
+    {"bad-twice", NULL, 1, DAMPSYM_FORM_PLAIN, 0, copy_step, NULL, NULL},
+    {"bad-twice", NULL, 1, DAMPSYM_FORM_PLAIN, 0, copy_step, NULL, NULL},
+#elif defined(BAD_SHADOW)
+    {"rk4", "shadows a built-in method", 4, DAMPSYM_FORM_PLAIN, 0, copy_step, NULL, NULL},
+#elif defined(BAD_FORM)
+    {"bad-form", NULL, 1, 7, 0, copy_step, NULL, NULL},
+#else
+    {"bad-generic", NULL, 1, DAMPSYM_FORM_PLAIN, 0, copy_step, NULL, NULL},
+#endif
+};
+
+#ifdef BAD_NO_ENTRY
+int not_the_entry(int v, dampsym_plugin_descriptor* out);
+int not_the_entry(int v, dampsym_plugin_descriptor* out) {
+#else
+int dampsym_plugin_v1(int host_abi_version, dampsym_plugin_descriptor* out) {
+    int v = host_abi_version;
+#endif
+    memset(out, 0, sizeof *out);
+#ifdef BAD_ENTRY_FAILS
+    (void)v;
+    (void)methods;
+    return 3;
+#else
+    if (v != DAMPSYM_PLUGIN_ABI_VERSION) return 1;
+#ifdef BAD_ABI
+    out->abi_version = 2;
+#else
+    out->abi_version = DAMPSYM_PLUGIN_ABI_VERSION;
+#endif
+    out->name = "bad";
+    out->n_methods = (int)(sizeof methods / sizeof methods[0]);
+    out->methods = methods;
+    return 0;
+#endif
+}
