@@ -36,6 +36,15 @@ static int overflowing_step(void* ctx, const dampsym_host* host, double t, doubl
     z_next[d] = 0.0; /* one past the end: the host's guard cell */
     return 0;
 }
+/* z_next = z with its exact Jacobian, the identity: E_n = |J^-1 - e^{-2 dGamma} J^-1|, relative
+ * e^{2 dGamma} - 1 (the plugin-Jacobian path of the host's E_n) */
+static int identity_jacobian(void* ctx, const dampsym_host* host, double t, double h,
+                             const double* z, double* z_next, double* jac) {
+    const int d = host->dim(host->host_ctx);
+    copy_step(ctx, host, t, h, z, z_next);
+    for (int i = 0; i < d * d; ++i) jac[i] = (i % (d + 1) == 0) ? 1.0 : 0.0;
+    return 0;
+}
 #endif
 
 static const dampsym_method methods[] = {
@@ -44,6 +53,8 @@ static const dampsym_method methods[] = {
     {"bad-refuse", "refuses the step after t = 0.45", 1, DAMPSYM_FORM_PLAIN, 0, refusing_step,
      NULL, NULL},
     {"bad-oob", "writes z_next[dim]", 1, DAMPSYM_FORM_PLAIN, 0, overflowing_step, NULL, NULL},
+    {"jac-identity", "z_next = z, with its Jacobian", 1, DAMPSYM_FORM_PLAIN, 0, copy_step,
+     identity_jacobian, NULL},
 #elif defined(BAD_NULL_STEP)
     {"bad-null-step", NULL, 1, DAMPSYM_FORM_PLAIN, 0, NULL, NULL, NULL},
 #elif defined(BAD_DUPLICATE)
