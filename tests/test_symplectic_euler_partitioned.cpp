@@ -12,10 +12,10 @@
 #include <cmath>
 
 using namespace dampsym;
-using dampsym::test::method;
-using dampsym::test::pendulum;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
+using dampsym::test::method;
+using dampsym::test::pendulum;
 
 namespace {
 
