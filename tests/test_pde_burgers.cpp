@@ -2,6 +2,7 @@
 // NSFD (4.18); consistency and time orders before the shock against fine references of the same
 // semi-discretisation, the Casimir law (5.14)–(5.15) of Theorem 5.2 with NSFD as negative
 // control, and the handling of the kernel of A_x (even M) in the box scheme (5.12).
+#include "harness/registry.hpp"
 #include "pde/burgers.hpp"
 
 #include "support/helpers.hpp"
@@ -178,4 +179,32 @@ TEST_CASE("pde burgers: kernel of A_x in the box scheme (5.12) for even M is det
     for (int n = 0; n < M; ++n)
         res = std::max(res, std::abs(a[n] * x[n] + b[n] * x[(n + 1) % M] - r[n]));
     CHECK(res <= 1e-13);
+}
+
+TEST_CASE("pde burgers: the step Jacobian of (5.10) (burgers-csv) against central differences",
+          "[pde]") {
+    using P = dampsym::BurgersSemi<dampsym::BurgersSpace::central>;
+    P prob;
+    prob.grid = PeriodicGrid(16, std::numbers::pi);
+    prob.gamma = 0.1;
+    const dampsym::MethodInfo& info = dampsym::test::method("burgers-csv");
+    dampsym::Counters c;
+    dampsym::BurgersCsv<P> k(prob, info, 0.05, c);
+    Vec z0 = prob.initial_state();
+    for (int j = 0; j < 16; ++j) z0[j] += 0.3 * std::sin(3.0 * prob.grid.x(j));
+    Vec za = z0, zb = z0;
+    dampsym::Mat Psi;
+    REQUIRE(k.step(0.0, za) == dampsym::StepStatus::ok);
+    REQUIRE(k.step_jacobian(0.0, zb, Psi) == dampsym::StepStatus::ok);
+    CHECK((za.array() == zb.array()).all()); // z advanced by the same arithmetic
+    double worst = 0;
+    for (int j = 0; j < 16; ++j) {
+        Vec zp = z0, zm = z0;
+        zp[j] += 1e-6;
+        zm[j] -= 1e-6;
+        REQUIRE(k.step(0.0, zp) == dampsym::StepStatus::ok);
+        REQUIRE(k.step(0.0, zm) == dampsym::StepStatus::ok);
+        worst = std::max(worst, ((zp - zm) / 2e-6 - Psi.col(j)).cwiseAbs().maxCoeff());
+    }
+    CHECK(worst <= 1e-8);
 }

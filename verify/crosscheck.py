@@ -488,17 +488,24 @@ def metric_momentum(prob, traj, h, method):
 
 
 def metric_conformal_symplectic(method, prob, h, t0, traj):
+    """E_n: Psi^T J^-1 Psi against e^{-2 dGamma} J^-1 (canonical), or Psi D Psi^T against
+    e^{-2 dGamma} D for a problem with a Poisson structure matrix D (B's Burgers (5.9))."""
     d = prob.d
     n = d // 2
+    D = prob.structure() if hasattr(prob, "structure") else None
     Jinv = np.block([[np.zeros((n, n)), np.eye(n)], [-np.eye(n), np.zeros((n, n))]])
     E = []
     for k in range(len(traj) - 1):
         t = t0 + k * h
         Psi = xrun.step_jacobian(method, prob, h, t, traj[k])
         fac = math.exp(-2.0 * xm.dGamma(prob, t, h))
-        E.append((np.linalg.norm(Psi.T @ Jinv @ Psi - fac * Jinv), fac))
+        if D is None:
+            E.append((np.linalg.norm(Psi.T @ Jinv @ Psi - fac * Jinv), fac))
+        else:
+            E.append((np.linalg.norm(Psi @ D @ Psi.T - fac * D), fac))
     Ea = np.array([e for e, _ in E])
-    Er = np.array([e / (f * math.sqrt(d)) for e, f in E])
+    scale = math.sqrt(d) if D is None else np.linalg.norm(D)
+    Er = np.array([e / (f * scale) for e, f in E])
     return dict(max_abs=float(Ea.max()), max_rel=float(Er.max()), last_abs=float(Ea[-1]),
                 last_rel=float(Er[-1]), steps_measured=len(E), max_rel_step=int(np.argmax(Er)) + 1,
                 _Er=Er)
@@ -1059,7 +1066,8 @@ def check_case(case):
                         (priv if k.startswith("_") else mm)["momentum.%s.%s" % (kk, k)] = v
             # a general linear method steps r values: its one-step map of z alone has no Jacobian
             # (dampsym reports E_n as not applicable for it, as for a Poisson problem)
-            if "conformal-symplectic" in metrics and prob.canonical and method != "glm4":
+            has_cs = prob.canonical or (hasattr(prob, "structure") and prob.structure() is not None)
+            if "conformal-symplectic" in metrics and has_cs and method != "glm4":
                 for k, v in metric_conformal_symplectic(method, prob, dt, t0, traj).items():
                     (priv if k.startswith("_") else mm)["conformal-symplectic." + k] = v
         if "cost" in metrics and method in xm.EXPLICIT_EVALS:

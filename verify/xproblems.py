@@ -721,6 +721,13 @@ class Burgers(Problem):
     def invariant_scales(self):
         return {"casimir": lambda z: self.dx * np.sum(np.abs(z), axis=-1)}
 
+    def structure(self):
+        """B's structure matrix D of (5.9) (D[j, j+1] = 1, D[j, j-1] = -1; this problem only, not
+        the box or upwind semi-discretisations): the E_n law is Psi D Psi^T = e^{-2 dGamma} D."""
+        if self.pid != "burgers":
+            return None
+        return np.roll(np.eye(self.M), 1, axis=1) - np.roll(np.eye(self.M), -1, axis=1)
+
 
 class BurgersBox(Burgers):
     """The semi-discretisation B's box scheme (5.12) tends to as dt -> 0 (docs/pde.md):

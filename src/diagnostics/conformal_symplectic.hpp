@@ -13,9 +13,11 @@
 //
 // Applicability: only problems in canonical coordinates z = [q; p] have a J. A problem is
 // canonical if it declares `static constexpr bool is_canonical` (true), or else if it offers the
-// separable Rayleigh form (has_separable). Poisson problems such as the rigid body (odd
-// dimension, no q/p split) are reported as not applicable; so is a kernel without step_jacobian.
-// In both cases nothing is integrated (z is left unchanged, steps_done = 0).
+// separable Rayleigh form (has_separable). A problem that instead declares a constant Poisson
+// structure matrix D (structure_matrix(D), e.g. B's Burgers (5.9), possibly singular) is measured
+// against ΨDΨᵀ = e^{−2ΔΓ}D, relative to e^{−2ΔΓ}‖D‖_F (docs/pde.md). Poisson problems such as the
+// rigid body (odd dimension, no q/p split) are reported as not applicable; so is a kernel without
+// step_jacobian. In both cases nothing is integrated (z is left unchanged, steps_done = 0).
 #pragma once
 
 #include "core/integrate.hpp"
@@ -83,6 +85,21 @@ constexpr bool is_canonical_problem() {
         return false;
 }
 
+// Whether the problem declares a (constant, possibly singular) Poisson structure matrix D,
+// z' = D∇H − γ_c z: then the law is ΨDΨᵀ = e^{−2ΔΓ}D (B's Burgers (5.9), docs/pde.md).
+template <class P>
+constexpr bool has_structure_matrix() {
+    return requires(const P& p, Mat& D) {
+        p.structure_matrix(D);
+    };
+}
+
+// Whether E_n is defined for the problem: canonical coordinates, or a structure matrix.
+template <class P>
+constexpr bool has_conformal_structure() {
+    return is_canonical_problem<P>() || has_structure_matrix<P>();
+}
+
 template <class K>
 constexpr bool kernel_has_step_jacobian() {
     if constexpr (requires { K::has_step_jacobian; })
@@ -121,7 +138,7 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
                                                      double t0, double h, std::int64_t n,
                                                      MinMaxDecimator* series = nullptr) {
     ConformalSymplecticStats st;
-    if constexpr (!is_canonical_problem<P>()) {
+    if constexpr (!has_conformal_structure<P>()) {
         st.applicability = ConformalSymplecticApplicability::not_canonical;
         return st;
     } else if constexpr (!kernel_has_step_jacobian<K>()) {
@@ -131,8 +148,17 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
         if constexpr (requires { stepper.jacobian_source(); }) // a plugin's kernel
             st.jacobian = stepper.jacobian_source();
         const int d = problem.dim();
-        const Mat Jinv = canonical_J_inverse(d);
-        const double jinv_norm = std::sqrt(static_cast<double>(d)); // ‖J⁻¹‖_F
+        constexpr bool poisson = !is_canonical_problem<P>(); // the structure-matrix law
+        Mat Jinv;
+        double jinv_norm = 0.0;
+        if constexpr (poisson) {
+            Jinv.resize(d, d);
+            problem.structure_matrix(Jinv); // D
+            jinv_norm = Jinv.norm();
+        } else {
+            Jinv = canonical_J_inverse(d);
+            jinv_norm = std::sqrt(static_cast<double>(d)); // ‖J⁻¹‖_F
+        }
         Mat Psi(d, d), JPsi(d, d), W(d, d);
         for (std::int64_t k = 0; k < n; ++k) {
             const double tk = time_at(t0, h, k);
@@ -143,8 +169,13 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
             }
             st.steps_done = k + 1;
             const double c = std::exp(-2.0 * problem.dGamma(tk, h));
-            JPsi.noalias() = Jinv * Psi;
-            W.noalias() = Psi.transpose() * JPsi;
+            if constexpr (poisson) { // ΨDΨᵀ − e^{−2ΔΓ}D
+                JPsi.noalias() = Jinv * Psi.transpose();
+                W.noalias() = Psi * JPsi;
+            } else { // ΨᵀJ⁻¹Ψ − e^{−2ΔΓ}J⁻¹
+                JPsi.noalias() = Jinv * Psi;
+                W.noalias() = Psi.transpose() * JPsi;
+            }
             W -= c * Jinv;
             const double e_abs = W.norm();
             if (state_diverged(z) || !std::isfinite(e_abs)) {

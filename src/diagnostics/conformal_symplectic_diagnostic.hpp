@@ -30,7 +30,7 @@ json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, doub
                                   std::int64_t n,
                                   std::optional<MinMaxDecimator>* series = nullptr) {
     ConformalSymplecticStats st;
-    if constexpr (!is_canonical_problem<P>()) {
+    if constexpr (!has_conformal_structure<P>()) {
         st.applicability = ConformalSymplecticApplicability::not_canonical;
     } else if constexpr (!kernel_has_step_jacobian<K>()) {
         st.applicability = ConformalSymplecticApplicability::no_step_jacobian;

@@ -27,6 +27,7 @@
 #include "problems/pde/burgers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string_view>
 
 namespace dampsym {
@@ -55,9 +56,13 @@ public:
     static bool accepts(const Data& d) { return d.scheme == scheme; }
     template <class Q>
     static constexpr bool applies = on_own_space<Q>();
+    // (5.10)'s exact step Jacobian (E_n against B's D, docs/pde.md); the implicit schemes have
+    // none.
+    static constexpr bool has_step_jacobian = S == pde::BurgersScheme::csv_split;
 
     BurgersB(const P& problem, const MethodInfo&, double h, Counters& counters)
-        : stepper_(problem.grid, problem.gamma, h, S), c_(counters) {}
+        : stepper_(problem.grid, problem.gamma, h, S), c_(counters), grid_(problem.grid),
+          gamma_(problem.gamma), h_(h), u_(problem.grid.M) {}
 
     StepStatus step(double, Vec& z) {
         const int before = stepper_.stats().newton_iterations;
@@ -74,9 +79,39 @@ public:
         return ok ? StepStatus::ok : StepStatus::solve_failed;
     }
 
+    // (5.10): Ψ by the chain rule through its three sweeps. Each sweep changes one parity class
+    // of u, u_j ← a u_j − b (u_{j+1}² − u_{j−1}²)/(4Δx) with (a, b) = (e, h/2), (e², e h),
+    // (e, e h/2), e = e^{−γh}, from neighbours of the other class that it leaves unchanged, so
+    // its Jacobian is the identity but for rows j: a at j, ∓b u_{j±1}/(2Δx) at j ± 1. z itself
+    // is advanced by step() (the same arithmetic as without a Jacobian).
+    StepStatus step_jacobian(double t, Vec& z,
+                             Mat& Psi) requires(S == pde::BurgersScheme::csv_split) {
+        const pde::PeriodicGrid& g = grid_;
+        const int M = g.M;
+        if (M % 2 != 0) return step(t, z);
+        const double e = std::exp(-gamma_ * h_), s = 0.25 / g.dx;
+        u_ = z;
+        Psi = Mat::Identity(M, M);
+        auto sweep = [&](int first, double a, double b) {
+            for (int j = first; j < M; j += 2) {
+                const int r = g.wrap(j + 1), l = g.wrap(j - 1);
+                Psi.row(j) = a * Psi.row(j) - (2.0 * b * s * u_[r]) * Psi.row(r) +
+                             (2.0 * b * s * u_[l]) * Psi.row(l);
+                u_[j] = a * u_[j] - b * (u_[r] * u_[r] - u_[l] * u_[l]) * s;
+            }
+        };
+        sweep(1, e, 0.5 * h_);
+        sweep(0, e * e, e * h_);
+        sweep(1, e, 0.5 * e * h_);
+        return step(t, z);
+    }
+
 private:
     pde::BurgersStepper stepper_;
     Counters& c_;
+    pde::PeriodicGrid grid_;
+    double gamma_, h_;
+    Vec u_; // the sweeps' states for the Jacobian
 };
 
 template <class P>

@@ -103,6 +103,18 @@ struct BurgersSemi {
     int dim() const { return grid.M; }
     Vec initial_state() const { return pde::burgers_gaussian(grid); }
     double gamma_at(double) const { return 2.0 * gamma; }
+    // B's structure matrix D of (5.9) (the central space only): z' = D∇H − 2γz with
+    // D_{j,j+1} = 1, D_{j,j−1} = −1 and ∇H_j = −u_j²/(4Δx), so that (D∇H)_j is the central
+    // difference −(u_{j+1}² − u_{j−1}²)/(4Δx). Singular (its kernel holds the Casimir gradient 1
+    // and, M even, the alternating vector). The E_n law is ΨDΨᵀ = e^{−2ΔΓ}D (docs/pde.md).
+    void structure_matrix(Mat& D) const requires(S == BurgersSpace::central) {
+        const int M = grid.M;
+        D = Mat::Zero(M, M);
+        for (int j = 0; j < M; ++j) {
+            D(j, grid.wrap(j + 1)) += 1.0;
+            D(j, grid.wrap(j - 1)) -= 1.0;
+        }
+    }
     double Gamma(double t) const { return 2.0 * gamma * t; }
     double dGamma(double, double h) const { return 2.0 * gamma * h; }
 
