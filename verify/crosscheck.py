@@ -832,7 +832,7 @@ def check_case(case):
         metrics = run.get("metrics") or {}
         need_traj = bool(metrics) and any(k in metrics for k in (
             "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
-            "dissipation-drift", "poincare", "precession"))
+            "dissipation-drift", "poincare", "precession", "field-drift"))
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
@@ -1048,6 +1048,20 @@ def check_case(case):
             if "temperature" in metrics and hasattr(prob, "temperature"):
                 for k, v in metric_temperature(prob, traj).items():
                     mm["temperature." + k] = v
+            if "field-drift" in metrics and hasattr(prob, "field_size"):
+                # B (5.6): d = ln max_x u + Gamma(t) - Gamma(t0) on the output grid without t0
+                gp = int(get_path(run, "observed.grid_points") or 0)
+                stride = max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1
+                idx = np.arange(stride, len(traj), stride)
+                tt = t0 + dt * idx
+                mx = np.max(traj[idx, :prob.field_size()], axis=1)
+                if len(idx) >= 2 and np.all(mx > 0):
+                    dd = np.log(mx) + np.array([xm.dGamma(prob, t0, x - t0) for x in tt])
+                    mm["field-drift.slope"] = lsq_slope(tt, dd)
+                    mm["field-drift.range"] = float(dd.max() - dd.min())
+                    mm["field-drift.first"] = [float(tt[0]), float(dd[0])]
+                    mm["field-drift.last"] = [float(tt[-1]), float(dd[-1])]
+                    mm["field-drift.points"] = float(len(idx))
             if "precession" in metrics and hasattr(prob, "runge_lenz") and len(traj) >= 2:
                 Zr, _, _ = reference_states(prob, case, t0 + dt * np.arange(len(traj)))
                 pm = metric_precession(prob, traj, Zr)

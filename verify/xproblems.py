@@ -600,6 +600,9 @@ class KleinGordon(Problem):
     (B (5.8), Theorem 5.1), on the scale dx sum |v| |delta_x u| (docs/pde.md)."""
     pid = "klein-gordon"
     params = ("M", "c", "gamma", "K")
+
+    def field_size(self):   # the field u = q on the grid (field-drift, B (5.6))
+        return self.M
     exact_available = True
 
     def __init__(self, M, c, gamma, K):

@@ -10,6 +10,7 @@
 #include "diagnostics/energy_balance_diagnostic.hpp"
 #include "diagnostics/energy_diagnostic.hpp"
 #include "diagnostics/error_diagnostic.hpp"
+#include "diagnostics/field_drift_diagnostic.hpp"
 #include "diagnostics/invariants_diagnostic.hpp"
 #include "diagnostics/local_error_diagnostic.hpp"
 #include "diagnostics/momentum_diagnostic.hpp"
@@ -30,7 +31,8 @@ using DiagnosticList =
              DissipationDriftDiagnostic, StabilityDiagnostic, StabilitySweepDiagnostic,
              TraceTaylorDiagnostic, CostDiagnostic, MomentumDiagnostic, EnergyBalanceDiagnostic,
              PoincareDiagnostic, TemperatureDiagnostic, ConformalSymplecticDiagnostic,
-             LocalErrorDiagnostic, LocalOrderDiagnostic, PrecessionDiagnostic>;
+             LocalErrorDiagnostic, LocalOrderDiagnostic, PrecessionDiagnostic,
+             FieldDriftDiagnostic>;
 
 // The names of the diagnostics problem type P supports (each diagnostic's `supports<P>` concept),
 // for ProblemInfo (harness/registry.cpp).

@@ -255,6 +255,11 @@ private:
             if (produces("precession", ok))
                 m["precession"] = precession_metrics(
                     facts_, rec.grid(), [this](const Vec& v) { return problem_.runge_lenz(v); });
+        if constexpr (HasField<P>) // B (5.6) (field_drift_diagnostic.hpp)
+            if (produces("field-drift", ok))
+                m["field-drift"] =
+                    field_drift_metrics(facts_, rec.grid(), problem_.field_size(),
+                                        [this](double t) { return problem_.Gamma(t); });
         if constexpr (HasTemperature<P>)
             if (produces("temperature", ok))
                 m["temperature"] = temperature_metrics(

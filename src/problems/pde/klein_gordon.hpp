@@ -67,6 +67,8 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
     }
 
     int n() const { return grid.M; }
+    // The field u = q on the grid (field-drift, B (5.6): d = ln max_x u + γt).
+    int field_size() const { return n(); }
     double W() const { return pde::kg_frequency(double(K) * K, c, gamma); }
     Vec initial_state() const {
         Vec u, v, z(2 * grid.M);
