@@ -599,13 +599,15 @@ class KleinGordon(Problem):
     (B (5.7) on the grid, delta_x u = (u_{n+1} - u_{n-1})/(2 dx)), conformal with e^{-2 gamma t}
     (B (5.8), Theorem 5.1), on the scale dx sum |v| |delta_x u| (docs/pde.md)."""
     pid = "klein-gordon"
-    params = ("M", "c", "gamma", "K")
+    params = ("M", "c", "gamma", "K", "exact_pde")
 
     def field_size(self):   # the field u = q on the grid (field-drift, B (5.6))
         return self.M
     exact_available = True
 
-    def __init__(self, M, c, gamma, K):
+    def __init__(self, M, c, gamma, K, exact_pde=0.0):
+        """exact_pde = 1: the exact solution is the PDE's (4.3) from the trigonometric
+        interpolant of the state (each mode with k^2 instead of the grid's symbol; B (5.1))."""
         if M != int(M) or K != int(K) or M < 2:
             raise TypeError("M and K must be whole numbers, M >= 2")
         self.M, self.c, self.g, self.K = int(M), float(c), float(gamma), int(K)
@@ -621,6 +623,8 @@ class KleinGordon(Problem):
         # omega_j^2 = c + 4 sin^2(theta_j / 2) / dx^2 (the stencil applied to e^{i j x_n})
         j = np.arange(self.M // 2 + 1)
         self.w2 = self.c + (2.0 * np.sin(0.5 * j * self.dx) / self.dx) ** 2
+        if exact_pde:
+            self.w2 = self.c + j.astype(float) ** 2
 
     def force(self, t, q):
         return (np.roll(q, 1, axis=-1) - 2.0 * q + np.roll(q, -1, axis=-1)) / self.dx ** 2 - self.c * q

@@ -35,7 +35,7 @@ void kg_plane_wave(const PeriodicGrid& g, double gamma, int K, double W, double 
 }
 
 void kg_semidiscrete_exact(const PeriodicGrid& g, double c, double gamma, double t0, const Vec& u0,
-                           const Vec& v0, double t, Vec& u, Vec& v) {
+                           const Vec& v0, double t, Vec& u, Vec& v, bool pde_symbol) {
     const int M = g.M;
     SpectralDerivative fft(g);
     std::vector<double> U(2 * static_cast<size_t>(M)), V(2 * static_cast<size_t>(M));
@@ -49,7 +49,9 @@ void kg_semidiscrete_exact(const PeriodicGrid& g, double c, double gamma, double
     fft.forward(V);
     for (int j = 0; j < M; ++j) {
         const double s = std::sin(std::numbers::pi * j / M);
-        const double omega = std::sqrt(c + 4.0 * s * s / (g.dx * g.dx));
+        const double k = std::min(j, M - j); // the PDE's wavenumber of mode j
+        const double omega =
+            pde_symbol ? std::sqrt(c + k * k) : std::sqrt(c + 4.0 * s * s / (g.dx * g.dx));
         for (int part = 0; part < 2; ++part) {
             const OscillatorState st =
                 oscillator_exact(omega, gamma, U[2 * j + part], V[2 * j + part], t - t0);

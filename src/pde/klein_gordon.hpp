@@ -41,8 +41,11 @@ void kg_plane_wave(const PeriodicGrid& g, double gamma, int K, double W, double 
 
 // Exact solution of the semi-discrete system from (t0, u0, v0) at t, for any initial data: FFT,
 // each mode by the damped-oscillator solution (reference/oscillator_exact.hpp), inverse FFT.
+// pde_symbol: each mode j with the PDE's k² (k = min(j, M − j)) instead of the grid's
+// 4 sin²(kΔx/2)/Δx²: the exact solution of the PDE (4.3) from the trigonometric interpolants of
+// (u0, v0) (B (5.1) for the plane wave), sampled on the grid.
 void kg_semidiscrete_exact(const PeriodicGrid& g, double c, double gamma, double t0, const Vec& u0,
-                           const Vec& v0, double t, Vec& u, Vec& v);
+                           const Vec& v0, double t, Vec& u, Vec& v, bool pde_symbol = false);
 
 // Momentum of the Störmer–Verlet-type schemes (5.3), (5.4) (B §5.1.2): I = Δx Σ v δ_x u, and its
 // scale Δx Σ |v| |δ_x u| (docs/conventions.md "Law residuals and their scales").
