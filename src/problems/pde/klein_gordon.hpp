@@ -67,7 +67,7 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
         p.c = m.at("c");
         p.gamma = m.at("gamma");
         p.K = static_cast<int>(K);
-        p.exact_pde = m.at("exact_pde") != 0.0;
+        p.exact_pde = m.scalars.count("exact_pde") && m.at("exact_pde") != 0.0; // default 0
         if (!(p.K * p.K + p.c > p.gamma * p.gamma))
             throw std::invalid_argument("K^2 + c must exceed gamma^2 (real W in B (5.1))");
         return p;
