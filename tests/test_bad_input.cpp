@@ -309,8 +309,13 @@ TEST_CASE("bad input: every parameter of every problem at and beyond its range e
                     CHECK(contains(err, key + " (set by --set " + key + "="));
                 }
             }
-            if (ps.integer)
-                CHECK(contains(load_error(with(2.5)), key + ": must be a whole number"));
+            if (ps.integer) {
+                // a fraction inside the range (a flag's range is [0, 1]), so that only the
+                // whole-number rule can reject it
+                CHECK(ps.range.lo + 1 <= ps.range.hi);
+                CHECK(contains(load_error(with(ps.range.lo + 0.5)),
+                               key + ": must be a whole number"));
+            }
             if (ps.is_array) {
                 json a = json::array();
                 for (int i = 0; i < ps.max_size + 1; ++i) a.push_back(ps.default_array[0]);
