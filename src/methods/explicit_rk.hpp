@@ -4,6 +4,10 @@
 // step_jacobian() also returns Ψ = ∂z₁/∂z₀ by the scheme's variational equations (the same RK
 // applied to the linearisation along the stages), f' = rhs_jacobian:
 //   ∂y_i = I + h Σ_{j<i} a_ij ∂k_j,   ∂k_i = f'(t + c_i h, y_i) ∂y_i,   Ψ = I + h Σ b_i ∂k_i
+// For a problem with a compile-time size and a tableau of at most 4 stages, step() runs the same
+// arithmetic with the stage count as a template argument (advance_fixed): the stages are then
+// registers, not memory, which makes rk4 on the pendulum as fast as Boost.Odeint's runge_kutta4
+// (ci/bench.sh, docs/benchmarks.md).
 #pragma once
 
 #include "core/method.hpp"
@@ -32,6 +36,20 @@ public:
 
     // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
     [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
+        if constexpr (D != Eigen::Dynamic) {
+            switch (t_.stages) { // a compile-time stage count (the branch is always the same one)
+            case 1:
+                return advance_fixed<1>(t, z);
+            case 2:
+                return advance_fixed<2>(t, z);
+            case 3:
+                return advance_fixed<3>(t, z);
+            case 4:
+                return advance_fixed<4>(t, z);
+            default:
+                break;
+            }
+        }
         return advance<false>(t, z, nullptr);
     }
 
@@ -54,17 +72,57 @@ private:
     }();
     using VecD = Eigen::Matrix<double, D, 1>;
 
+    // advance<false> for S stages and a compile-time d: the state and the stages are local
+    // fixed-size arrays and the stage loops unroll, so the compiler keeps them in registers (no
+    // store and reload between the stages). The same operations in the same order as advance().
+    template <int S>
+    [[gnu::always_inline]] inline StepStatus advance_fixed(double t, Vec& zv) {
+        VecD z, K[S];
+        for (int k = 0; k < D; ++k) z[k] = zv[k];
+#pragma GCC unroll 4
+        for (int i = 0; i < S; ++i) {
+            VecD y = z;
+#pragma GCC unroll 4
+            for (int j = 0; j < i; ++j) {
+                const double a = t_.A(i, j);
+                if (a == 0.0) continue;
+                const double ha = h_ * a;
+                for (int k = 0; k < D; ++k) y[k] += ha * K[j][k];
+            }
+            prob_.rhs(t + t_.c[static_cast<std::size_t>(i)] * h_, y, K[i]);
+        }
+#pragma GCC unroll 4
+        for (int i = 0; i < S; ++i) {
+            const double hb = h_ * t_.b[static_cast<std::size_t>(i)];
+            for (int k = 0; k < D; ++k) z[k] += hb * K[i][k];
+        }
+        for (int k = 0; k < D; ++k) zv[k] = z[k];
+        c_.rhs_evals += S;
+        return StepStatus::ok;
+    }
+
     template <bool WithJacobian>
     [[gnu::always_inline]] inline StepStatus advance(double t, Vec& zv, Mat* Psi) {
+        // The vector updates are scalar loops over the d components (the same operations as
+        // Eigen's, in the same order): GCC declines to inline Eigen's assignment loops in the
+        // large translation units that instantiate every kernel, and for a compile-time d they
+        // unroll to straight-line code.
         Eigen::Map<VecD> z(zv.data(), zv.size());
+        const int d = D == Eigen::Dynamic ? static_cast<int>(zv.size()) : D;
         const int s = t_.stages;
         for (int i = 0; i < s; ++i) {
-            y_ = z;
-            for (int j = 0; j < i; ++j)
-                if (t_.A(i, j) != 0.0) y_ += (h_ * t_.A(i, j)) * K_.col(j);
+            for (int k = 0; k < d; ++k) y_[k] = z[k];
+            for (int j = 0; j < i; ++j) {
+                const double a = t_.A(i, j);
+                if (a == 0.0) continue;
+                const double ha = h_ * a;
+                const double* kj = K_.col(j).data();
+                for (int k = 0; k < d; ++k) y_[k] += ha * kj[k];
+            }
             const double ti = t + t_.c[static_cast<std::size_t>(i)] * h_;
             prob_.rhs(ti, y_, k_);
-            K_.col(i) = k_;
+            double* ki = K_.col(i).data();
+            for (int k = 0; k < d; ++k) ki[k] = k_[k];
             if constexpr (WithJacobian) {
                 dY_.setIdentity();
                 for (int j = 0; j < i; ++j)
@@ -73,7 +131,11 @@ private:
                 dK(i).noalias() = Jf_ * dY_;
             }
         }
-        for (int i = 0; i < s; ++i) z += (h_ * t_.b[static_cast<std::size_t>(i)]) * K_.col(i);
+        for (int i = 0; i < s; ++i) {
+            const double hb = h_ * t_.b[static_cast<std::size_t>(i)];
+            const double* ki = K_.col(i).data();
+            for (int k = 0; k < d; ++k) z[k] += hb * ki[k];
+        }
         c_.rhs_evals += s;
         if constexpr (WithJacobian) {
             c_.jac_evals += s;
@@ -83,7 +145,9 @@ private:
         return StepStatus::ok;
     }
 
-    auto dK(int i) { return dK_.middleCols(static_cast<Eigen::Index>(i) * dY_.cols(), dY_.cols()); }
+    auto dK(int i) {
+        return dK_.middleCols(static_cast<Eigen::Index>(i) * dY_.cols(), dY_.cols());
+    }
 
     const P& prob_;
     const ButcherTableau& t_;
