@@ -37,6 +37,7 @@
 #include "problems/pde/nls.hpp"
 #include "problems/rigid_body.hpp"
 
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -105,6 +106,21 @@ KernelMatch with_kernel_in(KernelList<Ks...>, const D& data, F& f) {
     (with_kernel_if<P, Ks>(data, f, result), ...);
     return result;
 }
+// with_kernel_among's call: f for kernel K if K is the kernel with_kernel chooses (a class, not
+// a generic lambda inside the visitor: see with_kernel_if).
+template <class F>
+struct CheckedKernelCall {
+    const MethodInfo& info;
+    F& f;
+    template <class K>
+    void operator()() {
+        if (K::kernel_id != kernel_name(info))
+            throw std::logic_error("with_kernel_among: " + std::string(info.id) +
+                                   " is stepped by " + std::string(kernel_name(info)) + ", not " +
+                                   std::string(K::kernel_id));
+        f.template operator()<K>();
+    }
+};
 } // namespace registry_detail
 
 // Calls f.template operator()<K<P>>() for the kernel that steps `info` on problem type P: the type
@@ -114,6 +130,18 @@ template <class P, class F>
 KernelMatch with_kernel(const MethodInfo& info, F&& f) {
     return std::visit(
         [&](const auto& data) { return registry_detail::with_kernel_in<P>(Kernels{}, data, f); },
+        info.data);
+}
+
+// with_kernel among the kernels of List only (a KernelList): f is instantiated for those alone,
+// which keeps the compile time of a test that steps a few methods small. unknown_kernel if the
+// method's kernel is not in List; std::logic_error if the kernel chosen is not the one with_kernel
+// would choose (kernel_name), so a short list never steps a method by another kernel.
+template <class P, class List, class F>
+KernelMatch with_kernel_among(const MethodInfo& info, F&& f) {
+    registry_detail::CheckedKernelCall<std::remove_reference_t<F>> checked{info, f};
+    return std::visit(
+        [&](const auto& data) { return registry_detail::with_kernel_in<P>(List{}, data, checked); },
         info.data);
 }
 
