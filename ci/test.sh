@@ -12,15 +12,17 @@ cd "$(dirname "$0")/.."
 bash ci/setup.sh
 jobs="$(nproc 2>/dev/null || echo 2)"
 
-echo "== clang-format"
+echo "== clang-format (${SECONDS} s)"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src reference tests -name '*.[ch]pp')
 clang-format --dry-run -Werror $files
 
-echo "== Release build: suites and cross-check"
+echo "== Release build: suites and cross-check (${SECONDS} s)"
 bash ci/build.sh release dampsym
+echo "== Release ctest (${SECONDS} s)"
 (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports')
 
-echo "== ASan/UBSan build and unit tests"
+echo "== ASan/UBSan build and unit tests (${SECONDS} s)"
 bash ci/build.sh asan
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
    ctest --output-on-failure -j"$jobs" -LE 'crosscheck|stress|reports|case' -E '^(suite\.default|matrix\..*)$')
+echo "== done (${SECONDS} s)"

@@ -16,6 +16,7 @@
 #include "core/integrate.hpp"
 #include "diagnostics/capabilities.hpp"
 #include "diagnostics/conformal_symplectic.hpp"
+#include "diagnostics/field_drift_diagnostic.hpp"
 #include "diagnostics/maxima.hpp"
 #include "diagnostics/recorder.hpp"
 #include "diagnostics/series.hpp"
@@ -96,6 +97,22 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
                     temp.push(grid_t[static_cast<std::size_t>(i)],
                               problem.temperature(grid.col(i)));
                 s["temperature"] = temp.to_json();
+            }
+        }
+        if constexpr (HasField<P>) {
+            // d(t) = ln max_x u + Γ(t) − Γ(t0) of field_drift_metrics, B (5.6); up to the first
+            // output time where max_x u <= 0 (where the metric is undefined)
+            if (c.wants("field-drift") && cols > 2) {
+                const int n = problem.field_size();
+                const double gamma0 = problem.Gamma(c.t0);
+                MinMaxDecimator d(cols - 1);
+                for (Eigen::Index i = 1; i < cols && n >= 1 && n <= grid.rows(); ++i) {
+                    const double m = grid.col(i).head(n).maxCoeff();
+                    if (!(m > 0.0)) break;
+                    const double t = grid_t[static_cast<std::size_t>(i)];
+                    d.push(t, std::log(m) + (problem.Gamma(t) - gamma0));
+                }
+                s["field-drift.d"] = d.to_json();
             }
         }
         if (c.wants("poincare")) {

@@ -190,7 +190,12 @@ private:
         const bool ref_on_grid =
             facts_.reference_ok && facts_.needs_grid && facts_.ref.cols() == g.cols();
         json steps = fig.needed() ? fig.to_json() : json::object();
-        if (cs) steps["conformal-symplectic.rel"] = cs->to_json();
+        if (cs) {
+            steps["conformal-symplectic.rel"] = cs->to_json();
+            // the form measured (the figure's axis label): J⁻¹, or the problem's structure matrix D
+            if constexpr (has_structure_matrix<P>())
+                steps["conformal-symplectic.rel"]["form"] = "structure-matrix";
+        }
         series_[run_index(out)] =
             capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
                                rec.maxima(), figure_orbit_from_steps(problem_, g.cols(), n));

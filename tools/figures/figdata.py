@@ -292,6 +292,7 @@ SERIES_PANELS = [
     ("invariants.*.step_res", "step-law residual of {inv} / S(z_n)", "log"),
     ("invariants.*.ratio_dev", "e^{2Γ(t)} {inv}_n / {inv}_0 − 1", "linear"),
     ("dissipation-drift.d", "d(t) = ln max q + Γ(t)", "linear"),
+    ("field-drift.d", "d(t) = ln max_x u + Γ(t) − Γ(t₀)", "linear"),
     ("conformal-symplectic.rel", "E_n / (e^{−2ΔΓ} ‖J⁻¹‖_F)", "log"),
     ("momentum.linear.law_res", "‖P_{n+1} − e^{−2ΔΓ}P_n‖ / S", "log"),
     ("momentum.linear.factor", "P_{n+1}·P_n / ‖P_n‖²", "linear"),
@@ -301,13 +302,24 @@ SERIES_PANELS = [
 ]
 
 
+# E_n of a problem with a Poisson structure matrix D instead of J (B's Burgers (5.9)): the series
+# says so with "form": "structure-matrix" (docs/conventions.md, the conformal-symplectic metric).
+STRUCTURE_MATRIX_EN_LABEL = "‖ΨDΨᵀ − λD‖/(λ‖D‖), λ = e^(−2ΔΓ)"
+
+
 def series_panels(series):
     """[(key, label, scale)] of the step series present in a case's series file."""
-    keys = set()
+    keys, forms = set(), {}
     for r in series.get("runs", []):
-        keys.update(k for k, v in r["series"].items() if isinstance(v, dict) and "y" in v)
+        for k, v in r["series"].items():
+            if isinstance(v, dict) and "y" in v:
+                keys.add(k)
+                if "form" in v:
+                    forms[k] = v["form"]
     out = []
     for pat, label, scale in SERIES_PANELS:
+        if pat == "conformal-symplectic.rel" and forms.get(pat) == "structure-matrix":
+            label = STRUCTURE_MATRIX_EN_LABEL
         if "*" in pat:
             pre, post = pat.split("*")
             for k in sorted(keys):

@@ -79,6 +79,15 @@ def check_run(cid, r, s):
         elif key == "temperature":
             expect(f"{tag} temperature min", min(y), get(m, "temperature.min"))
             expect(f"{tag} temperature max", max(y), get(m, "temperature.max"))
+        elif key == "field-drift.d":
+            d = get(m, "field-drift")
+            if val["per_bucket"] == 1 and d and d.get("slope") is not None:
+                expect(f"{tag} field d(t) points", len(y), d["points"])
+                expect(f"{tag} field d(t) first", y[0], d["first"][1])
+                expect(f"{tag} field d(t) last", val["last"][1], d["last"][1])
+                a, _ = fd.linear_fit(val["t"], y)
+                expect(f"{tag} field d(t) slope", a, d["slope"], 1e-9)
+                expect(f"{tag} field d(t) range", max(y) - min(y), d["range"])
         elif key == "dissipation-drift.d":
             d = get(m, "dissipation-drift")
             if val["per_bucket"] == 1 and d and d.get("slope") is not None:
