@@ -234,11 +234,20 @@ inline nlohmann::json case_series_json(const CaseSpec& c, const std::vector<nloh
     json out_runs = json::array();
     for (std::size_t i = 0; i < runs.size(); ++i) {
         const json& r = runs[i];
-        out_runs.push_back(
-            {{"method", r.value("method", std::string())},
-             {"dt", r.value("dt", 0.0)},
-             {"status", r.value("status", std::string())},
-             {"series", i < series.size() && series[i].is_object() ? series[i] : json::object()}});
+        json s = i < series.size() && series[i].is_object() ? series[i] : json::object();
+        // A reference orbit equal to an earlier run's (the reference on the case's output grid,
+        // the same for every run) is written once: {"same_as_run": k} refers to run k's.
+        if (s.contains("orbit_reference"))
+            for (std::size_t k = 0; k < i; ++k)
+                if (out_runs[k]["series"].contains("orbit_reference") &&
+                    out_runs[k]["series"]["orbit_reference"] == s["orbit_reference"]) {
+                    s["orbit_reference"] = {{"same_as_run", k}};
+                    break;
+                }
+        out_runs.push_back({{"method", r.value("method", std::string())},
+                            {"dt", r.value("dt", 0.0)},
+                            {"status", r.value("status", std::string())},
+                            {"series", std::move(s)}});
     }
     return {{"format", "dampsym-series-1"},
             {"case", c.id},

@@ -437,6 +437,8 @@ def fig_orbit(case, ser):
     for ax, r in zip(axs.flat, runs):
         c, _, _ = style(r["method"])
         ref = r["series"].get("orbit_reference")
+        if ref and "same_as_run" in ref:  # written once per case (case_series_json)
+            ref = ser["runs"][ref["same_as_run"]]["series"]["orbit_reference"]
         if ref:
             for x, y, _ in orbit_coords(problem, ref["states"]):
                 ax.plot(x, y, "-", color="0.6", lw=2.2, alpha=0.6, rasterized=dense(len(x)))
