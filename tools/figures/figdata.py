@@ -33,7 +33,8 @@ STYLES = {
     "stormer-verlet": ("#ff00ff", "^", "-."), "implicit-midpoint": ("#2ca02c", "D", "-."),
 }
 PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2",
-           "#7f7f7f", "#bcbd22", "#17becf"]
+           "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939", "#8c6d31", "#843c39",
+           "#7b4173", "#3182bd", "#e6550d", "#31a354", "#756bb1", "#636363"]
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "*", "h", "p"]
 
 
@@ -43,6 +44,30 @@ def method_style(method):
         return STYLES[method]
     i = zlib.crc32(method.encode()) % 1000
     return PALETTE[i % len(PALETTE)], MARKERS[(i // 7) % len(MARKERS)], ":"
+
+
+def case_styles(methods):
+    """Styles of the methods of one case: the fixed ones, and for any other method its hashed
+    style, unless its colour is within ΔE 25 of a colour already taken in the case (two loaded
+    methods, or one that hashes onto a built-in's colour: dense time series tell runs apart by
+    colour alone); then the first palette colour after it that is 25 from every taken one (the
+    hashed colour if none is). Decided in the order of the case's method list, so the same for
+    every figure of the case."""
+    out = {m: STYLES[m] for m in methods if m in STYLES}
+    taken = [c for c, _, _ in out.values()]
+    for m in methods:
+        if m in out:
+            continue
+        c, mk, ls = method_style(m)
+        k = PALETTE.index(c)
+        for j in range(len(PALETTE)):
+            cand = PALETTE[(k + j) % len(PALETTE)]
+            if all(lab_distance(cand, t) >= 25 for t in taken):
+                c = cand
+                break
+        out[m] = (c, mk, ls)
+        taken.append(c)
+    return out
 
 
 def lab_distance(c1, c2):

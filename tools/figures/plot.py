@@ -198,9 +198,13 @@ def layout(fig, bottom=0.1, top=0.9, left=0.09, right=0.98, hspace=0.35, wspace=
                         wspace=wspace)
 
 
+# The styles of the case being drawn (draw_case sets them: figdata.case_styles).
+CASE_STYLES = {}
+
+
 def style(m):
-    """(colour, marker, line style) of method m (figdata.STYLES)."""
-    return fd.method_style(m)
+    """(colour, marker, line style) of method m (figdata.STYLES; case_styles for the others)."""
+    return CASE_STYLES[m] if m in CASE_STYLES else fd.method_style(m)
 
 
 def method_handles(methods, with_marker=True):
@@ -566,9 +570,20 @@ DRAW = {"convergence": lambda c, s, i: fig_convergence(c, s, fd.case_timing(REPO
         "poincare": lambda c, s, i: fig_poincare(c, s)}
 
 
+def case_methods(case):
+    """The case's methods in the order of its runs (each once)."""
+    out = []
+    for r in case.get("runs", []):
+        if r.get("method") and r["method"] not in out:
+            out.append(r["method"])
+    return out
+
+
 def draw_case(i):
     """Every figure of case i, in a worker: reads only this case's series file."""
     case = REPORT["cases"][i]
+    CASE_STYLES.clear()
+    CASE_STYLES.update(fd.case_styles(case_methods(case)))
     try:
         ser = fd.load_series(OUT, case["id"])
     except (OSError, ValueError) as e:
