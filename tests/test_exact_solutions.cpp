@@ -31,7 +31,7 @@ using Catch::Matchers::WithinAbs;
 using dampsym::Mat;
 using dampsym::Vec;
 
-constexpr double eps = std::numeric_limits<double>::epsilon();
+constexpr double kEpsExact = std::numeric_limits<double>::epsilon();
 
 template <class F>
 void for_each_problem(F&& f) {
@@ -144,7 +144,8 @@ TEST_CASE("exact solutions: every registered problem with one satisfies its ODE 
                 const Vec d2 = central6(p, t0, z0, t, 2 * h);
                 const Vec z = exact_at(p, t0, z0, t);
                 const Vec f = rhs_at(p, t, z);
-                const double round_off = (110.0 / 60.0) * 64 * eps * z.cwiseAbs().maxCoeff() / h;
+                const double round_off =
+                    (110.0 / 60.0) * 64 * kEpsExact * z.cwiseAbs().maxCoeff() / h;
                 const double tol = (d2 - d1).cwiseAbs().maxCoeff() + round_off;
                 const double residual = (d1 - f).cwiseAbs().maxCoeff();
                 INFO(P::id << " " << desc << " t0 = " << t0 << " t = " << t
@@ -193,7 +194,7 @@ TEST_CASE("exact solutions: agree with the certified GSL reference from random t
                 diff = std::max(diff, (z - col).cwiseAbs().maxCoeff());
                 scale = std::max(scale, col.cwiseAbs().maxCoeff());
             }
-            const double tol = 10.0 * std::max(ref.error_estimate, 64 * eps * scale);
+            const double tol = 10.0 * std::max(ref.error_estimate, 64 * kEpsExact * scale);
             INFO("max |exact - GSL| = " << diff << ", estimate " << ref.error_estimate);
             CHECK(diff <= tol);
         }
@@ -217,7 +218,7 @@ TEST_CASE("exact solutions: z(t0) = z0 exactly, restarts and time shifts", "[exa
             const double scale =
                 std::max(zs.cwiseAbs().maxCoeff(), rhs_at(p, t0 + s, zs).cwiseAbs().maxCoeff());
             // t0 + s and (t0 + s) − t0 are rounded: allow 64 ulp of (1 + |t0| + s) per unit rate.
-            const double tol = 64 * eps * (1.0 + std::abs(t0) + s) * std::max(1.0, scale);
+            const double tol = 64 * kEpsExact * (1.0 + std::abs(t0) + s) * std::max(1.0, scale);
 
             // Restart: the solution from (t0, z0) through (t1, z(t1)) is the same solution.
             const double t1 = t0 + 0.37 * s;
@@ -257,8 +258,8 @@ TEST_CASE("time in every registered problem: Gamma(0) = 0, Gamma' = gamma, dGamm
             const double mag = std::max({1.0, std::abs(p.Gamma(t)), std::abs(p.gamma_at(t))});
             INFO("t = " << t << " dt = " << dt);
             CHECK_THAT(dG, WithinAbs(p.gamma_at(t), 1e-9 * mag));
-            CHECK_THAT(p.dGamma(t, dt),
-                       WithinAbs(p.Gamma(t + dt) - p.Gamma(t), 16 * eps * (mag + std::abs(t))));
+            CHECK_THAT(p.dGamma(t, dt), WithinAbs(p.Gamma(t + dt) - p.Gamma(t),
+                                                  16 * kEpsExact * (mag + std::abs(t))));
             if (dampsym::detail::declares_constant_gamma<P>())
                 CHECK(p.gamma_at(t) == p.gamma_at(0.0));
         }
@@ -270,8 +271,8 @@ TEST_CASE("time in every registered problem: Gamma(0) = 0, Gamma' = gamma, dGamm
                 const Vec z = random_state(p, rng, false);
                 const Vec a = rhs_at(p, t, z), b = rhs_at(p, t + T, z);
                 INFO("t = " << t << " T = " << T);
-                CHECK((a - b).cwiseAbs().maxCoeff() <=
-                      64 * eps * (1.0 + std::abs(t)) * std::max(1.0, a.cwiseAbs().maxCoeff()));
+                CHECK((a - b).cwiseAbs().maxCoeff() <= 64 * kEpsExact * (1.0 + std::abs(t)) *
+                                                           std::max(1.0, a.cwiseAbs().maxCoeff()));
             }
         }
     });

@@ -11,7 +11,7 @@
 namespace {
 
 using Q = __float128;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kEpsOsc = std::numeric_limits<double>::epsilon();
 
 struct QState {
     Q q, p;
@@ -63,10 +63,10 @@ Errors errors(double omega, double gamma, double q0, double p0, double t) {
 // Round-off floor of any double evaluation, relative to the state norm: a few ulps of the summed
 // terms (which exceed ‖z‖ only when the initial state nearly cancels one mode), times the growth
 // from the phase βt (or κt) and the decay γt, each of which carries a relative rounding error of
-// a few ulps, i.e. an absolute error ~ kEps·(|β| + γ)·t. So ~1e-14 for t = O(1), growing like t.
+// a few ulps, i.e. an absolute error ~ ε·(|β| + γ)·t. So ~1e-14 for t = O(1), growing like t.
 double tolerance(double omega, double gamma, double t, const Errors& e) {
     const double b = std::sqrt(std::abs((omega - gamma) * (omega + gamma)));
-    return 16.0 * kEps * (e.terms / e.norm) * (1.0 + (b + gamma) * t);
+    return 16.0 * kEpsOsc * (e.terms / e.norm) * (1.0 + (b + gamma) * t);
 }
 
 struct Regime {
@@ -164,7 +164,7 @@ TEST_CASE("oscillator_exact is continuous through omega = gamma, to O(|omega - g
                 // one-sided difference quotients from above and from below both equal ∂z/∂ω
                 const double scale = std::abs(dq) + std::abs(dp);
                 // round-off in z over |ω − γ|, plus the O(|ω − γ|) second-order term
-                const double tol = 8.0 * kEps * (std::abs(z0.q) + std::abs(z0.p) + e) / (d * g) +
+                const double tol = 8.0 * kEpsOsc * (std::abs(z0.q) + std::abs(z0.p) + e) / (d * g) +
                                    10.0 * d * g * (1.0 + t * t * t * t) * e + 1e-15 * scale;
                 CHECK(std::abs((zp.q - z0.q) / hp - dq) <= tol);
                 CHECK(std::abs((zp.p - z0.p) / hp - dp) <= tol);
@@ -206,9 +206,9 @@ TEST_CASE("oscillator_exact at omega = gamma (1 +- 1e-12) and omega = gamma agai
           "[oscillator][reference][stress]") {
     // The stress suite's near-critical cases (verify/cases/stress-near-critical-*.json) rely on
     // the reference there. Compared with the __float128 power series (and, where β ≠ 0, with the
-    // quad closed form exact_q): relative error at round-off, 16 kEps (1 + (|β| + γ)t) · terms/|z|.
-    // The textbook over-damped form (e^{−(γ−κ)t} − e^{−(γ+κ)t})/(2κ) in double would lose
-    // kEps/(κt) ~ 1e-11 here (κ = γ sqrt(2e-12)) and fail.
+    // quad closed form exact_q): relative error at round-off, 16 ε (1 + (|β| + γ)t) ·
+    // terms/|z|. The textbook over-damped form (e^{−(γ−κ)t} − e^{−(γ+κ)t})/(2κ) in double would
+    // lose ε/(κt) ~ 1e-11 here (κ = γ sqrt(2e-12)) and fail.
     double worst = 0.0;
     for (double g : {1.0, 0.3, 4.0, 1e3}) {
         for (double d : {1e-12, -1e-12, 0.0}) {

@@ -25,7 +25,7 @@ using dampsym::Vec3;
 
 namespace {
 
-constexpr double eps = std::numeric_limits<double>::epsilon();
+constexpr double kEpsRigid = std::numeric_limits<double>::epsilon();
 
 RigidBody body(const Vec3& I, const Vec3& z0, double epsilon) {
     RigidBody p;
@@ -114,8 +114,8 @@ TEST_CASE("rigid body: Casimir and energy of the exact solution decay as exp(-2 
                 p.invariants(t, z, inv);
                 const double decay = std::exp(-2.0 * p.Gamma(t));
                 INFO(s.what << ", epsilon " << epsilon << ", t " << t);
-                CHECK_THAT(inv[0], WithinRel(decay * inv0[0], 16 * eps));
-                CHECK_THAT(inv[1], WithinRel(decay * inv0[1], 16 * eps));
+                CHECK_THAT(inv[0], WithinRel(decay * inv0[0], 16 * kEpsRigid));
+                CHECK_THAT(inv[1], WithinRel(decay * inv0[1], 16 * kEpsRigid));
                 CHECK(p.energy(z) == inv[1]);
             }
         }
@@ -129,11 +129,11 @@ TEST_CASE("rigid body: the exact solution starts at z0") {
         REQUIRE(free.ok());
         const Vec3 y = free.at(0.0);
         const double scale = std::sqrt(s.z0[0] * s.z0[0] + s.z0[1] * s.z0[1] + s.z0[2] * s.z0[2]);
-        for (int k = 0; k < 3; ++k) CHECK_THAT(y[k], WithinAbs(s.z0[k], 4 * eps * scale));
+        for (int k = 0; k < 3; ++k) CHECK_THAT(y[k], WithinAbs(s.z0[k], 4 * kEpsRigid * scale));
         for (const double epsilon : {0.0, 0.5}) {
             Vec z(3);
             body(s.I, s.z0, epsilon).exact(0.0, body(s.I, s.z0, epsilon).initial_state(), 0.0, z);
-            for (int k = 0; k < 3; ++k) CHECK_THAT(z[k], WithinAbs(s.z0[k], 4 * eps * scale));
+            for (int k = 0; k < 3; ++k) CHECK_THAT(z[k], WithinAbs(s.z0[k], 4 * kEpsRigid * scale));
         }
     }
     CHECK(FreeRigidBody({4, 3, 2}, {4, 3, 0}).kind() == FreeRigidBody::Kind::elliptic);
@@ -150,11 +150,11 @@ TEST_CASE("rigid body: tau(t) is the integral of exp(-Gamma)") {
         const double x = 0.25 * epsilon;
         const double period = dampsym::rigid_body_tau(epsilon, M_PI);
         // ∫₀^π e^{−x sin 2s} ds = π I0(x)
-        CHECK_THAT(period, WithinRel(M_PI * gsl_sf_bessel_I0(x), 4 * eps));
+        CHECK_THAT(period, WithinRel(M_PI * gsl_sf_bessel_I0(x), 4 * kEpsRigid));
         for (const double t : {0.2, 1.0, 2.9, 10.0, -1.3}) {
             const double tau = dampsym::rigid_body_tau(epsilon, t);
             CHECK_THAT(dampsym::rigid_body_tau(epsilon, t + M_PI),
-                       WithinAbs(tau + period, 8 * eps * (std::abs(tau) + period)));
+                       WithinAbs(tau + period, 8 * kEpsRigid * (std::abs(tau) + period)));
             if (std::abs(epsilon) > 4.0) continue; // the difference quotient below is too coarse
             // τ' = e^{−Γ}: 4th-order central difference
             const double d = 1e-3;

@@ -832,7 +832,7 @@ def check_case(case):
         metrics = run.get("metrics") or {}
         need_traj = bool(metrics) and any(k in metrics for k in (
             "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
-            "dissipation-drift", "poincare", "precession", "field-drift"))
+            "dissipation-drift", "poincare", "precession", "field-drift", "pde-error"))
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
@@ -1062,6 +1062,25 @@ def check_case(case):
                     mm["field-drift.first"] = [float(tt[0]), float(dd[0])]
                     mm["field-drift.last"] = [float(tt[-1]), float(dd[-1])]
                     mm["field-drift.points"] = float(len(idx))
+            if "pde-error" in metrics and hasattr(prob, "pde_solution"):
+                # B Fig 5.4: max-norm error against the PDE's solution on the output grid, t0 left out
+                gp = int(get_path(run, "observed.grid_points") or 0)
+                stride = max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1
+                idx = np.arange(stride, len(traj), stride)
+                errs, rels = [], []
+                for i in idx:
+                    u = prob.pde_solution(t0, t0 + dt * i)
+                    if u is None:
+                        errs = None
+                        break
+                    e = float(np.max(np.abs(traj[i, :len(u)] - u)))
+                    errs.append(e)
+                    rels.append(e / float(np.max(np.abs(u))))
+                if errs:
+                    mm["pde-error.max_abs"] = max(errs)
+                    mm["pde-error.final_abs"] = errs[-1]
+                    mm["pde-error.max_rel"] = max(rels)
+                    mm["pde-error.points"] = float(len(errs))
             if "precession" in metrics and hasattr(prob, "runge_lenz") and len(traj) >= 2:
                 Zr, _, _ = reference_states(prob, case, t0 + dt * np.arange(len(traj)))
                 pm = metric_precession(prob, traj, Zr)

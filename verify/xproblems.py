@@ -728,6 +728,28 @@ class Burgers(Problem):
     def invariant_scales(self):
         return {"casimir": lambda z: self.dx * np.sum(np.abs(z), axis=-1)}
 
+    def pde_solution(self, t0, t):
+        """B (4.5)'s own solution from the Gaussian at time t (started at t0) on the grid, by
+        characteristics: u = u0(xi) e^{-2 gB tau}, x = xi + u0(xi) s, s = (1 - e^{-2 gB tau})/(2 gB),
+        xi by bisection (vectorised over the grid); None from the shock on (s >= 1/phi(1))."""
+        tau = t - t0
+        s = tau if self.gB == 0 else -math.expm1(-2.0 * self.gB * tau) / (2.0 * self.gB)
+        if not tau >= 0 or s >= math.sqrt(2.0 * math.pi * math.e):
+            return None
+        x = -math.pi + self.dx * np.arange(self.M)
+        umax = 1.0 / math.sqrt(2.0 * math.pi)
+
+        def u0(xi):
+            w = xi - 2.0 * math.pi * np.floor((xi + math.pi) / (2.0 * math.pi))
+            return np.exp(-0.5 * w * w) / math.sqrt(2.0 * math.pi)
+
+        lo, hi = x - umax * s, x.copy()
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            neg = mid + u0(mid) * s - x < 0
+            lo, hi = np.where(neg, mid, lo), np.where(neg, hi, mid)
+        return u0(0.5 * (lo + hi)) * math.exp(-2.0 * self.gB * tau)
+
     def structure(self):
         """B's structure matrix D of (5.9) (D[j, j+1] = 1, D[j, j-1] = -1; this problem only, not
         the box or upwind semi-discretisations): the E_n law is Psi D Psi^T = e^{-2 dGamma} D."""

@@ -15,6 +15,7 @@
 #include "diagnostics/local_error_diagnostic.hpp"
 #include "diagnostics/momentum_diagnostic.hpp"
 #include "diagnostics/order_diagnostic.hpp"
+#include "diagnostics/pde_error_diagnostic.hpp"
 #include "diagnostics/poincare_diagnostic.hpp"
 #include "diagnostics/precession_diagnostic.hpp"
 #include "diagnostics/stability_diagnostic.hpp"
@@ -31,8 +32,8 @@ using DiagnosticList =
              DissipationDriftDiagnostic, StabilityDiagnostic, StabilitySweepDiagnostic,
              TraceTaylorDiagnostic, CostDiagnostic, MomentumDiagnostic, EnergyBalanceDiagnostic,
              PoincareDiagnostic, TemperatureDiagnostic, ConformalSymplecticDiagnostic,
-             LocalErrorDiagnostic, LocalOrderDiagnostic, PrecessionDiagnostic,
-             FieldDriftDiagnostic>;
+             LocalErrorDiagnostic, LocalOrderDiagnostic, PrecessionDiagnostic, FieldDriftDiagnostic,
+             PdeErrorDiagnostic>;
 
 // The names of the diagnostics problem type P supports (each diagnostic's `supports<P>` concept),
 // for ProblemInfo (harness/registry.cpp).

@@ -38,6 +38,8 @@ void validate_figures_key(const nlohmann::json& j, const std::string& file, cons
             fail(file, key, "a stability figure needs the stability-sweep diagnostic");
         if (k == "poincare" && !c.wants("poincare"))
             fail(file, key, "a poincare figure needs the poincare diagnostic");
+        if (k == "snapshots" && !c.wants("pde-error"))
+            fail(file, key, "a snapshots figure needs the pde-error diagnostic");
         if (k == "orbit" && !p.figure_orbit)
             fail(file, key, "problem '" + c.problem_id + "' has no orbit figure");
     }

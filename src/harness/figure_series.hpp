@@ -18,6 +18,7 @@
 #include "diagnostics/conformal_symplectic.hpp"
 #include "diagnostics/field_drift_diagnostic.hpp"
 #include "diagnostics/maxima.hpp"
+#include "diagnostics/pde_error_diagnostic.hpp"
 #include "diagnostics/recorder.hpp"
 #include "diagnostics/series.hpp"
 #include "diagnostics/stability.hpp"
@@ -97,6 +98,27 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
                     temp.push(grid_t[static_cast<std::size_t>(i)],
                               problem.temperature(grid.col(i)));
                 s["temperature"] = temp.to_json();
+            }
+        }
+        if constexpr (HasPdeSolution<P>) {
+            // B Fig 5.4: the field and the PDE's solution at the output times (at most 9; full
+            // precision: figures.data recomputes pde-error.max_abs from them)
+            if (c.wants("pde-error")) {
+                StrideSampler pick(cols, 9);
+                json ts = json::array(), us = json::array(), ps = json::array(), xs = json::array();
+                Vec v;
+                for (Eigen::Index i = 0; i < cols; ++i) {
+                    if (!pick.wants(i)) continue;
+                    const double t = grid_t[static_cast<std::size_t>(i)];
+                    if (!problem.pde_solution(c.t0, t, v) || v.size() > grid.rows()) break;
+                    ts.push_back(t);
+                    us.push_back(
+                        std::vector<double>(grid.col(i).data(), grid.col(i).data() + v.size()));
+                    ps.push_back(std::vector<double>(v.data(), v.data() + v.size()));
+                }
+                if constexpr (requires { problem.grid.x(0); })
+                    for (int n = 0; n < problem.dim(); ++n) xs.push_back(problem.grid.x(n));
+                s["snapshots"] = {{"t", ts}, {"u", us}, {"pde", ps}, {"x", xs}};
             }
         }
         if constexpr (HasField<P>) {

@@ -265,6 +265,11 @@ private:
                 m["field-drift"] =
                     field_drift_metrics(facts_, rec.grid(), problem_.field_size(),
                                         [this](double t) { return problem_.Gamma(t); });
+        if constexpr (HasPdeSolution<P>) // B Fig 5.4 (pde_error_diagnostic.hpp)
+            if (produces("pde-error", ok))
+                m["pde-error"] = pde_error_metrics(facts_, rec.grid(), [this](double t, Vec& u) {
+                    return problem_.pde_solution(c_.t0, t, u);
+                });
         if constexpr (HasTemperature<P>)
             if (produces("temperature", ok))
                 m["temperature"] = temperature_metrics(

@@ -30,6 +30,44 @@ Vec burgers_gaussian(const PeriodicGrid& g) {
     return u;
 }
 
+namespace {
+// s(τ) = (1 − e^{−2γτ})/(2γ), in the expm1 form (τ when γ = 0)
+double characteristic_s(double gamma, double tau) {
+    return gamma == 0.0 ? tau : -std::expm1(-2.0 * gamma * tau) / (2.0 * gamma);
+}
+} // namespace
+
+double burgers_gaussian_shock_time(double gamma) {
+    const double sb = std::sqrt(2.0 * std::numbers::pi * std::exp(1.0)); // 1/φ(1)
+    if (gamma == 0.0) return sb;
+    if (2.0 * gamma * sb >= 1.0) return std::numeric_limits<double>::infinity();
+    return -std::log1p(-2.0 * gamma * sb) / (2.0 * gamma); // s(τ) = sb
+}
+
+bool burgers_characteristic_solution(const PeriodicGrid& g, double gamma, double tau, Vec& out) {
+    if (!(tau >= 0.0) || tau >= burgers_gaussian_shock_time(gamma)) return false;
+    const double s = characteristic_s(gamma, tau);
+    const double period = 2.0 * g.L;
+    auto u0 = [&](double xi) { // the periodic extension of the density from [−L, L)
+        const double w = xi - period * std::floor((xi + g.L) / period);
+        return std::exp(-0.5 * w * w) / std::sqrt(2.0 * std::numbers::pi);
+    };
+    const double umax = 1.0 / std::sqrt(2.0 * std::numbers::pi); // u0 <= φ(0)
+    out.resize(g.M);
+    for (int n = 0; n < g.M; ++n) {
+        const double x = g.x(n);
+        // F(ξ) = ξ + u0(ξ) s − x: F(x − umax s) <= 0 <= F(x), increasing before the shock
+        double lo = x - umax * s, hi = x;
+        for (int it = 0; it < 200; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            if (mid <= lo || mid >= hi) break;
+            (mid + u0(mid) * s - x < 0.0 ? lo : hi) = mid;
+        }
+        out[n] = u0(0.5 * (lo + hi)) * std::exp(-2.0 * gamma * tau);
+    }
+    return true;
+}
+
 double solve_cyclic_bidiagonal(const Vec& a, const Vec& b, const Vec& r, Vec& x) {
     const int M = static_cast<int>(r.size());
     // Direction: forward substitution divides by b, backward by a; take the one whose transfer

@@ -68,4 +68,15 @@ double solve_cyclic_bidiagonal(const Vec& a, const Vec& b, const Vec& r, Vec& x)
 // Initial condition of B §5.2.1: the standard normal density.
 Vec burgers_gaussian(const PeriodicGrid& g);
 
+// B (4.5)'s own solution from that initial condition (its periodic extension), τ after the start,
+// on the grid points: by characteristics, u = u0(ξ) e^{−2γτ} at x = ξ + u0(ξ) s(τ) with
+// s(τ) = (1 − e^{−2γτ})/(2γ) (τ when γ = 0), ξ found by bisection (x − ξ is increasing in ξ
+// until characteristics cross). false, out untouched, from the shock time on
+// (burgers_gaussian_shock_time). Diagnostic pde-error, B Fig 5.4; docs/pde.md.
+bool burgers_characteristic_solution(const PeriodicGrid& g, double gamma, double tau, Vec& out);
+// The first τ at which characteristics of that solution cross: s(τ) = 1/max(−u0') = 1/φ(1)
+// (u0 = φ, the normal density, steepest descent at x = 1); +inf when 2γ/φ(1) >= 1 (the damping
+// stops the steepening: no shock ever).
+double burgers_gaussian_shock_time(double gamma);
+
 } // namespace dampsym::pde

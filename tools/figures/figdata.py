@@ -31,6 +31,9 @@ STYLES = {
     "gauss2": ("#1b9e77", "X", "--"), "gauss3": ("#40004b", ">", "--"),
     "symplectic-euler": ("#4b0082", "o", "-."), "symplectic-euler-adjoint": ("#ff7f0e", "s", "-."),
     "stormer-verlet": ("#ff00ff", "^", "-."), "implicit-midpoint": ("#2ca02c", "D", "-."),
+    # B's Burgers schemes (5.10), (5.12), (4.18)
+    "burgers-csv": ("#b8860b", "s", "-"), "burgers-box": ("#008080", "D", "-"),
+    "burgers-nsfd": ("#8b0000", "v", "--"),
 }
 PALETTE = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2",
            "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939", "#8c6d31", "#843c39",
@@ -121,7 +124,7 @@ def decimate_columns(t, y, lo, hi, columns):
     return [t[i] for i in idx], [y[i] for i in idx]
 
 
-FIGURE_KINDS = ("convergence", "series", "orbit", "stability", "poincare")
+FIGURE_KINDS = ("convergence", "series", "orbit", "stability", "poincare", "snapshots")
 
 
 def case_figure_kinds(case):

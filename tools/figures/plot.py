@@ -541,6 +541,43 @@ def fig_poincare(case, ser):
     return [(save(fig, case, "poincare"), "Poincaré sections")]
 
 
+def fig_snapshots(case, ser):
+    """B Fig 5.4: the field u(x) of each run and the PDE's own solution (grey) at the output
+    times, one panel per time (series "snapshots" of the pde-error diagnostic)."""
+    runs = [r for r in ser["runs"] if r["series"].get("snapshots", {}).get("t")]
+    if not runs:
+        return []
+    first = runs[0]["series"]["snapshots"]
+    times, n = first["t"], len(first["t"])
+    cols = min(5, n)
+    rows = (n + cols - 1) // cols
+    fig, axs = subplots(rows, cols, (3.0 * cols + 0.6, 2.8 * rows + 0.9), sharex=True,
+                        sharey=True)
+    for ax in axs.flat[n:]:
+        ax.axis("off")
+    for k, ax in enumerate(axs.flat[:n]):
+        x = first["x"] or list(range(len(first["pde"][k])))
+        ax.plot(x, first["pde"][k], "-", color="0.6", lw=2.6, alpha=0.7)
+        for r in runs:
+            sn = r["series"]["snapshots"]
+            if k < len(sn["u"]):
+                c, _, ls = style(r["method"])
+                ax.plot(x, sn["u"][k], ls if ls != ":" else "--", color=c, lw=1.0)
+        ax.set_title(f"t = {times[k]:g}")
+        ax.set_xlabel("x")
+        if k % cols == 0:
+            ax.set_ylabel("u(x, t)")
+    handles = [Line2D([], [], color="0.6", lw=2.6, alpha=0.7, label="solution of the PDE")]
+    handles += method_handles([r["method"] for r in runs], with_marker=False)
+    fig.legend(handles=handles, loc="upper center", ncol=min(6, len(handles)),
+               bbox_to_anchor=(0.5, 1 - 0.45 / (2.8 * rows + 0.9)), frameon=False, fontsize=8)
+    fig.suptitle(title_of(case, "snapshots"))
+    height = 2.8 * rows + 0.9
+    layout(fig, bottom=0.5 / height, top=1 - 0.85 / height, left=0.55 / fig.get_figwidth(),
+           hspace=0.35, wspace=0.12)
+    return [(save(fig, case, "snapshots"), "snapshots")]
+
+
 def plan(case, ser):
     """The kinds of figure to draw for a case: those its data allows, restricted to its
     "figures" key when it has one (figdata.case_figure_kinds)."""
@@ -557,6 +594,8 @@ def plan(case, ser):
         kinds.append("orbit")
     if ser and any("poincare" in r["series"] for r in ser["runs"]):
         kinds.append("poincare")
+    if ser and any(r["series"].get("snapshots", {}).get("t") for r in ser["runs"]):
+        kinds.append("snapshots")
     if any("stability-sweep" in v for v in mm.values()):
         kinds.append("stability")
     if wanted is None:
@@ -567,7 +606,8 @@ def plan(case, ser):
 DRAW = {"convergence": lambda c, s, i: fig_convergence(c, s, fd.case_timing(REPORT, i)),
         "series": lambda c, s, i: fig_series(c, s), "orbit": lambda c, s, i: fig_orbit(c, s),
         "stability": lambda c, s, i: fig_stability(c, s),
-        "poincare": lambda c, s, i: fig_poincare(c, s)}
+        "poincare": lambda c, s, i: fig_poincare(c, s),
+        "snapshots": lambda c, s, i: fig_snapshots(c, s)}
 
 
 def case_methods(case):
@@ -672,8 +712,8 @@ def main():
             results = [r for rs in pool.imap_unordered(draw_case, cases, chunksize=1) for r in rs]
     else:
         results = [r for i in cases for r in draw_case(i)]
-    order = {k: n for n, k in enumerate(["convergence", "series", "orbit", "poincare",
-                                         "stability"])}
+    order = {k: n for n, k in enumerate(["convergence", "series", "snapshots", "orbit",
+                                         "poincare", "stability"])}
     manifest = {"formats": FORMATS, "cases": {}}
     failed = 0
     for cid, kind, out, error in sorted(results, key=lambda r: (r[0], order[r[1]])):

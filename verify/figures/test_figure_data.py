@@ -45,6 +45,13 @@ def get(d, dotted):
 def check_run(cid, r, s):
     m = r["metrics"]
     tag = f"{cid} {r['method']} dt={r['dt']}"
+    sn = s.get("snapshots")
+    pe = get(m, "pde-error")
+    if sn and sn.get("t") and pe and pe.get("max_abs") is not None and \
+            len(sn["t"]) == pe["points"] + 1:  # every output time drawn: the metric from them
+        errs = [max(abs(a - b) for a, b in zip(u, v)) for u, v in zip(sn["u"][1:], sn["pde"][1:])]
+        expect(f"{tag} snapshots: max |u - u_pde|", max(errs), pe["max_abs"])
+        expect(f"{tag} snapshots: final |u - u_pde|", errs[-1], pe["final_abs"])
     for key, val in s.items():
         if not isinstance(val, dict) or "y" not in val or not val["y"]:
             continue

@@ -102,6 +102,11 @@ struct BurgersSemi {
 
     int dim() const { return grid.M; }
     Vec initial_state() const { return pde::burgers_gaussian(grid); }
+    // B (4.5)'s own solution on this grid at t (started at t0), before the shock (diagnostic
+    // pde-error, B Fig 5.4): the error of a scheme against it holds its space error too.
+    bool pde_solution(double t0, double t, Vec& out) const {
+        return pde::burgers_characteristic_solution(grid, gamma, t - t0, out);
+    }
     double gamma_at(double) const { return 2.0 * gamma; }
     // B's structure matrix D of (5.9) (the central space only): z' = D∇H − 2γz with
     // D_{j,j+1} = 1, D_{j,j−1} = −1 and ∇H_j = −u_j²/(4Δx), so that (D∇H)_j is the central
