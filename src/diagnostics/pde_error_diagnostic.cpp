@@ -25,11 +25,13 @@ json pde_error_metrics(const CaseFacts& c, const Mat& g,
     Vec u;
     for (Eigen::Index i = 1; i < g.cols(); ++i) { // t0 is exact: left out, as elsewhere
         const double t = c.grid_time(i);
-        if (!solution(t, u) || u.size() > g.rows()) {
+        const bool has = solution(t, u);
+        if (!has || u.size() > g.rows()) {
             json out = {{"points", points}};
             const std::string why =
-                "the PDE has no solution to compare with at t = " + std::to_string(t) +
-                " (a shock: characteristics cross)";
+                has ? "the PDE's solution has more components than the state"
+                    : "the PDE has no solution to compare with at t = " + std::to_string(t) +
+                          " (a shock: characteristics cross)";
             for (const char* k : {"max_abs", "final_abs", "max_rel"}) set_undefined(out, k, why);
             return out;
         }

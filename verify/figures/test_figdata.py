@@ -70,28 +70,6 @@ class PixelColumns(unittest.TestCase):
         self.assertEqual(cols, kept)
         self.assertIn(9.0, oy)
 
-    def test_loaded_methods_get_distinct_colours_in_a_case(self):
-        # methods loaded from files or plugins are not in STYLES: their hashed colour may be a
-        # built-in's or another loaded method's; within one case they are moved apart
-        loaded = ["rk4-file", "stormer-verlet-file", "plugin-csv1", "my-method", "other", "x1",
-                  "x2", "x3"]
-        # a hashed colour that collides: some loaded method hashes onto a fixed method's colour
-        fixed = {c for c, _, _ in fd.STYLES.values()}
-        self.assertTrue(any(fd.method_style(m)[0] in fixed for m in loaded + ["y%d" % i for i in
-                                                                                 range(20)]))
-        for methods in (["csv1", "rk4", "cimp"] + loaded, loaded, ["rk4-file", "rk4"]):
-            st = fd.case_styles(methods)
-            self.assertEqual(set(st), set(methods))
-            cols = [st[m][0] for m in methods]
-            for i, a in enumerate(cols):
-                for b in cols[i + 1:]:
-                    self.assertGreaterEqual(fd.lab_distance(a, b), 25, (methods, a, b))
-            for m in methods:  # the built-ins keep their fixed style
-                if m in fd.STYLES:
-                    self.assertEqual(st[m], fd.STYLES[m])
-        # the same case gives the same styles
-        self.assertEqual(fd.case_styles(["csv1", "my-method"]), fd.case_styles(["csv1", "my-method"]))
-
     def test_negative_control(self):
         # plain subsampling to the same size loses the spike: the check above can fail
         y = [0.0] * 20001
