@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "diagnostics/attractor_diagnostic.hpp"
 #include "diagnostics/conformal_symplectic_diagnostic.hpp"
 #include "diagnostics/cost_diagnostic.hpp"
 #include "diagnostics/dissipation_drift_diagnostic.hpp"
@@ -33,7 +34,7 @@ using DiagnosticList =
              TraceTaylorDiagnostic, CostDiagnostic, MomentumDiagnostic, EnergyBalanceDiagnostic,
              PoincareDiagnostic, TemperatureDiagnostic, ConformalSymplecticDiagnostic,
              LocalErrorDiagnostic, LocalOrderDiagnostic, PrecessionDiagnostic, FieldDriftDiagnostic,
-             PdeErrorDiagnostic>;
+             PdeErrorDiagnostic, AttractorDiagnostic>;
 
 // The names of the diagnostics problem type P supports (each diagnostic's `supports<P>` concept),
 // for ProblemInfo (harness/registry.cpp).

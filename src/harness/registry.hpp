@@ -18,6 +18,7 @@
 #include "methods/general_linear.hpp"
 #include "methods/ifrk.hpp"
 #include "methods/implicit_rk.hpp"
+#include "methods/nls_b.hpp" // B's NLS schemes (4.15), (5.27), (5.28) by FFT, issue 15
 #include "methods/partitioned_exponential_rk.hpp"
 #include "methods/partitioned_rk.hpp"
 #include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md), issue 18
@@ -49,7 +50,7 @@ namespace dampsym {
 using ProblemList =
     TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra, NBody, Kepler,
              OuterSolarSystem, Argon, KleinGordon, Burgers, BurgersBox, BurgersUpwind, Schrodinger,
-             NLS>; // PDEs: issue 15 (B (4.3), (4.5), (4.7), docs/pde.md)
+             NLS, NLSDriven>; // PDEs: issue 15 (B (4.3), (4.5), (4.7), docs/pde.md)
 
 // Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
 template <class... Ps>
@@ -65,6 +66,7 @@ struct KernelList {};
 using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
                            GeneralLinear, ExponentialRK, PartitionedExponentialRK, BurgersCsv,
                            BurgersBoxScheme, BurgersNsfd, // B (5.10), (5.12), (4.18)
+                           NlsIf, NlsEtd, NlsImp,         // B (4.15), (5.27), (5.28)
                            SymplecticEulerPartitioned,    // HLW (1.8) on (1.7)
                            PluginPlain, PluginConformal, PluginSeparable>; // plugins
 

@@ -270,6 +270,11 @@ private:
                 m["pde-error"] = pde_error_metrics(facts_, rec.grid(), [this](double t, Vec& u) {
                     return problem_.pde_solution(c_.t0, t, u);
                 });
+        if constexpr (HasProbe<P>) // B Fig 5.10 (attractor_diagnostic.hpp)
+            if (produces("attractor", ok))
+                m["attractor"] =
+                    attractor_metrics(facts_, rec.grid(), P::probe_name,
+                                      [this](const Vec& v) { return problem_.probe(v); });
         if constexpr (HasTemperature<P>)
             if (produces("temperature", ok))
                 m["temperature"] = temperature_metrics(

@@ -38,8 +38,8 @@ constexpr unsigned csv_claims =
     claim_conformal_symplectic | claim_angular_momentum; // + linear momentum for csv1 (below)
 
 // Hand-written schemes (src/methods/cimp.hpp, csv1.hpp, csv2.hpp; B's Burgers schemes, each on
-// its own semi-discretisation, burgers_b.hpp; HLW (1.8) on (1.7),
-// symplectic_euler_partitioned.hpp).
+// its own semi-discretisation, burgers_b.hpp; B's NLS schemes by FFT, nls_b.hpp; HLW (1.8) on
+// (1.7), symplectic_euler_partitioned.hpp).
 std::vector<MethodInfo> hand_written_rows() {
     using enum Form;
     return {
@@ -57,6 +57,9 @@ std::vector<MethodInfo> hand_written_rows() {
          HandWrittenScheme{Scheme::burgers_box}},
         {"burgers-nsfd", 1, false, conformal, claim_none, "B(4.18)",
          HandWrittenScheme{Scheme::burgers_nsfd}},
+        {"nls-if", 2, true, conformal, claim_none, "B(4.15)", HandWrittenScheme{Scheme::nls_if}},
+        {"nls-etd", 2, true, conformal, claim_none, "B(5.27)", HandWrittenScheme{Scheme::nls_etd}},
+        {"nls-imp", 2, true, plain, claim_none, "B(5.28)", HandWrittenScheme{Scheme::nls_imp}},
         {"symplectic-euler-partitioned", 1, true, plain, claim_none, "HLW(1.8) on (1.7)",
          HandWrittenScheme{Scheme::symplectic_euler_partitioned}},
     };

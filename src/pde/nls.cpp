@@ -58,6 +58,7 @@ bool NLSStepper::step(double t, CVec& psi) {
         prev = diff;
     }
     max_its_ = std::max(max_its_, it);
+    last_its_ = it;
     if (!converged) {
         why_ = "NLS step: fixed-point iteration did not converge in 200 iterations";
         return false;

@@ -43,6 +43,8 @@ public:
     bool step(double t, CVec& psi);
     const std::string& why() const { return why_; }
     int max_iterations() const { return max_its_; }
+    int last_iterations() const { return last_its_; } // of the last step
+    const PeriodicGrid& grid() const { return g_; }
 
 private:
     PeriodicGrid g_;
@@ -52,7 +54,7 @@ private:
     SpectralDerivative fft_;
     std::vector<double> buf_;
     std::string why_;
-    int max_its_ = 0;
+    int max_its_ = 0, last_its_ = 0;
 };
 
 struct NLSInvariants {

@@ -25,10 +25,21 @@
 // (Fig 5.9, as printed). Exact solution: linear Schrödinger, mode by mode from any (t0, z0),
 // ψ̂_j(t) = ψ̂_j(t0) e^{(i(λ − κ_j²) − 2γ)(t − t0)}, κ_j² = 4 sin²(θ_j/2)/Δx²; the cubic NLS has
 // none from an arbitrary state (certified reference). Library schemes: src/pde/nls.hpp.
+//
+// Damped driven NLS (problem "nls-driven", B §5.3.2.3, Fig 5.10): the cubic NLS with the forcing
+// F(t) = Γ e^{i(ω₀t + α)} of (4.7), iψ_t = −ψ_xx − V'ψ − 2iγψ + F, so ψ_t gains −iF:
+//   q' += Γ sin(ω₀t + α),   p' += −Γ cos(ω₀t + α).
+// A forcing constant in z is a Hamiltonian vector field (of the linear Hamiltonian −zᵀJ⁻¹f(t)),
+// so the step maps stay conformal symplectic, but no invariant follows a law (none is listed).
+// Initial state "sech": A sech(Ax) (B: ψ(x, 0) = 3 sech 3x, A = 3). probe(z) = |ψ| at the grid
+// point nearest x = 0, the amplitude B's Fig 5.10 plots (the `attractor` diagnostic).
 #pragma once
 
 #include "core/problem.hpp"
+#include "pde/nls.hpp"
 #include "pde/periodic_grid.hpp"
+
+#include <algorithm>
 
 #include <array>
 #include <cmath>
@@ -49,30 +60,39 @@ inline constexpr std::array<std::string_view, 1> cubic_names{"mass"};
 inline constexpr std::array<std::string_view, 1> cubic_scales{"|I| (definite)"};
 } // namespace nls_detail
 
-template <bool Cubic>
+template <bool Cubic, bool Driven = false>
 struct SchrodingerProblem {
-    static constexpr std::string_view id = Cubic ? "nls" : "schrodinger";
+    static_assert(Cubic || !Driven, "the driven problem is the cubic NLS");
+    static constexpr std::string_view id = Driven ? "nls-driven" : Cubic ? "nls" : "schrodinger";
     static constexpr std::string_view title =
-        Cubic ? "damped cubic NLS i psi_t + psi_xx + lambda |psi|^2 psi + 2i gamma psi = 0, "
-                "periodic, semi-discrete (B 4.7, 5.3)"
-              : "damped linear Schroedinger i psi_t + psi_xx + lambda psi + 2i gamma psi = 0, "
-                "periodic, semi-discrete (B 4.7, 5.19)";
+        Driven  ? "damped driven cubic NLS i psi_t + psi_xx + lambda |psi|^2 psi + 2i gamma psi = "
+                  "Gamma e^{i(omega0 t + alpha)}, periodic, semi-discrete (B 4.7, 5.3.2.3)"
+        : Cubic ? "damped cubic NLS i psi_t + psi_xx + lambda |psi|^2 psi + 2i gamma psi = 0, "
+                  "periodic, semi-discrete (B 4.7, 5.3)"
+                : "damped linear Schroedinger i psi_t + psi_xx + lambda psi + 2i gamma psi = 0, "
+                  "periodic, semi-discrete (B 4.7, 5.19)";
     static constexpr bool has_separable = false;
     static constexpr bool has_conformal = true;
     static constexpr bool is_canonical = true;
     static constexpr bool constant_gamma = true;
     static constexpr bool is_linear = false; // not the oscillator's stability diagnostics
     static constexpr bool has_exact = !Cubic;
-    static constexpr bool autonomous = true;
+    static constexpr bool autonomous = !Driven;
     static constexpr bool has_energy = false;
+    // B's own schemes IF (4.15), ETD (5.27), IMP (5.28) step it (src/methods/nls_b.hpp).
+    static constexpr bool nls_b_form = true;
     static constexpr auto invariant_names = [] {
-        if constexpr (Cubic)
+        if constexpr (Driven)
+            return std::array<std::string_view, 0>{};
+        else if constexpr (Cubic)
             return nls_detail::cubic_names;
         else
             return nls_detail::linear_names;
     }();
     static constexpr auto invariant_scale_defs = [] {
-        if constexpr (Cubic)
+        if constexpr (Driven)
+            return std::array<std::string_view, 0>{};
+        else if constexpr (Cubic)
             return nls_detail::cubic_scales;
         else
             return nls_detail::linear_scales;
@@ -80,20 +100,31 @@ struct SchrodingerProblem {
 
     pde::PeriodicGrid grid{8, std::numbers::pi};
     double gamma = 0.05, lambda = 2.0, A = 1.0;
-    int k = 1, initial = 0; // 0 plane wave, 1 collision profile
+    int k = 1, initial = 0; // 0 plane wave, 1 collision profile, 2 A sech(Ax)
+    double drive = 0.0, omega0 = 1.0, alpha = 0.0; // F(t) = Γ e^{i(ω₀t + α)} (nls-driven)
 
     static std::vector<ParamSpec> param_specs() {
         // Default M = 8: cases set their own M; a small default keeps the highest frequency
         // 4/Δx² + λ of the semi-discrete flow moderate (tests/test_exact_solutions.cpp
         // differentiates the exact solution of random states numerically at step 2⁻⁸).
-        return {integer_param("M", 8, 2, 4096, "grid points on [-L, L) (dx = 2L / M)"),
-                {"L", std::numbers::pi, Range::closed(0.1, 1000.0), "half length L of [-L, L)"},
-                {"gamma", 0.05, Range::closed(0.0, 1.0), "damping γ of B (4.7): + 2iγψ"},
-                {"lambda", 2.0, Range::symmetric(100.0), "λ of V (B: 2)"},
-                choice_param("initial", 0, {"plane-wave", "collision"},
-                             "A e^{ikx}, or B Fig 5.9's profile"),
-                {"A", 1.0, Range::closed(0.0, 10.0), "plane-wave amplitude A"},
-                integer_param("k", 1, -1024, 1024, "plane-wave wavenumber (in units of pi/L)")};
+        std::vector<ParamSpec> s{
+            integer_param("M", Driven ? 64 : 8, 2, 4096, "grid points on [-L, L) (dx = 2L / M)"),
+            {"L", std::numbers::pi, Range::closed(0.1, 1000.0), "half length L of [-L, L)"},
+            {"gamma", Driven ? 0.2 : 0.05, Range::closed(0.0, 1.0), "damping γ of B (4.7): + 2iγψ"},
+            {"lambda", 2.0, Range::symmetric(100.0), "λ of V (B: 2)"},
+            choice_param("initial", Driven ? 2 : 0, {"plane-wave", "collision", "sech"},
+                         "A e^{ikx}, B Fig 5.9's profile, or A sech(Ax) (B Fig 5.10: A = 3)"),
+            {"A", Driven ? 3.0 : 1.0, Range::closed(0.0, 10.0),
+             "amplitude A of the plane wave or of A sech(Ax)"},
+            integer_param("k", 1, -1024, 1024, "plane-wave wavenumber (in units of pi/L)")};
+        if constexpr (Driven) {
+            s.push_back({"Gamma", 0.45, Range::closed(0.0, 100.0),
+                         "forcing amplitude Γ of F(t) = Γ e^{i(ω₀t + α)} (B §5.3.2.3)"});
+            s.push_back(
+                {"omega0", 1.0, Range::closed(-100.0, 100.0), "forcing frequency ω₀ (B: 1)"});
+            s.push_back({"alpha", 0.0, Range::symmetric(100.0), "forcing phase α (B: 0)"});
+        }
+        return s;
     }
     static SchrodingerProblem from_params(const ParamMap& m) {
         SchrodingerProblem p;
@@ -106,7 +137,20 @@ struct SchrodingerProblem {
         p.initial = static_cast<int>(m.at("initial"));
         p.A = m.at("A");
         p.k = static_cast<int>(m.at("k"));
+        if constexpr (Driven) {
+            p.drive = m.at("Gamma");
+            p.omega0 = m.at("omega0");
+            p.alpha = m.at("alpha");
+        }
         return p;
+    }
+    pde::NLSParams nls_params() const {
+        return {.gamma = gamma,
+                .lambda = lambda,
+                .cubic = Cubic,
+                .drive = drive,
+                .omega0 = omega0,
+                .alpha = alpha};
     }
 
     int dim() const { return 2 * grid.M; }
@@ -123,6 +167,8 @@ struct SchrodingerProblem {
             std::complex<double> psi;
             if (initial == 0) {
                 psi = A * std::exp(std::complex<double>(0.0, kk * x));
+            } else if (initial == 2) {
+                psi = A / std::cosh(A * x);
             } else {
                 psi = std::exp(std::complex<double>(0.0, 5.0 * x)) / std::cosh(x + 1.0) +
                       1.5 * std::exp(std::complex<double>(0.0, -5.0 * x)) /
@@ -134,8 +180,9 @@ struct SchrodingerProblem {
         return z;
     }
 
-    // N(z): q' = −(δ²p + V'p), p' = δ²q + V'q, V' = λ (linear) or λ(q² + p²) (cubic).
-    void N(double, const Vec& z, Vec& out) const {
+    // N(z): q' = −(δ²p + V'p), p' = δ²q + V'q, V' = λ (linear) or λ(q² + p²) (cubic);
+    // driven: + (Γ sin θ, −Γ cos θ), θ = ω₀t + α.
+    void N(double t, const Vec& z, Vec& out) const {
         const int M = grid.M;
         const double s = 1.0 / (grid.dx * grid.dx);
         for (int n = 0; n < M; ++n) {
@@ -147,6 +194,22 @@ struct SchrodingerProblem {
             out[n] = -(d2p + vp * p);
             out[M + n] = d2q + vp * q;
         }
+        if constexpr (Driven) {
+            const double th = omega0 * t + alpha;
+            const double fq = drive * std::sin(th), fp = -drive * std::cos(th);
+            for (int n = 0; n < M; ++n) {
+                out[n] += fq;
+                out[M + n] += fp;
+            }
+        } else {
+            (void)t;
+        }
+    }
+    // |ψ| at the grid point nearest x = 0 (x_n = −L + nΔx): the `attractor` diagnostic's probe.
+    static constexpr std::string_view probe_name = "|psi(0, t)|";
+    double probe(const Vec& z) const {
+        const int n = std::clamp(static_cast<int>(std::lround(grid.L / grid.dx)), 0, grid.M - 1);
+        return std::hypot(z[n], z[grid.M + n]);
     }
     void N_jacobian(double, const Vec& z, Mat& J) const {
         const int M = grid.M;
@@ -194,6 +257,11 @@ struct SchrodingerProblem {
         return d;
     }
     void invariants(double, const Vec& z, double* out) const {
+        if constexpr (Driven) {
+            (void)z;
+            (void)out;
+            return;
+        }
         const int M = grid.M;
         double mass = 0.0;
         for (int n = 0; n < 2 * M; ++n) mass += z[n] * z[n];
@@ -216,6 +284,11 @@ struct SchrodingerProblem {
         }
     }
     void invariant_scales(double, const Vec& z, double* out) const {
+        if constexpr (Driven) {
+            (void)z;
+            (void)out;
+            return;
+        }
         const int M = grid.M;
         double mass = 0.0;
         for (int n = 0; n < 2 * M; ++n) mass += z[n] * z[n];
@@ -269,5 +342,6 @@ struct SchrodingerProblem {
 
 using Schrodinger = SchrodingerProblem<false>;
 using NLS = SchrodingerProblem<true>;
+using NLSDriven = SchrodingerProblem<true, true>;
 
 } // namespace dampsym

@@ -1,0 +1,38 @@
+// Diagnostic "attractor": statistics of a scalar probe s(t) of the state over the second half of
+// the run (t ≥ t0 + (t_end − t0)/2, the first half being left to the transient), on the output
+// grid, for comparing the attractors that different methods settle on without comparing their
+// trajectories (B Fig 5.10: "all the numerical methods are in agreement as they settle down to
+// the same attractor"; on a chaotic attractor trajectories separate, distributions do not).
+// The problem declares the probe: probe(z) and probe_name (nls-driven: |ψ(0, t)|, B's amplitude).
+// Metrics (docs/conventions.md §5 "attractor"): mean, std, min, max, q10, q50, q90 of s; mean_se,
+// the batch-means standard error of the mean (10 consecutive batches) and mean_rse = mean_se /
+// |mean|, which size the tolerance of a comparison between methods; the upward crossings of the
+// mean level (linear interpolation), their mean interval `period` and its relative spread
+// `period_spread` = (max − min) / mean of the intervals: ~0 on a periodic attractor (the output
+// grid's interpolation error), O(1) on a chaotic one.
+#pragma once
+
+#include "diagnostics/diagnostic.hpp"
+#include "diagnostics/metric_json.hpp"
+
+#include <functional>
+#include <string_view>
+
+namespace dampsym {
+
+template <class P>
+concept HasProbe = requires(const P& p, const Vec& z) {
+    { p.probe(z) } -> std::convertible_to<double>;
+    { P::probe_name } -> std::convertible_to<std::string_view>;
+};
+
+struct AttractorDiagnostic {
+    static DiagnosticInfo info();
+    template <class P>
+    static constexpr bool supports = HasProbe<P>;
+};
+
+json attractor_metrics(const CaseFacts& c, const Mat& grid, std::string_view probe_name,
+                       const std::function<double(const Vec&)>& probe);
+
+} // namespace dampsym
