@@ -31,6 +31,10 @@ Tolerances (each justified in one line):
   schrodinger     exact reference: the semi-discrete solution mode by mode (xproblems.Schrodinger),
                   estimate 8 eps (log2 M + 4 + max|lambda - kd^2| t) |z|: two FFTs plus each mode's
                   phase error.  burgers, nls: the DOP853 reference (certified as for every problem).
+  nls-if/-etd/-imp B's schemes (4.15), (5.27), (5.28) as verify/xmethods.nls_b_step writes them
+                  (fixed point, FFT), compiled with our own radix-2 FFT (verify/xjit.py) for M a
+                  power of two: final states as implicit methods; attractor statistics as other
+                  metrics (chaotic runs: the ensemble band).
   residuals       (invariant laws *_step_res, E_n, momentum *_law_res/*_table_res, all on the
                   scales of docs/conventions.md "Law residuals and their scales", recomputed here
                   from the docs' definitions): factor 2, or both below 1e-13 (100 eps over a few
@@ -403,6 +407,47 @@ def poincare_metrics(prob, traj, dt, Zref):
     return dict(_pairs=D, sections=n, transient_skipped=skip, pointwise_final=float(pw[-1]),
                 pointwise_max=float(pw.max()), set_mean=float(D.min(axis=1).mean()),
                 set_hausdorff=float(max(D.min(axis=1).max(), D.min(axis=0).max())))
+
+
+def metric_attractor(prob, traj, t0, dt, nsteps, stride):
+    """docs/conventions.md section 5 'attractor': statistics of the probe over the output grid
+    points with t >= t0 + (t_end - t0)/2 (t0 itself never), written from that definition."""
+    t_end = t0 + nsteps * dt
+    frm = t0 + 0.5 * (t_end - t0)
+    idx = np.arange(stride, len(traj), stride)
+    tt = t0 + dt * idx
+    keep = tt >= frm
+    tt, s = tt[keep], np.array([prob.probe(traj[i]) for i in idx[keep]])
+    out = {"from": frm, "points": float(len(s))}
+    names = ("mean", "std", "min", "max", "q10", "q50", "q90", "mean_se", "mean_rse", "crossings",
+             "period", "period_spread")
+    if len(s) < 20:
+        for k in names:
+            out[k] = Undef("fewer than 20 output points in the second half")
+        return out
+    m = float(np.mean(s))
+    out.update(mean=m, std=float(np.std(s)), min=float(np.min(s)), max=float(np.max(s)),
+               q10=float(np.quantile(s, 0.1)), q50=float(np.quantile(s, 0.5)),
+               q90=float(np.quantile(s, 0.9)))
+    bm = np.array([b.mean() for b in np.array_split(s, 10)])
+    se = float(np.std(bm, ddof=1) / math.sqrt(10))
+    out["mean_se"] = se
+    out["mean_rse"] = se / abs(m) if m != 0 else Undef("mean 0")
+    if not (out["std"] > 1e-12 * max(abs(m), 1e-300)):
+        out["crossings"] = 0.0
+        out["period"] = out["period_spread"] = Undef("constant probe")
+        return out
+    up = np.nonzero((s[:-1] < m) & (s[1:] >= m))[0]
+    tc = tt[up] + (m - s[up]) / (s[up + 1] - s[up]) * (tt[up + 1] - tt[up])
+    out["crossings"] = float(len(tc))
+    if len(tc) < 3:
+        out["period"] = out["period_spread"] = Undef("fewer than three crossings")
+        return out
+    iv = np.diff(tc)
+    per = (tc[-1] - tc[0]) / (len(tc) - 1)
+    out["period"] = float(per)
+    out["period_spread"] = float((iv.max() - iv.min()) / per)
+    return out
 
 
 def metric_temperature(prob, traj):
@@ -832,7 +877,8 @@ def check_case(case):
         metrics = run.get("metrics") or {}
         need_traj = bool(metrics) and any(k in metrics for k in (
             "error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
-            "dissipation-drift", "poincare", "precession", "field-drift", "pde-error"))
+            "dissipation-drift", "poincare", "precession", "field-drift", "pde-error",
+            "attractor"))
         mine = xrun.integrate(method, prob, dt, nsteps, t0, record=need_traj,
                               blowup=None if status == "ok" else 1e100)
         comps = rec["comparisons"]
@@ -1062,6 +1108,11 @@ def check_case(case):
                     mm["field-drift.first"] = [float(tt[0]), float(dd[0])]
                     mm["field-drift.last"] = [float(tt[-1]), float(dd[-1])]
                     mm["field-drift.points"] = float(len(idx))
+            if "attractor" in metrics and hasattr(prob, "probe"):
+                gp = int(get_path(run, "observed.grid_points") or 0)
+                stride = max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1
+                for k, v in metric_attractor(prob, traj, t0, dt, nsteps, stride).items():
+                    mm["attractor." + k] = v
             if "pde-error" in metrics and hasattr(prob, "pde_solution"):
                 # B Fig 5.4: max-norm error against the PDE's solution on the output grid, t0 left out
                 gp = int(get_path(run, "observed.grid_points") or 0)
@@ -1154,6 +1205,11 @@ def check_case(case):
             if "momentum" in metrics and hasattr(prob, "linear_momentum"):
                 for kk, vals in metric_momentum(prob, T2, dt, method).items():
                     alt.update({"momentum.%s.%s" % (kk, k): v for k, v in vals.items()})
+            if "attractor" in metrics and hasattr(prob, "probe"):
+                gp = int(get_path(run, "observed.grid_points") or 0)
+                st = max(1, int(round(nsteps / (gp - 1)))) if gp >= 2 else 1
+                alt.update({"attractor." + k: v for k, v in
+                            metric_attractor(prob, T2, t0, dt, nsteps, st).items()})
             for k, v in alt.items():
                 if isinstance(mm.get(k), float) and isinstance(v, float):
                     band[k] = FLOOR_K * abs(mm[k] - v)

@@ -546,6 +546,8 @@ def integrate(method, prob, h, nsteps, t0, record, limit, out):
     method/problem has no compiled loop (or numba is not available)."""
     if not HAVE_NUMBA:
         return None
+    if method in xm.NLS_B and getattr(prob, "pid", "") in xm.NLS_FAMILY:
+        return _integrate_nls(method, prob, h, nsteps, t0, record, limit, out)
     su = _setup(prob)
     if su is None:
         return None
@@ -621,3 +623,133 @@ def warm():
                    xm.GLM_A, xm.GLM_U, xm.GLM_B, xm.GLM_V, np.empty((1, 2, 3)), math.inf)
         _scalar_run(S_EULER, True, 0.0, 0.1, 0.01, 1.0, 0.0, 1, True, math.inf)
     return time.perf_counter() - t
+
+
+# ---- B's NLS schemes (4.15), (5.27), (5.28): the fixed-point iteration of xmethods.nls_b_step,
+# compiled, with a radix-2 FFT of our own (numba has no numpy.fft): M a power of two only.
+if HAVE_NUMBA:
+    @jit
+    def _fft2(a, w, inverse):
+        """In-place iterative radix-2 FFT of a (length M = 2^k), twiddles w[k] = e^{-2 pi i k/M},
+        k < M/2; the inverse conjugates the twiddles and divides by M."""
+        M = a.size
+        j = 0
+        for i in range(1, M):                   # bit reversal
+            bit = M >> 1
+            while j & bit:
+                j ^= bit
+                bit >>= 1
+            j |= bit
+            if i < j:
+                a[i], a[j] = a[j], a[i]
+        size = 2
+        while size <= M:
+            half = size // 2
+            step = M // size
+            for start in range(0, M, size):
+                for k in range(half):
+                    tw = w[k * step]
+                    if inverse:
+                        tw = tw.conjugate()
+                    u = a[start + k]
+                    v = a[start + k + half] * tw
+                    a[start + k] = u + v
+                    a[start + k + half] = u - v
+            size *= 2
+        if inverse:
+            for i in range(M):
+                a[i] = a[i] / M
+
+    @jit
+    def _nls_loop(psi0, w, sym, c2, ey, back, lam, cubic, G, w0, al, t0, h, nsteps, record,
+                  limit):
+        M = psi0.size
+        psi = psi0.copy()
+        traj = np.empty((nsteps + 1 if record else 1, 2 * M))
+        for i in range(M):
+            traj[0, i] = psi[i].real
+            traj[0, M + i] = psi[i].imag
+        Y = np.empty(M, np.complex128)
+        Phi = np.empty(M, np.complex128)
+        r = np.empty(M, np.complex128)
+        its_total = 0
+        its_max = 0
+        eps = 2.220446049250313e-16
+        for n in range(1, nsteps + 1):
+            t = t0 + (n - 1) * h
+            F = G * complex(math.cos(w0 * (t + 0.5 * h) + al), math.sin(w0 * (t + 0.5 * h) + al))
+            for i in range(M):
+                Y[i] = ey * psi[i]
+                Phi[i] = Y[i]
+            last = np.inf
+            done = False
+            it = 0
+            while it < 200 and not done:
+                it += 1
+                for i in range(M):
+                    eta = Phi[i].real ** 2 + Phi[i].imag ** 2
+                    vp = lam * eta if cubic else lam
+                    r[i] = c2 * Y[i] - vp * Phi[i] + F
+                _fft2(r, w, False)
+                for i in range(M):
+                    r[i] = r[i] / sym[i]
+                _fft2(r, w, True)
+                dmax = 0.0
+                mag = 0.0
+                for i in range(M):
+                    dmax = max(dmax, abs(r[i] - Phi[i]))
+                    mag = max(mag, abs(r[i]))
+                    Phi[i] = r[i]
+                m = dmax / max(mag, 1e-300)
+                if m <= 2 * eps or (it >= 3 and m >= 0.5 * last and m <= 1e-11):
+                    done = True
+                last = m
+            its_total += it
+            its_max = max(its_max, it)
+            if not done:
+                return n - 1, 2, psi, traj, its_total, its_max
+            bad = False
+            for i in range(M):
+                psi[i] = back * (2.0 * Phi[i] - Y[i])
+                if not (abs(psi[i].real) < limit and abs(psi[i].imag) < limit):
+                    bad = True
+            if record:
+                for i in range(M):
+                    traj[n, i] = psi[i].real
+                    traj[n, M + i] = psi[i].imag
+            if bad:
+                return n, 1, psi, traj, its_total, its_max
+        return nsteps, 0, psi, traj, its_total, its_max
+
+
+def _integrate_nls(method, prob, h, nsteps, t0, record, limit, out):
+    """xmethods.nls_b_step's scheme (same equations, same iteration and stopping rule), compiled;
+    None (the numpy loop) unless M is a power of two."""
+    M = prob.M
+    if M < 2 or M & (M - 1):
+        return None
+    g, dx = prob.gB, prob.dx
+    imp = method == "nls-imp"
+    kappa = g * h / math.sinh(g * h) if (method == "nls-etd" and g != 0.0) else 1.0
+    ey = 1.0 if imp else math.exp(-g * h)
+    c2 = 2j * kappa / h
+    sym = (c2 + (2j * g if imp else 0.0) - 4.0 * np.sin(math.pi * np.arange(M) / M) ** 2 / dx ** 2
+           ).astype(np.complex128)
+    w = np.exp(-2j * math.pi * np.arange(M // 2) / M)
+    driven = prob.pid == "nls-driven"
+    z0 = np.asarray(prob.z0, float)
+    psi0 = (z0[:M] + 1j * z0[M:]).astype(np.complex128)
+    n, status, psi, traj, its, itmax = _nls_loop(
+        psi0, w, sym, c2, ey, ey, float(prob.lam), prob.pid != "schrodinger",
+        float(prob.G) if driven else 0.0, float(prob.w0) if driven else 0.0,
+        float(prob.al) if driven else 0.0, float(t0), float(h), int(nsteps), bool(record),
+        float(limit))
+    out["newton"] += int(its)
+    out["newton_max"] = max(out["newton_max"], int(itmax))
+    if status == 1:
+        out.update(status="diverged", message="diverged at step %d" % n)
+    elif status == 2:
+        out.update(status="solve-failed", message="%s: fixed-point iteration did not converge at step %d" % (method, n + 1))
+    z = np.concatenate([psi.real, psi.imag])
+    out.update(steps=n, z=z, traj=traj[:n + 1] if record else None, compiled=True)
+    return out

@@ -494,7 +494,50 @@ NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if"
 NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
 # B's Burgers schemes (5.10), (5.12), (4.18), each on its own semi-discretisation (docs/pde.md)
 BURGERS_B = {"burgers-csv": "burgers", "burgers-box": "burgers-box", "burgers-nsfd": "burgers-upwind"}
-METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE | set(BURGERS_B)
+# B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) on the NLS family (docs/pde.md)
+NLS_B = {"nls-if", "nls-etd", "nls-imp"}
+NLS_FAMILY = {"schrodinger", "nls", "nls-driven"}
+METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE | set(BURGERS_B) | NLS_B
+
+
+def nls_b_step(method, prob, h):
+    """B's NLS schemes written from B (4.15), (5.27), (5.28) (gamma = B's gamma = prob.gB), with
+    X = e^{g h} psi^{i+1}, Y = e^{-g h} psi^i (IMP: X = psi^{i+1}, Y = psi^i), Phi = (X + Y)/2:
+        IF  (4.15): i (X - Y)/h + d2 Phi + V'(|Phi|^2) Phi = F(t + h/2)
+        ETD (5.27): the same with i (X - Y)/h multiplied by kappa = g h / sinh(g h)
+        IMP (5.28): i (X - Y)/h + d2 Phi + V'(|Phi|^2) Phi + 2 i g Phi = F(t + h/2)
+    With X = 2 Phi - Y: (2 i kappa/h + d2 [+ 2 i g]) Phi = 2 i kappa Y/h - V'(|Phi|^2) Phi + F, the
+    linear operator inverted by FFT (d2's symbol -4 sin^2(pi j/M)/dx^2), the nonlinear term by
+    fixed-point iteration to round-off; psi^{i+1} = e^{-g h}(2 Phi - Y) (IMP: 2 Phi - Y).
+    F = Gamma e^{i(omega0 t + alpha)} for nls-driven, else 0.  Batch axes allowed."""
+    if prob.pid not in NLS_FAMILY:
+        raise NotApplicable("%s applies to the NLS problems only" % method)
+    g, M, dx = prob.gB, prob.M, prob.dx
+    imp = method == "nls-imp"
+    kappa = g * h / math.sinh(g * h) if (method == "nls-etd" and g != 0.0) else 1.0
+    ey = 1.0 if imp else math.exp(-g * h)
+    c2 = 2j * kappa / h
+    d2 = -4.0 * np.sin(math.pi * np.arange(M) / M) ** 2 / dx ** 2
+    sym = c2 + (2j * g if imp else 0.0) + d2
+    driven = prob.pid == "nls-driven"
+
+    def step(t, z):
+        z = np.asarray(z, float)
+        Y = ey * (z[..., :M] + 1j * z[..., M:])
+        F = prob.G * np.exp(1j * (prob.w0 * (t + 0.5 * h) + prob.al)) if driven else 0.0
+        Phi = Y.copy()
+        last = np.inf
+        for it in range(1, 201):
+            r = c2 * Y - prob.Vp(np.abs(Phi) ** 2) * Phi + F
+            new = np.fft.ifft(np.fft.fft(r, axis=-1) / sym, axis=-1)
+            m = np.max(np.abs(new - Phi)) / max(np.max(np.abs(new)), 1e-300)
+            Phi = new
+            if m <= 2 * EPS or (it >= 3 and m >= 0.5 * last and m <= 1e-11):
+                psi = ey * (2.0 * Phi - Y) if not imp else 2.0 * Phi - Y
+                return np.concatenate([psi.real, psi.imag], axis=-1), it
+            last = m
+        raise SolveFailed("%s: fixed-point iteration did not converge" % method)
+    return step
 
 
 def burgers_b_step(method, prob, h):
@@ -555,6 +598,8 @@ def burgers_b_step(method, prob, h):
 def make_stepper(method, prob, h):
     if method in BURGERS_B:
         return burgers_b_step(method, prob, h)
+    if method in NLS_B:
+        return nls_b_step(method, prob, h)
     if method in NEEDS_SEPARABLE and not prob.separable:
         raise NotApplicable("%s needs a separable q/p problem" % method)
     if method in EXPLICIT_RK:

@@ -821,6 +821,8 @@ class SchrodingerBase(Problem):
         x = -self.L + self.dx * np.arange(self.M)
         if int(initial) == 0:     # plane wave A e^{i k (pi/L) x}
             psi = float(A) * np.exp(1j * int(k) * (math.pi / self.L) * x)
+        elif int(initial) == 2:   # A sech(A x) (B Fig 5.10: 3 sech 3x)
+            psi = (float(A) / np.cosh(float(A) * x)).astype(complex)
         else:                     # B Fig 5.9 as printed
             psi = np.exp(5j * x) / np.cosh(x + 1.0) + 1.5 * np.exp(-5j * x) / np.cosh(1.5 * (x - 5.0))
         self.z0 = np.concatenate([psi.real, psi.imag])
@@ -897,22 +899,61 @@ class Schrodinger(SchrodingerBase):
 
 
 class NLS(SchrodingerBase):
-    """Cubic: V(eta) = lambda eta^2 / 2, V' = lambda |psi|^2; only I2 has a law (B 5.3.1 (ii))."""
+    """Cubic: V(eta) = lambda eta^2 / 2, V' = lambda |psi|^2; I2 has a law (B 5.3.1 (ii)); I1 is
+    listed with the PDE's law, which the semi-discrete flow keeps only up to the aliasing of
+    |psi|^2 psi (B Fig 5.9's R1, docs/pde.md)."""
     pid = "nls"
 
     def Vp(self, eta):
         return self.lam * eta
 
+    def momentum(self, z):
+        psi = self._psi(z)
+        return self.dx * np.sum(np.imag(np.conj(psi) * self._Dx(psi)), axis=-1)
+
     def invariants(self):
-        return {"mass": self.mass}
+        return {"momentum": self.momentum, "mass": self.mass}
 
     def invariant_scales(self):
-        return {"mass": self.mass}
+        def s1(z):
+            ph = np.abs(np.fft.fft(self._psi(z), axis=-1)) ** 2
+            return self.dx / self.M * np.sum(np.abs(self.kk) * ph, axis=-1)
+        return {"momentum": s1, "mass": self.mass}
+
+
+class NLSDriven(NLS):
+    """Damped driven NLS (B (4.7) with F(t) = Gamma e^{i(omega0 t + alpha)}, 5.3.2.3, Fig 5.10):
+    i psi_t = -psi_xx - V' psi - 2 i gamma psi + F, so psi_t gains -i F:
+        q' += Gamma sin(omega0 t + alpha),   p' += -Gamma cos(omega0 t + alpha).
+    No invariant follows a law.  probe: |psi| at the grid point nearest x = 0 (B's amplitude)."""
+    pid = "nls-driven"
+    params = SchrodingerBase.params + ("Gamma", "omega0", "alpha")
+
+    def __init__(self, Gamma, omega0, alpha, **kw):
+        super().__init__(**kw)
+        self.G, self.w0, self.al = float(Gamma), float(omega0), float(alpha)
+
+    def N(self, t, z):
+        out = super().N(t, z)
+        th = self.w0 * t + self.al
+        out[..., :self.M] += self.G * math.sin(th)
+        out[..., self.M:] += -self.G * math.cos(th)
+        return out
+
+    def invariants(self):
+        return {}
+
+    def invariant_scales(self):
+        return {}
+
+    def probe(self, z):
+        n = min(max(int(round(self.L / self.dx)), 0), self.M - 1)
+        return float(math.hypot(z[n], z[self.M + n]))
 
 
 PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
                                NBody, OuterSolarSystem, Argon, LotkaVolterra, KleinGordon,
-                               Burgers, BurgersBox, BurgersUpwind, Schrodinger, NLS)}
+                               Burgers, BurgersBox, BurgersUpwind, Schrodinger, NLS, NLSDriven)}
 
 
 def make_problem(pid, params):

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "core/integrate.hpp"
+#include "diagnostics/attractor_diagnostic.hpp"
 #include "diagnostics/capabilities.hpp"
 #include "diagnostics/conformal_symplectic.hpp"
 #include "diagnostics/field_drift_diagnostic.hpp"
@@ -135,6 +136,18 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
                     d.push(t, std::log(m) + (problem.Gamma(t) - gamma0));
                 }
                 s["field-drift.d"] = d.to_json();
+            }
+        }
+        if constexpr (HasProbe<P>) {
+            // B Fig 5.10's amplitude: the attractor diagnostic's probe on the output grid (the
+            // whole run: the transient too; the statistics are of its second half)
+            if (c.wants("attractor") && cols > 1) {
+                MinMaxDecimator d(cols - 1);
+                for (Eigen::Index i = 1; i < cols; ++i)
+                    d.push(grid_t[static_cast<std::size_t>(i)], problem.probe(grid.col(i)));
+                json j = d.to_json();
+                j["probe"] = std::string(P::probe_name);
+                s["attractor.probe"] = j;
             }
         }
         if (c.wants("poincare")) {

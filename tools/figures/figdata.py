@@ -327,6 +327,7 @@ SERIES_PANELS = [
     ("momentum.angular.law_res", "‖L_{n+1} − e^{−2ΔΓ}L_n‖ / S", "log"),
     ("temperature", "temperature (K)", "linear"),
     ("energy-balance.residual", "|D_t H − dH/dt| (B(3.4))", "log"),
+    ("attractor.probe", "probe {probe} (attractor)", "linear"),
 ]
 
 
@@ -344,10 +345,14 @@ def series_panels(series):
                 keys.add(k)
                 if "form" in v:
                     forms[k] = v["form"]
+                if "probe" in v:
+                    forms[k] = v["probe"]
     out = []
     for pat, label, scale in SERIES_PANELS:
         if pat == "conformal-symplectic.rel" and forms.get(pat) == "structure-matrix":
             label = STRUCTURE_MATRIX_EN_LABEL
+        if pat == "attractor.probe":
+            label = label.replace("{probe}", forms.get(pat, "s(t)"))
         if "*" in pat:
             pre, post = pat.split("*")
             for k in sorted(keys):

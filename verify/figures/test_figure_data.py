@@ -95,6 +95,23 @@ def check_run(cid, r, s):
                 a, _ = fd.linear_fit(val["t"], y)
                 expect(f"{tag} field d(t) slope", a, d["slope"], 1e-9)
                 expect(f"{tag} field d(t) range", max(y) - min(y), d["range"])
+        elif key == "attractor.probe":
+            a = get(m, "attractor")
+            if a and a.get("max") is not None:
+                # the drawn series covers the whole run (min/max per bucket keep the extremes):
+                # its largest value is at least the window's, over the window exactly
+                tt = val["t"]
+                frm = a["from"]
+                win = [v for t_, v in zip(tt, y) if t_ >= frm]
+                if val["per_bucket"] == 1:
+                    expect(f"{tag} probe max over the window", max(win), a["max"])
+                    expect(f"{tag} probe min over the window", min(win), a["min"])
+                elif win:
+                    # decimated: every drawn point of the window is one of its samples
+                    expect(f"{tag} probe max over the window (at most)",
+                           min(max(win), a["max"]), max(win))
+                    expect(f"{tag} probe min over the window (at least)",
+                           max(min(win), a["min"]), min(win))
         elif key == "dissipation-drift.d":
             d = get(m, "dissipation-drift")
             if val["per_bucket"] == 1 and d and d.get("slope") is not None:
