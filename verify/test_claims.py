@@ -6,7 +6,7 @@
                                                            detected
 
 The first REPORT is the default suite's; further ones hold the cases of the register that are
-too heavy for it (B Fig 5.10's attractors, run by the ctest claims.pde-report); a case is
+too heavy for it (B Fig 5.10's chaotic attractor, run by the ctest claims.pde-report); a case is
 looked up in all of them, and only the first one's uncited cases are warned about.
 
 The register is the Markdown table of docs/claims.md whose header row is

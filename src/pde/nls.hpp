@@ -53,6 +53,8 @@ private:
     NLSScheme s_;
     SpectralDerivative fft_;
     std::vector<double> buf_;
+    std::vector<std::complex<double>> inv_sym_; // 1 / the linear operator's Fourier symbol
+    CVec Y_, Phi_;                              // the step's Y and Φ
     std::string why_;
     int max_its_ = 0, last_its_ = 0;
 };
