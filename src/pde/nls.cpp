@@ -62,11 +62,20 @@ bool NLSStepper::step(double t, CVec& psi) {
         fft_.inverse(buf_);
         // max-norms of the update and of the iterate, from the squared moduli (one sqrt each)
         double diff2 = 0.0, mag2 = 0.0;
+        bool finite = true;
         for (int n = 0; n < M; ++n) {
             const cd v(buf_[2 * n], buf_[2 * n + 1]);
+            const double m2 = std::norm(v);
+            finite = finite && std::isfinite(m2);
             diff2 = std::max(diff2, std::norm(v - Phi[n]));
-            mag2 = std::max(mag2, std::norm(v));
+            mag2 = std::max(mag2, m2);
             Phi[n] = v;
+        }
+        if (!finite) { // an iteration that overflowed (or met a NaN) has failed, not converged
+            max_its_ = std::max(max_its_, it);
+            last_its_ = it;
+            why_ = "NLS step: the fixed-point iteration produced a non-finite iterate";
+            return false;
         }
         const double diff = std::sqrt(diff2), mag = std::sqrt(mag2);
         converged = diff <= 4.0 * eps * std::max(mag, 1e-300) ||
