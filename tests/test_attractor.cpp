@@ -126,3 +126,31 @@ TEST_CASE("attractor: statistics of a periodic and of a constant probe", "[attra
     const auto s = dampsym::attractor_metrics(c, dampsym::Mat::Ones(1, 11), "s", probe);
     CHECK(s["mean"].is_null());
 }
+
+TEST_CASE("nls-driven: a fixed-point iteration that overflows is a failed solve, not a NaN state",
+          "[attractor]") {
+    dampsym::ParamMap m;
+    for (const auto& s : dampsym::NLSDriven::param_specs()) m[s.name] = s.default_value;
+    m["M"] = 16;
+    m["A"] = 10.0;
+    m["Gamma"] = 100.0;
+    m["omega0"] = 100.0;
+    const auto p = dampsym::NLSDriven::from_params(m);
+    Vec z = p.initial_state();
+    const Vec z0 = z;
+    Counters c;
+    dampsym::NlsIf<dampsym::NLSDriven> k(p, method("nls-if"), 0.5, c);
+    CHECK(k.step(0.0, z) == StepStatus::solve_failed);
+    CHECK(z == z0); // the state of the last good step
+    dampsym::pde::NLSStepper st(p.grid, p.nls_params(), 0.5,
+                                dampsym::pde::NLSScheme::integrating_factor);
+    dampsym::pde::CVec psi(16);
+    for (int n = 0; n < 16; ++n) psi[n] = {z0[n], z0[16 + n]};
+    CHECK_FALSE(st.step(0.0, psi));
+    CHECK(st.why().find("non-finite") != std::string::npos);
+    // the same problem at a small step converges
+    Vec z1 = z0;
+    dampsym::NlsIf<dampsym::NLSDriven> k1(p, method("nls-if"), 1e-4, c);
+    CHECK(k1.step(0.0, z1) == StepStatus::ok);
+    CHECK(z1.allFinite());
+}
