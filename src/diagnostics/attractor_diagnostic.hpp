@@ -15,6 +15,7 @@
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
 
+#include <array>
 #include <functional>
 #include <string_view>
 
@@ -24,6 +25,14 @@ template <class P>
 concept HasProbe = requires(const P& p, const Vec& z) {
     { p.probe(z) } -> std::convertible_to<double>;
     { P::probe_name } -> std::convertible_to<std::string_view>;
+};
+
+// Optionally, the probe as a point of a plane (the driven NLS: (Re, Im) ψ(0, t)), which the
+// `portrait` figure draws (B Fig 5.10's right panels); not a metric.
+template <class P>
+concept HasProbePlane = HasProbe<P> && requires(const P& p, const Vec& z) {
+    { p.probe_plane(z) } -> std::convertible_to<std::array<double, 2>>;
+    P::probe_plane_names;
 };
 
 struct AttractorDiagnostic {

@@ -22,6 +22,8 @@ namespace dampsym {
 
 // Buckets per series: at most 2 × this many points per series in a series file.
 inline constexpr std::int64_t kSeriesBuckets = 1000;
+// At most this many points of a portrait (the attractor's probe plane, B Fig 5.10).
+inline constexpr std::int64_t kPortraitPoints = 20000;
 // Samples per orbit (StrideSampler): 100 per revolution over the 100 revolutions of the longest
 // Kepler case (HLW Table 2.1), so that the drawn orbit is smooth, not a polygon.
 inline constexpr std::int64_t kOrbitSamples = 10000;

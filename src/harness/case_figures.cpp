@@ -40,6 +40,10 @@ void validate_figures_key(const nlohmann::json& j, const std::string& file, cons
             fail(file, key, "a poincare figure needs the poincare diagnostic");
         if (k == "snapshots" && !c.wants("pde-error"))
             fail(file, key, "a snapshots figure needs the pde-error diagnostic");
+        if (k == "portrait" && (!c.wants("attractor") || !p.probe_plane))
+            fail(file, key,
+                 "a portrait figure needs the attractor diagnostic on a problem whose probe is a "
+                 "point of a plane (nls-driven)");
         if (k == "orbit" && !p.figure_orbit)
             fail(file, key, "problem '" + c.problem_id + "' has no orbit figure");
     }

@@ -19,8 +19,8 @@
 namespace dampsym {
 
 // Every kind of figure, as tools/figures/plot.py names them.
-inline constexpr std::array<std::string_view, 6> kFigureKinds = {
-    "convergence", "series", "orbit", "stability", "poincare", "snapshots"};
+inline constexpr std::array<std::string_view, 7> kFigureKinds = {
+    "convergence", "series", "orbit", "stability", "poincare", "snapshots", "portrait"};
 
 // Validates j["figures"] of a parsed case c on problem p; throws InputError naming file and key
 // ("figures" or "figures[i]"). Needs c's step sizes and diagnostics.

@@ -150,6 +150,26 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
                 s["attractor.probe"] = j;
             }
         }
+        if constexpr (HasProbePlane<P>) {
+            // B Fig 5.10's right panels: the probe as a point of its plane at (at most
+            // kPortraitPoints) output times, the whole run
+            if (c.wants("attractor") && cols > 1) {
+                StrideSampler pick(cols - 1, kPortraitPoints);
+                json t = json::array(), pts = json::array();
+                for (Eigen::Index i = 1; i < cols; ++i) {
+                    if (!pick.wants(i - 1)) continue;
+                    const auto xy = problem.probe_plane(grid.col(i));
+                    t.push_back(grid_t[static_cast<std::size_t>(i)]);
+                    pts.push_back({drawn_value(xy[0]), drawn_value(xy[1])});
+                }
+                s["attractor.plane"] = {
+                    {"t", t},
+                    {"points", pts},
+                    {"names",
+                     {std::string(P::probe_plane_names[0]), std::string(P::probe_plane_names[1])}},
+                    {"stride", pick.stride()}};
+            }
+        }
         if (c.wants("poincare")) {
             auto section = [](const Mat& g) {
                 json q = json::array(), p = json::array();

@@ -33,6 +33,9 @@ struct ProblemInfo {
     // Its figures can draw the orbit (`static constexpr bool figure_orbit`; issue 14, the case
     // key "figures": harness/case_figures.hpp).
     bool figure_orbit = false;
+    // Its probe is a point of a plane (HasProbePlane, diagnostics/attractor_diagnostic.hpp): the
+    // case can draw the `portrait` figure.
+    bool probe_plane = false;
     bool supports(std::string_view diagnostic) const;
 };
 const std::vector<ProblemInfo>& problem_catalog();

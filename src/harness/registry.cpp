@@ -23,6 +23,7 @@ const std::vector<ProblemInfo>& problem_catalog() {
                                return f;
                            }});
             if constexpr (requires { P::figure_orbit; }) out.back().figure_orbit = P::figure_orbit;
+            out.back().probe_plane = HasProbePlane<P>;
         });
         return out;
     }();

@@ -124,7 +124,8 @@ def decimate_columns(t, y, lo, hi, columns):
     return [t[i] for i in idx], [y[i] for i in idx]
 
 
-FIGURE_KINDS = ("convergence", "series", "orbit", "stability", "poincare", "snapshots")
+FIGURE_KINDS = ("convergence", "series", "orbit", "stability", "poincare", "snapshots",
+                "portrait")
 
 
 def case_figure_kinds(case):

@@ -465,6 +465,46 @@ def fig_orbit(case, ser):
     return [(save(fig, case, "orbit"), "orbits")]
 
 
+def fig_portrait(case, ser):
+    """B Fig 5.10's right panels: the attractor diagnostic's probe as a point of its plane
+    ((Re, Im) ψ(0, t) for the driven NLS) over the whole run, one panel per run; the first half
+    (the transient, outside the attractor statistics) light, the second half in the method's
+    colour."""
+    runs = [r for r in ser["runs"] if "attractor.plane" in r["series"]]
+    if not runs:
+        return []
+    n = len(runs)
+    cols = min(3, n)
+    rows = (n + cols - 1) // cols
+    fig, axs = subplots(rows, cols, (max(7.0, 3.8 * cols), 3.6 * rows + 0.6), sharex=True,
+                        sharey=True)
+    for ax in axs.flat[n:]:
+        ax.axis("off")
+    t_half = 0.5 * (ser.get("t0", 0.0) + ser.get("t_end", 0.0))
+    for ax, r in zip(axs.flat, runs):
+        pl = r["series"]["attractor.plane"]
+        c, _, _ = style(r["method"])
+        pts = np.asarray(pl["points"], dtype=float).reshape(-1, 2)
+        late = np.asarray(pl["t"], dtype=float) >= t_half
+        # every output point joined; thinned records (stride > 1) as dots, whose joins would be
+        # chords of the fast rotation
+        thinned = pl.get("stride", 1) > 1
+        for mask, col, lw in ((~late, "0.75", 0.4), (late, c, 0.5)):
+            if mask.any():
+                ax.plot(pts[mask, 0], pts[mask, 1], "." if thinned else "-", color=col, lw=lw,
+                        ms=0.8, rasterized=dense(int(mask.sum())))
+        ax.plot([0.0], [0.0], "k+", ms=6)
+        ax.set_title(f"{r['method']} h={r['dt']:g}")
+        ax.set_xlabel(pl["names"][0])
+        ax.set_ylabel(pl["names"][1])
+        ax.set_aspect("equal", adjustable="box")
+    fig.suptitle(title_of(case, "probe in its plane (grey: first half of the run)"))
+    height = 3.6 * rows + 0.6
+    layout(fig, bottom=0.55 / height, top=1 - 0.75 / height, left=0.75 / fig.get_figwidth(),
+           hspace=0.45, wspace=0.3)
+    return [(save(fig, case, "portrait"), "probe portrait")]
+
+
 MAP_CMAP = ListedColormap(["#c7e9c0", "#fdd49e", "#9ecae1", "#fb6a4a"])
 
 
@@ -596,6 +636,8 @@ def plan(case, ser):
         kinds.append("poincare")
     if ser and any(r["series"].get("snapshots", {}).get("t") for r in ser["runs"]):
         kinds.append("snapshots")
+    if ser and any("attractor.plane" in r["series"] for r in ser["runs"]):
+        kinds.append("portrait")
     if any("stability-sweep" in v for v in mm.values()):
         kinds.append("stability")
     if wanted is None:
@@ -607,7 +649,8 @@ DRAW = {"convergence": lambda c, s, i: fig_convergence(c, s, fd.case_timing(REPO
         "series": lambda c, s, i: fig_series(c, s), "orbit": lambda c, s, i: fig_orbit(c, s),
         "stability": lambda c, s, i: fig_stability(c, s),
         "poincare": lambda c, s, i: fig_poincare(c, s),
-        "snapshots": lambda c, s, i: fig_snapshots(c, s)}
+        "snapshots": lambda c, s, i: fig_snapshots(c, s),
+        "portrait": lambda c, s, i: fig_portrait(c, s)}
 
 
 def case_methods(case):
@@ -713,7 +756,7 @@ def main():
     else:
         results = [r for i in cases for r in draw_case(i)]
     order = {k: n for n, k in enumerate(["convergence", "series", "snapshots", "orbit",
-                                         "poincare", "stability"])}
+                                         "portrait", "poincare", "stability"])}
     manifest = {"formats": FORMATS, "cases": {}}
     failed = 0
     for cid, kind, out, error in sorted(results, key=lambda r: (r[0], order[r[1]])):

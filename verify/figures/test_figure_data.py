@@ -52,6 +52,18 @@ def check_run(cid, r, s):
         errs = [max(abs(a - b) for a, b in zip(u, v)) for u, v in zip(sn["u"][1:], sn["pde"][1:])]
         expect(f"{tag} snapshots: max |u - u_pde|", max(errs), pe["max_abs"])
         expect(f"{tag} snapshots: final |u - u_pde|", errs[-1], pe["final_abs"])
+    pl = s.get("attractor.plane")
+    at = get(m, "attractor")
+    if pl and pl.get("points") and at and at.get("max") is not None:
+        # the portrait's points are the probe's plane: |point| over the second half is the probe
+        # (each coordinate drawn to 7 digits: |point| to 1e-6 relative)
+        win = [math.hypot(x, y) for t_, (x, y) in zip(pl["t"], pl["points"]) if t_ >= at["from"]]
+        if pl.get("stride") == 1:
+            expect(f"{tag} portrait: max |point| over the window", max(win), at["max"], 1e-6)
+            expect(f"{tag} portrait: min |point| over the window", min(win), at["min"], 1e-6)
+        elif win:
+            expect(f"{tag} portrait: max |point| (at most the probe's max)",
+                   min(max(win), at["max"]), max(win), 1e-6)
     for key, val in s.items():
         if not isinstance(val, dict) or "y" not in val or not val["y"]:
             continue

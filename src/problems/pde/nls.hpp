@@ -213,8 +213,18 @@ struct SchrodingerProblem {
     // |ψ| at the grid point nearest x = 0 (x_n = −L + nΔx): the `attractor` diagnostic's probe.
     static constexpr std::string_view probe_name = "|psi(0, t)|";
     double probe(const Vec& z) const {
-        const int n = std::clamp(static_cast<int>(std::lround(grid.L / grid.dx)), 0, grid.M - 1);
+        const int n = probe_index();
         return std::hypot(z[n], z[grid.M + n]);
+    }
+    // ψ(0, t) in the complex plane, B Fig 5.10's right panels (the `portrait` figure)
+    static constexpr std::array<std::string_view, 2> probe_plane_names{"Re psi(0, t)",
+                                                                       "Im psi(0, t)"};
+    std::array<double, 2> probe_plane(const Vec& z) const {
+        const int n = probe_index();
+        return {z[n], z[grid.M + n]};
+    }
+    int probe_index() const {
+        return std::clamp(static_cast<int>(std::lround(grid.L / grid.dx)), 0, grid.M - 1);
     }
     void N_jacobian(double, const Vec& z, Mat& J) const {
         const int M = grid.M;
