@@ -7,7 +7,7 @@
 //  nls-imp  (5.28): i D_tψ + A_t δ_x²ψ + V'(|A_tψ|²) A_tψ + 2iγ A_tψ = F(A_t t)
 //
 // They are the same maps as cimp, etdrk2 and implicit-midpoint on these problems (docs/pde.md;
-// tests/test_pde_problems.cpp compares them), solved differently: a fixed-point iteration on the
+// tests/test_attractor.cpp compares them), solved differently: a fixed-point iteration on the
 // nonlinear term with the linear operator inverted exactly by FFT (diagonal in Fourier), O(M log M)
 // per iteration instead of a dense Newton solve of size 2M. The arithmetic is pde::NLSStepper's
 // (src/pde/nls.cpp); the kernel only adapts it: z = [Re ψ; Im ψ]. A step whose iteration does not

@@ -12,13 +12,16 @@ NLSStepper::NLSStepper(const PeriodicGrid& g, const NLSParams& p, double dt, NLS
     : g_(g), p_(p), dt_(dt), s_(s), fft_(g), buf_(2 * static_cast<size_t>(g.M)),
       inv_sym_(static_cast<size_t>(g.M)), Y_(static_cast<size_t>(g.M)),
       Phi_(static_cast<size_t>(g.M)) {
-    // The inverse of the linear operator's symbol, 2iκ/Δt + δ_x²'s −4 sin²(θ_j/2)/Δx² (+ 2iγ for
-    // IMP), once.
+    // Everything that depends only on the stepper, once: the factor e^{−γΔt} of Y and of the
+    // update (1 for IMP), 2iκ/Δt, and the inverse of the linear operator's symbol,
+    // 2iκ/Δt + δ_x²'s −4 sin²(θ_j/2)/Δx² (+ 2iγ for IMP).
     const double h = dt_, gam = p_.gamma;
     const bool imp = s_ == NLSScheme::implicit_midpoint;
     const double kappa = (s_ == NLSScheme::etd && gam != 0.0) ? gam * h / std::sinh(gam * h) : 1.0;
     const cd lin_extra = imp ? cd(0.0, 2.0 * gam) : cd(0.0);
-    const cd c2 = cd(0.0, 2.0 * kappa / h);
+    ey_ = imp ? 1.0 : std::exp(-gam * h);
+    c2_ = cd(0.0, 2.0 * kappa / h);
+    const cd c2 = c2_;
     for (int j = 0; j < g_.M; ++j) {
         const double sj = std::sin(std::numbers::pi * j / g_.M);
         inv_sym_[static_cast<size_t>(j)] = 1.0 / (c2 + lin_extra - 4.0 * sj * sj / (g_.dx * g_.dx));
@@ -27,14 +30,11 @@ NLSStepper::NLSStepper(const PeriodicGrid& g, const NLSParams& p, double dt, NLS
 
 bool NLSStepper::step(double t, CVec& psi) {
     const int M = g_.M;
-    const double h = dt_, gam = p_.gamma;
-    const bool imp = s_ == NLSScheme::implicit_midpoint;
-    const double kappa = (s_ == NLSScheme::etd && gam != 0.0) ? gam * h / std::sinh(gam * h) : 1.0;
-    const double ey = imp ? 1.0 : std::exp(-gam * h);
+    const double h = dt_, ey = ey_;
     const cd F = p_.drive == 0.0
                      ? cd(0.0)
                      : p_.drive * std::exp(cd(0.0, p_.omega0 * (t + 0.5 * h) + p_.alpha));
-    const cd c2 = cd(0.0, 2.0 * kappa / h);
+    const cd c2 = c2_;
     CVec& Y = Y_;
     CVec& Phi = Phi_;
     for (int n = 0; n < M; ++n) Y[n] = ey * psi[n];
@@ -88,8 +88,7 @@ bool NLSStepper::step(double t, CVec& psi) {
         why_ = "NLS step: fixed-point iteration did not converge in 200 iterations";
         return false;
     }
-    const double back = imp ? 1.0 : std::exp(-gam * h);
-    for (int n = 0; n < M; ++n) psi[n] = back * (2.0 * Phi[n] - Y[n]);
+    for (int n = 0; n < M; ++n) psi[n] = ey * (2.0 * Phi[n] - Y[n]); // e^{−γΔt}(2Φ − Y)
     return true;
 }
 

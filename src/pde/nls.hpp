@@ -55,6 +55,8 @@ private:
     std::vector<double> buf_;
     std::vector<std::complex<double>> inv_sym_; // 1 / the linear operator's Fourier symbol
     CVec Y_, Phi_;                              // the step's Y and Φ
+    double ey_ = 1.0;                           // e^{−γΔt} (1 for IMP)
+    std::complex<double> c2_;                   // 2iκ/Δt
     std::string why_;
     int max_its_ = 0, last_its_ = 0;
 };
