@@ -2,7 +2,8 @@
 # Benchmarks: set up, build dampsym and dampsym_bench (Release, in build/), time the default suite
 # with --jobs 1 and --jobs 2, run dampsym_bench (raw output: reports/bench-raw.json), then
 # bench/bench_report.py, which writes reports/bench.json and reports/bench.md and prints the
-# acceptance table, then bench/run_timing.py (the kernel ratios through `dampsym run`). Exits 1
+# acceptance table, then bench/run_timing.py (the kernel ratios through `dampsym run`) and
+# bench/figures_cost.py (the default suite with --figures against without). Exits 1
 # if an acceptance row fails (2 on a usage or input error). Takes several minutes; run it on a
 # quiet machine.
 # Environment: DAMPSYM_BUILD_DIR (default build), DAMPSYM_BUILD_JOBS (default nproc).
@@ -45,5 +46,8 @@ for r in json.load(open("reports/pde-scipy.json")):
 # diagnostic, the run's own wall time): reports/run-timing.json.
 /usr/bin/python3 bench/run_timing.py "$build/dampsym" --bench-json reports/bench-raw.json \
   --out-json reports/run-timing.json || {
+  s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
+# The default suite with --figures against without (issue 14: at most 2x): reports/figures-cost.json.
+/usr/bin/python3 bench/figures_cost.py "$build/dampsym" --out-json reports/figures-cost.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 exit "$status"

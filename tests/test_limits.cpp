@@ -757,11 +757,11 @@ TEST_CASE("limits: a --figures series file that cannot be written: the report is
     TempDir dir;
     copy_data("cases/cli-pass.json", dir.path());
     const fs::path out = dir / "out";
-    // 20 KiB: the report (~5 KiB) fits, the case's series file (~48 KiB) does not
+    // 8 KiB: the report (~5 KiB) fits, the case's series file (~11 KiB) does not
     const int status =
         run_with_file_limit({"run", (dir / "cli-pass.json").string(), "--out", out.string(),
                              "--time-budget", "0", "--quiet", "--figures"},
-                            dir.path(), 20 * 1024);
+                            dir.path(), 8 * 1024);
     const std::string err = read_text(dir / "stderr");
     INFO(err);
     CHECK(status == 3);

@@ -96,3 +96,40 @@ TEST_CASE("figures: the series hook keeps series and changes no number of the re
         CHECK(s.contains("energy.error"));
     }
 }
+
+// A run keeps orbit samples only for a case that draws its orbit (case_draws_orbit): the problem's
+// default (Kepler draws its orbit, the oscillator a phase portrait only on request) or the case's
+// "figures" key. Negative control: the oscillator without the key keeps none.
+TEST_CASE("figures: orbit samples only for a case that draws its orbit", "[series]") {
+    auto orbit_kept = [](json spec) {
+        const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
+        dampsym::RunOptions with;
+        with.time_budget = 0.0;
+        std::vector<json> got;
+        with.series_sink = [&](const json& s) { got.push_back(s); };
+        dampsym::run_cases({c}, with);
+        REQUIRE(got.size() == 1);
+        bool any = false;
+        for (const auto& r : got[0]["runs"]) any = any || r["series"].contains("orbit");
+        return any;
+    };
+    json osc = {{"id", "orbit-test"},
+                {"title", "orbit samples"},
+                {"no_checks_because", "a unit test of the figures hook"},
+                {"problem", {{"id", "oscillator"}, {"omega", 1.0}, {"gamma", 0.1}}},
+                {"methods", {"csv1"}},
+                {"t_end", 20.0},
+                {"dt", 0.01},
+                {"diagnostics", {"error", "energy"}}};
+    CHECK_FALSE(orbit_kept(osc)); // on request only
+    osc["figures"] = {"series", "orbit"};
+    CHECK(orbit_kept(osc));
+    osc["figures"] = {"series"};
+    CHECK_FALSE(orbit_kept(osc));
+    json kepler = osc;
+    kepler.erase("figures");
+    kepler["problem"] = {{"id", "kepler"}};
+    CHECK(orbit_kept(kepler)); // by default
+    kepler["figures"] = {"series"};
+    CHECK_FALSE(orbit_kept(kepler));
+}

@@ -15,6 +15,8 @@
 //               system z' = N − γz decays as e^{-Γ}: f = ½; see invariant_rate_factor below);
 //   optionally: energy(z) with energy_scale(z); exact(t0, z0, t, out) and autonomous (when
 //               has_exact, see ExactSolution below);
+//   optionally: static constexpr OrbitFigure figure_orbit (below): its figures can draw the
+//               orbit, by default or when a case asks for it;
 //   optionally: static constexpr int static_n, the degrees of freedom when fixed at compile time
 //               (n() returns it); kernels that use static_dof<P>() then keep stage vectors of
 //               fixed size, which the compiler reduces to scalar code.
@@ -30,6 +32,12 @@
 #include <vector>
 
 namespace dampsym {
+
+// Whether a problem's figures (`dampsym run --figures`, docs/reports.md) draw its orbit, the
+// trajectory sampled over the run: by_default for the problems whose papers draw orbits (every case
+// keeps the orbit), on_request for those whose cases draw one only when their "figures" key lists
+// "orbit" (a phase portrait). A run keeps orbit samples only for a case that draws them.
+enum class OrbitFigure { none, on_request, by_default };
 
 // The interval of values a parameter may take: the range within which the problem's formulas
 // (forms, invariants, exact solution, energy) are valid in double precision. Every bound is

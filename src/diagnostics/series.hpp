@@ -11,10 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <vector>
 
@@ -36,11 +35,15 @@ inline std::int64_t orbit_samples(std::int64_t dim) {
 
 // A value as a figure draws it: rounded to 7 significant digits, so that it is written as at most
 // 7 digits in a series file (orbits are drawn, not compared with the report; a third the size).
+// (to_chars as printf's "%.7g", from_chars as strtod: both correctly rounded, several times
+// faster.)
 inline double drawn_value(double x) {
     if (!std::isfinite(x)) return x;
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.7g", x);
-    return std::strtod(buf, nullptr);
+    const auto end = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 7).ptr;
+    double y = x;
+    std::from_chars(buf, end, y);
+    return y;
 }
 
 class MinMaxDecimator {

@@ -44,9 +44,19 @@ void validate_figures_key(const nlohmann::json& j, const std::string& file, cons
             fail(file, key,
                  "a portrait figure needs the attractor diagnostic on a problem whose probe is a "
                  "point of a plane (nls-driven)");
-        if (k == "orbit" && !p.figure_orbit)
+        if (k == "orbit" && p.figure_orbit == OrbitFigure::none)
             fail(file, key, "problem '" + c.problem_id + "' has no orbit figure");
     }
+}
+
+bool case_draws_orbit(const CaseSpec& c, OrbitFigure problem) {
+    if (problem == OrbitFigure::none) return false;
+    if (!c.raw.is_object() || !c.raw.contains("figures")) return problem == OrbitFigure::by_default;
+    const nlohmann::json& v = c.raw["figures"];
+    if (!v.is_array()) return false; // false: no figures
+    for (const auto& k : v)
+        if (k.is_string() && k.get<std::string>() == "orbit") return true;
+    return false;
 }
 
 bool case_figures_off(const CaseSpec& c) {

@@ -27,6 +27,11 @@ inline constexpr std::array<std::string_view, 7> kFigureKinds = {
 void validate_figures_key(const nlohmann::json& j, const std::string& file, const CaseSpec& c,
                           const ProblemInfo& p);
 
+// Whether the case's figures draw the orbit of problem p (its "figures" key lists "orbit", or the
+// key is absent and the problem draws its orbit by default): only then does a run with --figures
+// keep orbit samples.
+bool case_draws_orbit(const CaseSpec& c, OrbitFigure problem);
+
 // Whether the case turned its figures off ("figures": false or []): it then keeps no series.
 bool case_figures_off(const CaseSpec& c);
 

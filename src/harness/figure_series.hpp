@@ -24,6 +24,7 @@
 #include "diagnostics/series.hpp"
 #include "diagnostics/stability.hpp"
 #include "harness/case.hpp"
+#include "harness/case_figures.hpp"
 #include "harness/figure_step_observer.hpp"
 #include "harness/registry.hpp"
 
@@ -46,13 +47,20 @@ inline bool figure_series_for_dt(const CaseSpec& c, std::size_t d) {
     return true;
 }
 
+// Whether case c keeps orbit samples for its figures (case_draws_orbit: its "figures" key, or the
+// problem's default).
+template <class P>
+bool case_orbit(const CaseSpec& c) {
+    return case_draws_orbit(c, figure_orbit_of<P>());
+}
+
 // Whether the orbit of a run's figures is sampled from its steps (the figure observer) rather
 // than from its output grid of `cols` points: when the grid has fewer points than the step
 // samples (orbit_samples), a grid of a few points per revolution would draw a polygon.
 template <class P>
-bool figure_orbit_from_steps(const P& problem, Eigen::Index cols, std::int64_t n) {
-    return figure_wants_orbit<P>() &&
-           cols - 1 < std::min<std::int64_t>(n, orbit_samples(problem.dim()));
+bool figure_orbit_from_steps(const P& problem, const CaseSpec& c, Eigen::Index cols,
+                             std::int64_t n) {
+    return case_orbit<P>(c) && cols - 1 < std::min<std::int64_t>(n, orbit_samples(problem.dim()));
 }
 
 // Everything one run keeps for its figures. steps: the series the measured run's figure observer
@@ -196,11 +204,11 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
             }
             return json{{"t", t}, {"states", st}, {"stride", pick.stride()}};
         };
-        if (figure_wants_orbit<P>() && !orbit_steps && cols > 2) {
+        const bool orbit = case_orbit<P>(c);
+        if (orbit && !orbit_steps && cols > 2) {
             s["orbit"] = grid_orbit(grid);
             if (ref_on_grid) s["orbit_reference"] = grid_orbit(ref);
-        } else if (figure_wants_orbit<P>() && ref_on_grid && cols > 2 &&
-                   !s.contains("orbit_reference")) {
+        } else if (orbit && ref_on_grid && cols > 2 && !s.contains("orbit_reference")) {
             s["orbit_reference"] = grid_orbit(ref); // no exact solution: the grid's reference
         }
     }

@@ -23,15 +23,19 @@
 
 namespace dampsym::detail {
 
-// Problems whose figures include the orbit (state samples over time) declare
-// `static constexpr bool figure_orbit = true` (the papers draw their orbits; the others' states
-// are too large or not drawn).
+// Problems whose figures can draw the orbit (state samples over time) declare
+// `static constexpr OrbitFigure figure_orbit` (core/problem.hpp; the others' states are too large
+// or not drawn). Whether a case draws it is case_draws_orbit (harness/case_figures.hpp).
 template <class P>
-constexpr bool figure_wants_orbit() {
+constexpr OrbitFigure figure_orbit_of() {
     if constexpr (requires { P::figure_orbit; })
         return P::figure_orbit;
     else
-        return false;
+        return OrbitFigure::none;
+}
+template <class P>
+constexpr bool figure_wants_orbit() {
+    return figure_orbit_of<P>() != OrbitFigure::none;
 }
 
 template <class P>

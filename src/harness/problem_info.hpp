@@ -30,9 +30,9 @@ struct ProblemInfo {
     // Builds the problem from validated parameters (throws std::invalid_argument when the
     // problem rejects them) and reports its facts.
     ProblemFacts (*facts)(const ParamMap&) = nullptr;
-    // Its figures can draw the orbit (`static constexpr bool figure_orbit`; issue 14, the case
-    // key "figures": harness/case_figures.hpp).
-    bool figure_orbit = false;
+    // Whether its figures draw the orbit (`static constexpr OrbitFigure figure_orbit`,
+    // core/problem.hpp; issue 14, the case key "figures": harness/case_figures.hpp).
+    OrbitFigure figure_orbit = OrbitFigure::none;
     // Its probe is a point of a plane (HasProbePlane, diagnostics/attractor_diagnostic.hpp): the
     // case can draw the `portrait` figure.
     bool probe_plane = false;

@@ -173,7 +173,7 @@ private:
         std::optional<FigureStepObserver<P>> fig;
         if (!figures_ || !figure_series_for_dt(c_, run_index(out) % c_.dts.size())) return fig;
         const Eigen::Index cols = stores_grid() ? facts_.points + 1 : 0; // the run's stored grid
-        fig.emplace(problem_, c_, h, n, figure_orbit_from_steps(problem_, cols, n));
+        fig.emplace(problem_, c_, h, n, figure_orbit_from_steps(problem_, c_, cols, n));
         return fig;
     }
 
@@ -198,7 +198,7 @@ private:
         }
         series_[run_index(out)] =
             capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
-                               rec.maxima(), figure_orbit_from_steps(problem_, g.cols(), n));
+                               rec.maxima(), figure_orbit_from_steps(problem_, c_, g.cols(), n));
     }
 
     void start_recorder(Recorder<P>& rec, const MethodInfo& info, double h, std::int64_t n,

@@ -18,7 +18,8 @@ struct Oscillator : SeparableProblem<Oscillator>,
                     ConstantGamma<Oscillator>,
                     ParamTable<Oscillator> {
     static constexpr std::string_view id = "oscillator";
-    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
+    static constexpr OrbitFigure figure_orbit =
+        OrbitFigure::on_request; // a phase portrait when a case asks (issue 14)
     static constexpr std::string_view title = "damped harmonic oscillator q''+2γq'+ω²q=0";
     static constexpr bool is_linear = true;
     static constexpr bool has_exact = true;

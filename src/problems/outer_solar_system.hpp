@@ -21,7 +21,8 @@ namespace dampsym {
 
 struct OuterSolarSystem : NBodyProblem<OuterSolarSystem> {
     static constexpr std::string_view id = "outer-solar-system";
-    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
+    static constexpr OrbitFigure figure_orbit =
+        OrbitFigure::by_default; // its figures draw the orbit (issue 14)
     static constexpr std::string_view title =
         "outer solar system, Sun + 5 planets, HLW(2.10), HLW Table 2.2";
     static constexpr bool has_exact = false;

@@ -17,7 +17,8 @@ struct Pendulum : SeparableProblem<Pendulum>,
                   ConstantGamma<Pendulum>,
                   ParamTable<Pendulum> {
     static constexpr std::string_view id = "pendulum";
-    static constexpr bool figure_orbit = true; // its figures draw the orbit (issue 14)
+    static constexpr OrbitFigure figure_orbit =
+        OrbitFigure::on_request; // a phase portrait when a case asks (issue 14)
     static constexpr std::string_view title = "damped pendulum q''+2γq'+sin q=0";
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;

@@ -16,10 +16,12 @@ computed in figdata.py (without matplotlib).
 Cost (issue 14: a run with --figures at most 2x one without): log axes get at most one tick per
 decade and no minor ticks beyond 3 decades (matplotlib's tick objects were most of the drawing
 time), each line is thinned to min/max per pixel column (figdata.decimate_columns: the drawn
-line is the same), legends are placed at fixed spots instead of "best" (which scans every
-vertex), and dense lines are rasterised in svg/pdf."""
+line is the same), time-series legends are placed at fixed spots instead of "best" (which scans
+every vertex), dense lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and
+the cyclic garbage collector runs rarely (main)."""
 
 import argparse
+import gc
 import json
 import math
 import multiprocessing
@@ -178,12 +180,24 @@ def save(fig, case, kind):
     name = f"{case['id']}-{kind}"
     tidy(fig)
     for ext in FORMATS:
-        # zlib level 1 with the run-length strategy (compress_type 3, Z_RLE): a third of the
-        # encoding time of the default level 6, files ~15% larger
-        png = {"pil_kwargs": {"compress_level": 1, "compress_type": 3}}
-        fig.savefig(os.path.join(OUT, "figures", f"{name}.{ext}"), **(png if ext == "png" else {}))
+        path = os.path.join(OUT, "figures", f"{name}.{ext}")
+        if ext == "png":
+            write_png(fig, path)
+        else:
+            fig.savefig(path)
     recycle(fig)
     return f"figures/{name}.{primary_format()}"
+
+
+def write_png(fig, path):
+    """The figure as savefig draws it (same dpi and face colour: rcParams savefig.dpi = figure.dpi,
+    facecolor "auto"), encoded by figdata.encode_png: RGB when every pixel is opaque."""
+    fig.canvas.draw()
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    h, w, _ = rgba.shape
+    pixels = rgba if (rgba[:, :, 3] != 255).any() else np.ascontiguousarray(rgba[:, :, :3])
+    with open(path, "wb") as f:
+        f.write(fd.encode_png(pixels, w, h, pixels.shape[2]))
 
 
 def dense(n):
@@ -629,8 +643,9 @@ def plan(case, ser):
     if ser and fd.series_panels(ser):
         kinds.append("series")
     wanted = fd.case_figure_kinds(case)
-    has_orbit = bool(ser) and any("orbit" in r["series"] for r in ser["runs"])
-    if has_orbit and (fd.wants_orbit_figure(case) or (wanted and "orbit" in wanted)):
+    # a run keeps orbit samples only for a case that draws them (the problem's default or the
+    # case's "figures" key: the runner's case_draws_orbit)
+    if ser and any("orbit" in r["series"] for r in ser["runs"]):
         kinds.append("orbit")
     if ser and any("poincare" in r["series"] for r in ser["runs"]):
         kinds.append("poincare")
@@ -742,6 +757,12 @@ def main():
         if name.endswith((".png", ".svg", ".pdf")):
             os.remove(os.path.join(OUT, "figures", name))
     cases = [i for i, c in enumerate(REPORT["cases"]) if a.filter in c["id"]]
+    # Python's cyclic garbage collector ran every 700 allocations and scanned matplotlib's many
+    # artist objects again and again (a tenth of the drawing time): the objects built so far
+    # (modules, report.json) are frozen out of its scans, and it runs every 50 000 allocations
+    # (the same peak memory, ~190 MB per process, measured).
+    gc.freeze()
+    gc.set_threshold(50000, 50, 100)
 
     # largest series file first (with a ladder's convergence figure), so that the workers
     # finish together

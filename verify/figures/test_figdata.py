@@ -160,5 +160,37 @@ class Styles(unittest.TestCase):
         self.assertEqual(fd.paper_figure({"source": "conventions §2"}), "")
 
 
+class Png(unittest.TestCase):
+    """figdata.encode_png, read back by Pillow (the reader matplotlib itself uses)."""
+
+    def decode(self, data):
+        import io
+        from PIL import Image
+        im = Image.open(io.BytesIO(data))
+        im.load()
+        return im
+
+    def test_round_trip(self):
+        rng = random.Random(7)
+        for channels, mode in ((3, "RGB"), (4, "RGBA")):
+            for w, h in ((1, 1), (5, 3), (64, 17)):
+                pixels = bytes(rng.randrange(256) for _ in range(w * h * channels))
+                im = self.decode(fd.encode_png(pixels, w, h, channels))
+                self.assertEqual((im.mode, im.size), (mode, (w, h)))
+                self.assertEqual(im.tobytes(), pixels)
+
+    def test_negative_control(self):
+        pixels = bytes(range(48))
+        data = bytearray(fd.encode_png(pixels, 4, 4, 3))
+        self.assertNotEqual(self.decode(fd.encode_png(bytes(48), 4, 4, 3)).tobytes(), pixels)
+        data[-20] ^= 0xFF  # inside the compressed data: the CRC (or zlib) no longer matches
+        with self.assertRaises(Exception):
+            self.decode(bytes(data))
+        with self.assertRaises(ValueError):
+            fd.encode_png(pixels, 4, 5, 3)  # 48 bytes are not 4 x 5 RGB pixels
+        with self.assertRaises(ValueError):
+            fd.encode_png(pixels, 12, 1, 4 - 2)
+
+
 if __name__ == "__main__":
     unittest.main()
