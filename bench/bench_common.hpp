@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace dampsym::bench {
@@ -80,8 +81,12 @@ P make_problem(const std::vector<std::pair<std::string, double>>& scalars,
 }
 
 // Registration of each group (one translation unit each).
-void register_harness_benchmarks();  // bench_harness.cpp: catalog × problems
-void register_peer_benchmarks();     // bench_peers.cpp: bare csv1 loop, Boost.Odeint, GSL
+void register_harness_benchmarks(); // bench_harness.cpp: catalog × problems
+void register_peer_benchmarks();    // bench_peers.cpp: bare csv1 loop, Boost.Odeint, GSL
+// bench_harness.cpp: whether catalog method `method` on the benchmarks' pendulum, stepped
+// kSteps1Dof steps of kStep by the harness's kernel, ends at (q, p) bit for bit (a bare loop that
+// claims to compute a kernel's arithmetic is checked against it).
+bool kernel_ends_at(std::string_view method, double q, double p);
 void register_reference_benchmark(); // bench_reference.cpp: certified GSL reference
 void register_overhead_benchmarks(); // bench_overhead.cpp: run_cases vs bare integrate()
 void register_pde_benchmarks();      // bench_pde.cpp: B ch. 5 schemes, M = 256 ... 8192

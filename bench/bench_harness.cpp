@@ -15,7 +15,9 @@
 #include "harness/provenance.hpp"
 #include "harness/registry.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <set>
 #include <string>
@@ -99,6 +101,23 @@ NBody make_nbody(int bodies) {
 }
 
 } // namespace
+
+bool kernel_ends_at(std::string_view method, double q, double p) {
+    const Pendulum problem =
+        make_problem<Pendulum>({{"gamma", kGamma}, {"q0", kPendulumQ0}, {"p0", kPendulumP0}});
+    const MethodInfo* info = find_method(method);
+    bool same = false;
+    if (info != nullptr)
+        with_kernel<Pendulum>(*info, [&]<class K>() {
+            Counters counters;
+            K stepper(problem, *info, kStep, counters);
+            Vec z = problem.initial_state();
+            integrate(stepper, z, 0.0, kStep, kSteps1Dof);
+            same = std::bit_cast<std::uint64_t>(z[0]) == std::bit_cast<std::uint64_t>(q) &&
+                   std::bit_cast<std::uint64_t>(z[1]) == std::bit_cast<std::uint64_t>(p);
+        });
+    return same;
+}
 
 void register_harness_benchmarks() {
     register_problem(

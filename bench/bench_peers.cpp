@@ -2,6 +2,14 @@
 // step count as harness/pendulum/*:
 //   peer/pendulum/bare-csv1                 csv1's formulas (src/methods/csv1.hpp, constant γ) on
 //                                           plain doubles: the physical limit of that step
+//   peer/pendulum/bare-stormer-verlet       stormer-verlet's arithmetic (Lobatto IIIA-IIIB with the
+//                                           damping −2γp in the vector field, as the partitioned
+//                                           engine computes it) on plain doubles
+//   peer/pendulum/bare-cse-if               cse-if's arithmetic (B(2.18), as the partitioned engine
+//                                           computes it) on plain doubles; cse-etd B(2.19) differs
+//                                           only in two coefficients
+//   peer/pendulum/bare-csv1-perk            csv1-perk's arithmetic (B(2.20) as the partitioned
+//                                           engine computes it) on plain doubles
 //   peer/pendulum/odeint-velocity-verlet    Boost.Odeint velocity_verlet, damping −2γp in the force
 //                                           (a non-conformal baseline; FSAL: one force call a step)
 //   peer/pendulum/odeint-rkn-sb3a-m4-damped symplectic_rkn_sb3a_m4_mclachlan between exact damping
@@ -25,6 +33,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace dampsym::bench {
@@ -41,6 +50,13 @@ bool finite_or_skip(benchmark::State& state, double q, double p) {
     if (std::isfinite(q) && std::isfinite(p)) return true;
     state.SkipWithError("non-finite final state");
     return false;
+}
+
+// Fails the benchmark of a bare loop that claims method's arithmetic if its final state is not the
+// kernel's bit for bit (then it would time something else).
+void same_as_kernel_or_skip(benchmark::State& state, std::string_view method, double q, double p) {
+    if (!kernel_ends_at(method, q, p))
+        state.SkipWithError(("final state differs from " + std::string(method) + "'s").c_str());
 }
 
 void bare_csv1(benchmark::State& state) {
@@ -62,6 +78,98 @@ void bare_csv1(benchmark::State& state) {
         benchmark::DoNotOptimize(p);
         if (!finite_or_skip(state, q, p)) break;
     }
+    set_step_counters(state, kN, evals);
+}
+
+// stormer-verlet (HLW(3.6), Lobatto IIIA-IIIB) in the Rayleigh form p' = −sin q − 2γp, operation
+// for operation as the partitioned engine steps it (partitioned_engine.hpp: schedule Q₁ P₁ P₂ Q₂,
+// the P₁ stage a linear solve). Its chain from q_n to q_{n+1} holds a division by 1 + hγ and
+// the force at Q₂ (= q_{n+1}); the force at Q₁ = q_n is the previous step's F₂ recomputed.
+void bare_stormer_verlet(benchmark::State& state) {
+    const double h = kStep, hh = 0.5 * kStep, g = kGamma;
+    const double hd = 2.0 * h * 0.5 * g, denominator = 1.0 + (2.0 * h * 0.5) * g;
+    std::int64_t evals = 0;
+    double q_end = 0.0, p_end = 0.0;
+    for (auto _ : state) {
+        double q = kPendulumQ0, p = kPendulumP0;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        for (std::int64_t k = 0; k < kN; ++k) {
+            const double f1 = -std::sin(q);                // F(Q₁), Q₁ = q
+            const double p1 = (p + hh * f1) / denominator; // (1 + hγ)P₁ = p + (h/2)F₁
+            const double p2 = p + hh * f1 - hd * p1;       // P₂ = p + (h/2)(F₁ − 2γP₁)
+            const double q2 = q + hh * p1 + hh * p2;       // Q₂ = q + (h/2)(P₁ + P₂)
+            const double f2 = -std::sin(q2);               // F(Q₂)
+            q = q + hh * p1 + hh * p2;                     // q₁ = Q₂
+            p = p + hh * (f1 - 2.0 * g * p1);              // p₁ = p + (h/2)(F₁ − 2γP₁)
+            p = p + hh * (f2 - 2.0 * g * p2);              //        + (h/2)(F₂ − 2γP₂)
+        }
+        evals += 2 * kN;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        q_end = q;
+        p_end = p;
+        if (!finite_or_skip(state, q, p)) break;
+    }
+    same_as_kernel_or_skip(state, "stormer-verlet", q_end, p_end);
+    set_step_counters(state, kN, evals);
+}
+
+// cse-if (B(2.18), symplectic Euler under the integrating factor, x_B = 2γh) as the partitioned
+// engine steps it: P₁ = e^{−x_B} p + h F(q), q₁ = q + h P₁, p₁ = P₁. One force evaluation a step,
+// on the chain from q_n to q_{n+1}.
+void bare_cse_if(benchmark::State& state) {
+    const double h = kStep, e = std::exp(-2.0 * (kGamma * h));
+    std::int64_t evals = 0;
+    double q_end = 0.0, p_end = 0.0;
+    for (auto _ : state) {
+        double q = kPendulumQ0, p = kPendulumP0;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        for (std::int64_t k = 0; k < kN; ++k) {
+            p = e * p + h * (-std::sin(q));
+            q = q + h * p;
+        }
+        evals += kN;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        q_end = q;
+        p_end = p;
+        if (!finite_or_skip(state, q, p)) break;
+    }
+    same_as_kernel_or_skip(state, "cse-if", q_end, p_end);
+    set_step_counters(state, kN, evals);
+}
+
+// csv1-perk (B(2.20), x_B = 2γh) as the partitioned engine steps it (damping in the
+// coefficients): P₁ = P₂ = e^{−x_B/2} p + (h/2) F(q), Q₂ = q + (h/2)P₁ + (h/2)P₂,
+// q₁ = q + h(½P₁ + ½P₂), p₁ = e^{−x_B} p + (h/2)e^{−x_B/2}(F(q) + F(Q₂)). Q₂ and q₁ are the same
+// number but rounded differently, so the next step's F(q₁) is a second evaluation.
+void bare_csv1_perk(benchmark::State& state) {
+    const double h = kStep, hh = h * 0.5, xb = 2.0 * (kGamma * h);
+    const double e = std::exp(-0.5 * xb), e2 = std::exp(-xb), w = h * (0.5 * e);
+    std::int64_t evals = 0;
+    double q_end = 0.0, p_end = 0.0;
+    for (auto _ : state) {
+        double q = kPendulumQ0, p = kPendulumP0;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        for (std::int64_t k = 0; k < kN; ++k) {
+            const double f1 = -std::sin(q);
+            const double p1 = e * p + hh * f1;
+            const double q2 = q + hh * p1 + hh * p1;
+            const double f2 = -std::sin(q2);
+            q = q + h * (0.5 * p1 + 0.5 * p1);
+            p = e2 * p + (w * f1 + w * f2);
+        }
+        evals += 2 * kN;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        q_end = q;
+        p_end = p;
+        if (!finite_or_skip(state, q, p)) break;
+    }
+    same_as_kernel_or_skip(state, "csv1-perk", q_end, p_end);
     set_step_counters(state, kN, evals);
 }
 
@@ -220,6 +328,11 @@ void gsl_implicit(benchmark::State& state, const gsl_odeiv2_step_type* type) {
 
 void register_peer_benchmarks() {
     configure(benchmark::RegisterBenchmark("peer/pendulum/bare-csv1", bare_csv1), true);
+    configure(
+        benchmark::RegisterBenchmark("peer/pendulum/bare-stormer-verlet", bare_stormer_verlet),
+        true);
+    configure(benchmark::RegisterBenchmark("peer/pendulum/bare-cse-if", bare_cse_if), true);
+    configure(benchmark::RegisterBenchmark("peer/pendulum/bare-csv1-perk", bare_csv1_perk), true);
     configure(benchmark::RegisterBenchmark("peer/pendulum/odeint-velocity-verlet",
                                            odeint_velocity_verlet),
               true);

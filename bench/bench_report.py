@@ -286,6 +286,20 @@ def main():
                1.15)
     kernel_row("cse-etd / csv1 (ns per force evaluation)", "cse-etd", "csv1", "ns_per_force_eval",
                1.15)
+    # The same kernels against the hand-written loop of their own arithmetic (peer/pendulum/bare-*,
+    # which fail unless they end at the kernel's final state bit for bit): the engine's price.
+    # The rows against csv1 above also contain the price of the methods' arithmetic (the info
+    # rows bare-* / bare-csv1 below): Rayleigh-form stormer-verlet divides by 1 + h*gamma on the
+    # step's chain, csv1-perk evaluates F at Q2 and at q1, which B(2.14)'s sums round
+    # differently, and csv1's two evaluations share one sine (F at q1 starts the next step).
+    kernel_row("stormer-verlet / its hand-written loop (ns per step)", "stormer-verlet",
+               "bare-stormer-verlet", "ns_per_step", 1.15, peer=True)
+    kernel_row("csv1-perk / its hand-written loop (ns per step)", "csv1-perk", "bare-csv1-perk",
+               "ns_per_step", 1.15, peer=True)
+    kernel_row("cse-if / its hand-written loop (ns per step)", "cse-if", "bare-cse-if",
+               "ns_per_step", 1.15, peer=True)
+    kernel_row("cse-etd / cse-if's hand-written loop (ns per step; same operations)", "cse-etd",
+               "bare-cse-if", "ns_per_step", 1.15, peer=True)
     kernel_row("rk4 / odeint runge_kutta4 (ns per step)", "rk4", "odeint-rk4", "ns_per_step", 1.10,
                peer=True)
     for s_ in (1, 2, 3):
@@ -330,6 +344,15 @@ def main():
             "summary.wall_seconds, jobs 1 ÷ jobs 2")
 
     info = [
+        ("hand-written stormer-verlet loop / bare csv1 loop (ns per step)",
+         ratio(value(runs, "peer/pendulum/bare-stormer-verlet", "ns_per_step"),
+               value(runs, "peer/pendulum/bare-csv1", "ns_per_step"))),
+        ("hand-written csv1-perk loop / bare csv1 loop (ns per step)",
+         ratio(value(runs, "peer/pendulum/bare-csv1-perk", "ns_per_step"),
+               value(runs, "peer/pendulum/bare-csv1", "ns_per_step"))),
+        ("hand-written cse-if loop / bare csv1 loop (ns per force evaluation)",
+         ratio(value(runs, "peer/pendulum/bare-cse-if", "ns_per_force_eval"),
+               value(runs, "peer/pendulum/bare-csv1", "ns_per_force_eval"))),
         ("glifrk1 / GSL rk2imp (ns per step)",
          ratio(value(runs, "harness/pendulum/glifrk1", "ns_per_step"),
                value(runs, "peer/pendulum/gsl-rk2imp", "ns_per_step"))),

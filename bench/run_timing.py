@@ -10,9 +10,10 @@ Usage: bench/run_timing.py DAMPSYM_BINARY [--repeats N] [--bench-json RAW.json] 
 The methods are run in --repeats rounds (default 5), every method once per round, so that a change
 of the machine's load falls on all of them; each ratio is the median over the rounds of the ratio
 measured within the round (shared machine). With --bench-json (dampsym_bench's raw output of the
-same ci/bench.sh invocation) the rk4 row divides rk4's ns per step through `dampsym run` (median
-over the rounds) by Boost.Odeint runge_kutta4's (peer/pendulum/odeint-rk4, the minimum CPU time
-of its repetitions): odeint cannot be run through `dampsym run`.
+same ci/bench.sh invocation) the rows of PEER_ROWS divide a method's ns per step through
+`dampsym run` (median over the rounds) by a peer's (the minimum CPU time of its repetitions):
+Boost.Odeint runge_kutta4 for rk4, and the hand-written loops of their own arithmetic for the
+partitioned data kernels; neither can be run through `dampsym run`.
 """
 import argparse
 import json
@@ -65,8 +66,8 @@ def run_once(binary, method, out_dir):
             "ns_per_force_eval": 1e9 * wall / run["rhs_evals"]}
 
 
-def odeint_rk4_ns_per_step(path):
-    """Minimum over repetitions of peer/pendulum/odeint-rk4's ns_per_step in dampsym_bench's JSON."""
+def peer_ns_per_step(path, peer):
+    """Minimum over repetitions of peer/pendulum/PEER's ns_per_step in dampsym_bench's JSON."""
     try:
         with open(path) as f:
             data = json.load(f)
@@ -74,10 +75,22 @@ def odeint_rk4_ns_per_step(path):
         sys.exit(f"run_timing.py: cannot read {path}: {e}")
     vals = [b["ns_per_step"] for b in data.get("benchmarks", [])
             if b.get("run_type", "iteration") == "iteration" and "ns_per_step" in b
-            and b.get("run_name", b["name"]).split("/")[:3] == ["peer", "pendulum", "odeint-rk4"]]
+            and b.get("run_name", b["name"]).split("/")[:3] == ["peer", "pendulum", peer]]
     if not vals:
-        sys.exit(f"run_timing.py: {path}: no peer/pendulum/odeint-rk4 benchmark")
+        sys.exit(f"run_timing.py: {path}: no peer/pendulum/{peer} benchmark")
     return min(vals)
+
+
+# (method through `dampsym run`, dampsym_bench peer, limit): against a peer of the same
+# ci/bench.sh invocation (--bench-json). The bare-* peers are the hand-written loops of the
+# methods' own arithmetic (bench_peers.cpp; they end at the kernel's final state bit for bit).
+PEER_ROWS = [
+    ("rk4", "odeint-rk4", 1.10, "odeint runge_kutta4"),
+    ("stormer-verlet", "bare-stormer-verlet", 1.15, "its hand-written loop"),
+    ("csv1-perk", "bare-csv1-perk", 1.15, "its hand-written loop"),
+    ("cse-if", "bare-cse-if", 1.15, "its hand-written loop"),
+    ("cse-etd", "bare-cse-if", 1.15, "cse-if's hand-written loop (same operations)"),
+]
 
 
 def main():
@@ -118,12 +131,14 @@ def main():
         r = statistics.median(per_round)
         acc.append({"name": name, "ratio": r, "limit": limit, "passed": r <= limit,
                     "ratio_per_round": per_round})
-    if a.bench_json and "rk4" in METHODS:
-        odeint = odeint_rk4_ns_per_step(a.bench_json)
-        r = timing["rk4"]["ns_per_step"] / odeint
-        acc.append({"name": "rk4 through dampsym run / odeint runge_kutta4 in dampsym_bench "
-                            "(ns per step)", "ratio": r, "limit": 1.10, "passed": r <= 1.10,
-                    "odeint_ns_per_step": odeint})
+    for method, peer, limit, label in PEER_ROWS if a.bench_json else []:
+        if method not in METHODS:
+            continue
+        peer_ns = peer_ns_per_step(a.bench_json, peer)
+        r = timing[method]["ns_per_step"] / peer_ns
+        acc.append({"name": f"{method} through dampsym run / {label} in dampsym_bench "
+                            "(ns per step)", "ratio": r, "limit": limit, "passed": r <= limit,
+                    "peer": f"peer/pendulum/{peer}", "peer_ns_per_step": peer_ns})
     w = max(len(r["name"]) for r in acc)
     print(f"\n{'dampsym run acceptance'.ljust(w)}  {'ratio':>7}  limit  result")
     for r in acc:

@@ -22,7 +22,9 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -641,6 +643,76 @@ TEST_CASE("evaluation counts per step", "[families]") {
                 static_cast<double>(c.newton_iters) / n, c.max_newton_iters_per_step,
                 static_cast<double>(c.rhs_evals) / n);
     }
+}
+
+namespace {
+// Every partitioned (PRK, PERK) catalog method on problem `prob`: n steps through integrate()
+// (the loop on the compiled shape's step, core/integrate.hpp), through the step_program() loop
+// (the interpreted program) and through step_jacobian(); the states must agree bit for bit and
+// the evaluation counts exactly. Returns the methods that ran on a compiled shape.
+template <class P>
+std::vector<std::string> compiled_equals_program(const P& prob, double t0, double h, int n) {
+    using List = dampsym::KernelList<dampsym::PartitionedRK, dampsym::PartitionedExponentialRK>;
+    std::vector<std::string> compiled;
+    for (const MethodInfo& info : dampsym::method_catalog()) {
+        dampsym::with_kernel_among<P, List>(info, [&]<class K>() {
+            INFO(info.id << " on " << P::id);
+            Counters ca, cb, cc;
+            K a(prob, info, h, ca), b(prob, info, h, cb), c(prob, info, h, cc);
+            Vec za = prob.initial_state(), zb = za, zc = za;
+            Mat psi;
+            const auto outcome = dampsym::integrate(a, za, t0, h, n);
+            REQUIRE(outcome.status == dampsym::RunStatus::ok);
+            for (int k = 0; k < n; ++k) {
+                REQUIRE(b.step_program(dampsym::time_at(t0, h, k), zb) == StepStatus::ok);
+                REQUIRE(c.step_jacobian(dampsym::time_at(t0, h, k), zc, psi) == StepStatus::ok);
+            }
+            for (Eigen::Index i = 0; i < za.size(); ++i) {
+                CHECK(std::bit_cast<std::uint64_t>(za[i]) == std::bit_cast<std::uint64_t>(zb[i]));
+                CHECK(std::bit_cast<std::uint64_t>(zc[i]) == std::bit_cast<std::uint64_t>(zb[i]));
+            }
+            CHECK(ca.rhs_evals == cb.rhs_evals);
+            if (a.compiled_shape() >= 0) compiled.emplace_back(info.id);
+        });
+    }
+    return compiled;
+}
+} // namespace
+
+TEST_CASE("compiled partitioned shapes step bit for bit as the interpreted program", "[families]") {
+    // Constant γ (pendulum: the force memo of stormer-verlet hits), time-dependent γ (Hill: the
+    // PERK coefficients change every step), a t-dependent force (the memo must check the time),
+    // two degrees of freedom (Kepler), and a start time other than 0.
+    dampsym::Pendulum pendulum;
+    pendulum.gamma = 0.1;
+    const auto on_pendulum = compiled_equals_program(pendulum, 0.3, 0.01, 2000);
+    for (const char* id : {"symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet",
+                           "cse-if", "cse-etd", "csv1-perk", "csv2-perk", "etdprk2"})
+        CHECK(std::count(on_pendulum.begin(), on_pendulum.end(), std::string(id)) == 1);
+    const auto on_hill = compiled_equals_program(hill(0.5), 0.0, 0.05, 500);
+    CHECK(!on_hill.empty());
+    dampsym::DrivenPendulum driven;
+    driven.f = 1.2;
+    CHECK(!compiled_equals_program(driven, 1.7, 0.02, 1000).empty());
+    CHECK(!compiled_equals_program(dampsym::Kepler{}, 0.0, 0.01, 1000).empty());
+
+    // Negative controls: the adjoint pair (Lobatto IIIB for q, IIIA for p) is scheduled (P₁ Q₁ Q₂
+    // P₂) but has no compiled shape, so the program runs it; and the comparison sees a change of h
+    // in the 12th digit.
+    Counters c1, c2;
+    dampsym::PartitionedRK<dampsym::Pendulum> adjoint(pendulum, dampsym::lobatto_iiib2_tableau(),
+                                                      dampsym::lobatto_iiia2_tableau(), 0.01, c1);
+    CHECK(adjoint.scheduled());
+    CHECK(adjoint.compiled_shape() == -1);
+    const MethodInfo* sv = dampsym::find_method("stormer-verlet");
+    REQUIRE(sv != nullptr);
+    dampsym::PartitionedRK<dampsym::Pendulum> a(pendulum, *sv, 0.01, c1),
+        b(pendulum, *sv, 0.01 * (1.0 + 1e-12), c2);
+    Vec za = pendulum.initial_state(), zb = za;
+    dampsym::integrate(a, za, 0.0, 0.01, 100);
+    dampsym::integrate(b, zb, 0.0, 0.01, 100);
+    CHECK(std::bit_cast<std::uint64_t>(za[0]) != std::bit_cast<std::uint64_t>(zb[0]));
+    CHECK(std::bit_cast<std::uint64_t>(za[1]) != std::bit_cast<std::uint64_t>(zb[1]));
 }
 
 TEST_CASE("partitioned and Runge-Kutta kernels agree where the methods coincide", "[families]") {

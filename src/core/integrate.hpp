@@ -47,6 +47,44 @@ inline bool state_diverged(const Vec& z) {
     return false;
 }
 
+// The loop of integrate_steps on a step callable StepFn: StepStatus(double t, Vec& z).
+template <class StepFn, class Observer>
+[[gnu::always_inline]] inline IntegrateOutcome step_loop(StepFn& step, Vec& z, double t0, double h,
+                                                         std::int64_t k_begin, std::int64_t k_end,
+                                                         Observer* observer) {
+    for (std::int64_t k = k_begin; k < k_end; ++k) {
+        if (step(time_at(t0, h, k), z) != StepStatus::ok)
+            return {RunStatus::solve_failed, k, k + 1};
+        if (state_diverged(z)) return {RunStatus::diverged, k + 1, k + 1};
+        if constexpr (!std::is_same_v<Observer, NoObserver>)
+            (*observer)(k + 1, time_at(t0, h, k + 1), z);
+    }
+    return {RunStatus::ok, k_end, 0};
+}
+
+// stepper.step as a callable, inlined into the loop (a lambda's call operator may not be).
+template <class Stepper>
+struct StepOf {
+    Stepper& stepper;
+    [[gnu::always_inline]] inline StepStatus operator()(double t, Vec& z) const {
+        return stepper.step(t, z);
+    }
+};
+
+// A stepper whose step branches on a mode that is fixed for a run (the partitioned engine: which
+// compiled shape its coefficients have) can declare `static constexpr bool specialised_steps =
+// true` and provide `with_specialised_step(f)`, which calls f with a step callable specialised for
+// the current mode. The loop is then compiled once per mode with the mode's branch outside it
+// (what a compiler's loop unswitching would do), and the stepper stays free to fall back inside
+// the callable when its mode changes during the run.
+template <class Stepper>
+constexpr bool has_specialised_steps() {
+    if constexpr (requires { Stepper::specialised_steps; })
+        return Stepper::specialised_steps;
+    else
+        return false;
+}
+
 // Advances z from step k_begin (z is the state at t0 + k_begin·h) to step k_end. Stepper:
 // StepStatus step(double t, Vec& z). Observer (if any): void operator()(std::int64_t n, double t_n,
 // const Vec& z_n) after each step. Steps are numbered from t0 whatever k_begin, so integrating
@@ -55,14 +93,13 @@ template <class Stepper, class Observer = NoObserver>
 IntegrateOutcome integrate_steps(Stepper& stepper, Vec& z, double t0, double h,
                                  std::int64_t k_begin, std::int64_t k_end,
                                  Observer* observer = nullptr) {
-    for (std::int64_t k = k_begin; k < k_end; ++k) {
-        if (stepper.step(time_at(t0, h, k), z) != StepStatus::ok)
-            return {RunStatus::solve_failed, k, k + 1};
-        if (state_diverged(z)) return {RunStatus::diverged, k + 1, k + 1};
-        if constexpr (!std::is_same_v<Observer, NoObserver>)
-            (*observer)(k + 1, time_at(t0, h, k + 1), z);
+    if constexpr (has_specialised_steps<Stepper>()) {
+        return stepper.with_specialised_step(
+            [&](auto&& step) { return step_loop(step, z, t0, h, k_begin, k_end, observer); });
+    } else {
+        StepOf<Stepper> step{stepper};
+        return step_loop(step, z, t0, h, k_begin, k_end, observer);
     }
-    return {RunStatus::ok, k_end, 0};
 }
 
 // Advances z from t0 by n steps of size h (integrate_steps from 0 to n).

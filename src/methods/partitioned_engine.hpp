@@ -26,7 +26,12 @@
 // The scheduled path runs a flat program compiled from the schedule (compile_program: the
 // structurally non-zero coefficients with their products of h, recompiled only when the provider
 // changes the coefficients), and for a problem with a compile-time size (static_dof) the stage
-// vectors are fixed-size.
+// vectors are fixed-size. For such a problem the shapes of kShapes (schedule and coefficient
+// structure of symplectic Euler, its adjoint and the Lobatto IIIA q tableau, with constant or
+// exponential p coefficients) are also compiled as straight-line code with the same operations
+// (partitioned_shapes.hpp), and the integration loop is compiled once per shape
+// (specialised_steps, core/integrate.hpp); on the Lobatto IIIA-IIIB shape the force at Q₂ = q₁ is
+// reused by the next step (ForceMemo).
 //
 // Exact step Jacobian: the implicit-function theorem on the stage equations at the computed
 // stages (whichever path computed them), with hess_T and force_jacobian at the stages (s
@@ -38,6 +43,8 @@
 #include "core/problem.hpp"
 #include "methods/exponential_tableaux.hpp"
 #include "methods/newton.hpp"
+#include "methods/partitioned_program.hpp"
+#include "methods/partitioned_shapes.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -65,25 +72,39 @@ public:
           JF_(ui(s_), Mat(n_, n_)), acc_(VecN::Zero(n_)), newton_(2 * s_ * n_),
           B_(Mat::Zero(2 * s_ * n_, 2 * n_)), dX2_(2 * s_ * n_, 2 * n_) {
         pv_.init(problem, h, hat_, tilde_);
-        for (int j = 0; j < s_; ++j) {
-            bool force_used = tilde_.b[j] != 0.0;
-            for (int i = 0; i < s_; ++i) force_used = force_used || tilde_.A(i, j) != 0.0;
-            need_force_.push_back(force_used);
-        }
-        build_schedule();
+        prog_.build(hat_, tilde_);
         compile_program();
     }
 
     const ExponentialTableau& hat() const { return hat_; }
     const ExponentialTableau& tilde() const { return tilde_; }
-    bool scheduled() const { return !schedule_.empty(); }
+    bool scheduled() const { return prog_.scheduled(); }
 
-    StepStatus step(double t, Vec& z) {
+    [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
+        if constexpr (N != Eigen::Dynamic)
+            if (fixed_ != 0)
+                return with_shape<false>([&](auto&& step)
+                                             __attribute__((always_inline)) { return step(t, z); });
+        return step_program(t, z);
+    }
+
+    // The integration loop runs on the shape's step (core/integrate.hpp): one loop per shape.
+    static constexpr bool specialised_steps = static_dof<P>() != Eigen::Dynamic;
+    template <class F>
+    [[gnu::always_inline]] inline decltype(auto) with_specialised_step(F&& f) {
+        return with_shape<false>(std::forward<F>(f));
+    }
+
+    // The schedule run by the interpreted program (or Newton), stages kept in the members.
+    StepStatus step_program(double t, Vec& z) {
         if (pv_.at_step(prob_, t, h_, hat_, tilde_)) compile_program();
+        return step_program_now(t, z);
+    }
+    StepStatus step_program_now(double t, Vec& z) {
         if constexpr (damped)
             for (int i = 0; i < s_; ++i) gam_[i] = prob_.gamma_at(stage_time(t, i));
         if (scheduled()) {
-            for (const Task& task : program_) {
+            for (const Task& task : prog_.program) {
                 if (task.q)
                     q_stage(t, z, task);
                 else
@@ -92,7 +113,7 @@ public:
         } else {
             if (!solve_stages(t, z)) return StepStatus::solve_failed;
             for (int i = 0; i < s_; ++i) {
-                if (need_force_[ui(i)]) force(t, i);
+                if (prog_.need_force[ui(i)]) force(t, i);
                 prob_.grad_T(P_[ui(i)], gP_[ui(i)]);
             }
         }
@@ -102,7 +123,12 @@ public:
 
     // Advances z exactly as step() and writes Psi = ∂z₁/∂z₀ (implicit-function theorem).
     StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
-        const StepStatus st = step(t, z);
+        StepStatus st;
+        if constexpr (N != Eigen::Dynamic)
+            st = with_shape<true>([&](auto&& step)
+                                      __attribute__((always_inline)) { return step(t, z); });
+        else
+            st = step_program(t, z);
         if (st != StepStatus::ok) return st;
         stage_jacobians(t);
         assemble_newton_matrix();
@@ -131,101 +157,19 @@ private:
     static constexpr int N = static_dof<P>();
     using VecN = Eigen::Matrix<double, N, 1>;
 
+    using Task = PartitionedProgram::Task;
+    using Term = PartitionedProgram::Term;
+    using Weight = PartitionedProgram::Weight;
+
     static std::size_t ui(int i) { return static_cast<std::size_t>(i); }
 
     double stage_time(double t, int i) const { return t + hat_.c[i] * h_; }
     auto q_of(Vec& z) const { return z.template head<N>(n_); }
     auto p_of(Vec& z) const { return z.template segment<N>(n_, n_); }
 
-    // Greedy order of the tasks Q_i (code i: Q_i and its force) and P_i (code s + i); empty when
-    // no order exists (then Newton).
-    void build_schedule() {
-        std::vector<bool> qd(ui(s_), false), pd(ui(s_), false);
-        std::vector<int> order;
-        bool progress = true;
-        while (progress && static_cast<int>(order.size()) < 2 * s_) {
-            progress = false;
-            for (int i = 0; i < s_; ++i) {
-                if (!qd[ui(i)]) {
-                    bool ready = true;
-                    for (int j = 0; j < s_; ++j)
-                        if (hat_.A(i, j) != 0.0 && !pd[ui(j)]) ready = false;
-                    if (ready) {
-                        qd[ui(i)] = true;
-                        order.push_back(i);
-                        progress = true;
-                    }
-                }
-                if (!pd[ui(i)]) {
-                    bool ready = true;
-                    for (int j = 0; j < s_; ++j)
-                        if (tilde_.A(i, j) != 0.0 &&
-                            (!qd[ui(j)] || (damped && j != i && !pd[ui(j)])))
-                            ready = false;
-                    if (ready) {
-                        pd[ui(i)] = true;
-                        order.push_back(s_ + i);
-                        progress = true;
-                    }
-                }
-            }
-        }
-        if (static_cast<int>(order.size()) == 2 * s_) schedule_ = order;
-    }
-
     void force(double t, int i) {
         prob_.force(stage_time(t, i), Q_[ui(i)], F_[ui(i)]);
         c_.rhs_evals += 1;
-    }
-
-    // The scheduled step as a flat program over the structurally non-zero coefficients, with the
-    // products of h that the stage formulas form computed once (the same products in the same
-    // order, so the same values): no loop over zero coefficients and no test per step.
-    struct Term {
-        int j;
-        double coef;    // h â_ij (Q task) or h ã_ij (P task)
-        double damping; // 2h ã_ij (P task, δ = 1, j ≠ i): times γ_j
-    };
-    struct Task {
-        int i;
-        bool q, force;
-        double phi;        // φ̂_i or φ̃_i
-        double damping_ii; // 2h ã_ii (P task): the denominator is 1 + 2h ã_ii γ_i
-        std::size_t first, last;
-    };
-    struct Weight {
-        int i;
-        double w; // h b̂_i (δ = 1) or b̂_i (δ = 0); h b̃_i
-    };
-
-    void compile_program() {
-        program_.clear();
-        terms_.clear();
-        for (const int code : schedule_) {
-            Task task{code < s_ ? code : code - s_, code < s_, false, 0.0, 0.0, terms_.size(), 0};
-            const int i = task.i;
-            if (task.q) {
-                task.force = need_force_[ui(i)] != 0;
-                task.phi = hat_.phi[i];
-                for (int j = 0; j < s_; ++j)
-                    if (hat_.A(i, j) != 0.0) terms_.push_back({j, h_ * hat_.A(i, j), 0.0});
-            } else {
-                task.phi = tilde_.phi[i];
-                task.damping_ii = 2.0 * h_ * tilde_.A(i, i);
-                for (int j = 0; j < s_; ++j) {
-                    const double a = tilde_.A(i, j);
-                    if (a != 0.0) terms_.push_back({j, h_ * a, 2.0 * h_ * a});
-                }
-            }
-            task.last = terms_.size();
-            program_.push_back(task);
-        }
-        bq_.clear();
-        bp_.clear();
-        for (int i = 0; i < s_; ++i) {
-            if (hat_.b[i] != 0.0) bq_.push_back({i, damped ? h_ * hat_.b[i] : hat_.b[i]});
-            if (tilde_.b[i] != 0.0) bp_.push_back({i, h_ * tilde_.b[i]});
-        }
     }
 
     // Q_i = φ̂_i q + h Σ_j â_ij g(P_j) (all needed P_j known), then F_i if it is used.
@@ -233,7 +177,7 @@ private:
         VecN& Q = Q_[ui(task.i)];
         Q = task.phi * q_of(z);
         for (std::size_t k = task.first; k < task.last; ++k)
-            Q += terms_[k].coef * gP_[ui(terms_[k].j)];
+            Q += prog_.terms[k].coef * gP_[ui(prog_.terms[k].j)];
         if (task.force) force(t, task.i);
     }
 
@@ -242,7 +186,7 @@ private:
         const int i = task.i;
         acc_ = task.phi * p_of(z);
         for (std::size_t k = task.first; k < task.last; ++k) {
-            const Term& term = terms_[k];
+            const Term& term = prog_.terms[k];
             acc_ += term.coef * F_[ui(term.j)];
             if constexpr (damped)
                 if (term.j != i) acc_ -= (term.damping * gam_[term.j]) * P_[ui(term.j)];
@@ -264,19 +208,27 @@ private:
         auto q = q_of(z);
         auto p = p_of(z);
         if constexpr (damped) { // φ̂_0 = φ̃_0 = 1: the increments are added stage by stage
-            for (const Weight& b : bq_) q += b.w * gP_[ui(b.i)];
-            for (const Weight& b : bp_) {
+            for (const Weight& b : prog_.bq) q += b.w * gP_[ui(b.i)];
+            for (const Weight& b : prog_.bp) {
                 acc_ = F_[ui(b.i)] - (2.0 * gam_[b.i]) * P_[ui(b.i)];
                 p += b.w * acc_;
             }
         } else {
-            acc_.setZero();
-            for (const Weight& b : bq_) acc_ += b.w * gP_[ui(b.i)];
+            weighted_sum(prog_.bq, gP_);
             q = hat_.phi0 * q + h_ * acc_;
-            acc_.setZero();
-            for (const Weight& b : bp_) acc_ += b.w * F_[ui(b.i)];
+            weighted_sum(prog_.bp, F_);
             p = tilde_.phi0 * p + acc_;
         }
+    }
+
+    // acc_ = Σ w_i X_i from its first term (0 + x would only turn −0 into +0); 0 when empty.
+    void weighted_sum(const std::vector<Weight>& weights, const std::vector<VecN>& X) {
+        if (weights.empty()) {
+            acc_.setZero();
+            return;
+        }
+        acc_ = weights[0].w * X[ui(weights[0].i)];
+        for (std::size_t k = 1; k < weights.size(); ++k) acc_ += weights[k].w * X[ui(weights[k].i)];
     }
 
     void stage_jacobians(double t) {
@@ -302,6 +254,84 @@ private:
                     S.block((s_ + i) * n_, (s_ + j) * n_, n_, n_).diagonal().array() +=
                         2.0 * h_ * tilde_.A(i, j) * gam_[j];
             }
+    }
+
+    // ---- Shapes compiled ahead (partitioned_shapes.hpp; problems with a compile-time size) ----
+public:
+    // The shape of the current coefficients and the index of its compiled shape (-1: the program).
+    partitioned_shapes::Shape current_shape() const { return prog_.shape(hat_, tilde_); }
+    int compiled_shape() const { return fixed_ - 1; }
+
+private:
+    static constexpr const auto& kShapes = partitioned_shapes::kShapes;
+
+    // The program for the current coefficients, and its compiled shape (static size only).
+    void compile_program() {
+        prog_.compile(hat_, tilde_, h_);
+        if constexpr (N != Eigen::Dynamic) fixed_ = prog_.compile_shape(hat_, tilde_, fc_);
+    }
+
+    // Shape I's step: the coefficients may change (time-dependent γ) to another shape, which the
+    // program then runs. Keep: the stages stay in the members, for step_jacobian.
+    template <bool Keep, int I>
+    [[gnu::always_inline]] inline StepStatus step_shape(double t, Vec& z) {
+        if (pv_.at_step(prob_, t, h_, hat_, tilde_)) {
+            compile_program();
+            if (fixed_ != I + 1) return step_program_now(t, z);
+        }
+        constexpr int S = kShapes[I].s;
+        partitioned_shapes::Stages<P, S> x;
+        const partitioned_shapes::Context<P> cx{prob_, h_, hat_, tilde_, fc_, fsal_, c_};
+        partitioned_shapes::step<I, damped>(cx, t, z, x);
+        if constexpr (Keep)
+            for (int i = 0; i < S; ++i) {
+                Q_[ui(i)] = x.Qs[i];
+                P_[ui(i)] = x.Ps[i];
+                F_[ui(i)] = x.Fs[i];
+                gP_[ui(i)] = x.Gs[i];
+                gam_[i] = x.gam[i];
+            }
+        return StepStatus::ok;
+    }
+
+    // The steps handed to with_shape's f, inlined into its loop (a lambda's call operator may not
+    // be): shape I's, and the program's.
+    template <bool Keep, int I>
+    struct ShapeStep {
+        PartitionedEngine& e;
+        [[gnu::always_inline]] inline StepStatus operator()(double t, Vec& z) const {
+            return e.template step_shape<Keep, I>(t, z);
+        }
+    };
+    struct ProgramStep {
+        PartitionedEngine& e;
+        StepStatus operator()(double t, Vec& z) const { return e.step_program(t, z); }
+    };
+
+    // f(step) with step the shape in use, among the shapes of this provider (δ).
+    template <bool Keep, class F, int... I>
+    [[gnu::always_inline]] inline decltype(auto) with_shape(F&& f,
+                                                            std::integer_sequence<int, I...>) {
+        using R = decltype(f(ProgramStep{*this}));
+        R r{};
+        const bool done =
+            ((kShapes[I].rayleigh == damped && fixed_ == I + 1 ? (r = call_shape<Keep, I>(f), true)
+                                                               : false) ||
+             ...);
+        if (!done) r = f(ProgramStep{*this});
+        return r;
+    }
+    template <bool Keep, int I, class F>
+    [[gnu::always_inline]] inline decltype(auto) call_shape(F& f) {
+        if constexpr (kShapes[I].rayleigh == damped)
+            return f(ShapeStep<Keep, I>{*this});
+        else
+            return f(ProgramStep{*this});
+    }
+    template <bool Keep, class F>
+    [[gnu::always_inline]] inline decltype(auto) with_shape(F&& f) {
+        return with_shape<Keep>(std::forward<F>(f),
+                                std::make_integer_sequence<int, int(kShapes.size())>{});
     }
 
     bool solve_stages(double t, Vec& z) {
@@ -347,17 +377,16 @@ private:
     double h_;
     Counters& c_;
     ExponentialTableau hat_, tilde_;
-    std::vector<int> schedule_;
-    std::vector<Task> program_; // the schedule with its coefficients (compile_program)
-    std::vector<Term> terms_;
-    std::vector<Weight> bq_, bp_;
-    std::vector<char> need_force_;
+    PartitionedProgram prog_{s_, damped}; // schedule and program (partitioned_program.hpp)
     Vec gam_;
     std::vector<VecN> Q_, P_, F_, gP_;
     std::vector<Mat> HT_, JF_;
     VecN acc_;
     StageNewton newton_;
     Mat B_, dX2_;
+    int fixed_ = 0; // 1 + the index of the compiled shape in use (kShapes), 0: the program
+    partitioned_shapes::Coefficients fc_;
+    partitioned_shapes::ForceMemo<P> fsal_;
 };
 
 } // namespace dampsym
