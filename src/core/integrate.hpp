@@ -74,9 +74,10 @@ struct StepOf {
 // A stepper whose step branches on a mode that is fixed for a run (the partitioned engine: which
 // compiled shape its coefficients have) can declare `static constexpr bool specialised_steps =
 // true` and provide `with_specialised_step(f)`, which calls f with a step callable specialised for
-// the current mode. The loop is then compiled once per mode with the mode's branch outside it
-// (what a compiler's loop unswitching would do), and the stepper stays free to fall back inside
-// the callable when its mode changes during the run.
+// the current mode. The bare loop (no observer) is then compiled once per mode with the mode's
+// branch outside it (what a compiler's loop unswitching would do), and the stepper stays free to
+// fall back inside the callable when its mode changes during the run. With an observer the loop
+// calls step(), which must give the same numbers.
 template <class Stepper>
 constexpr bool has_specialised_steps() {
     if constexpr (requires { Stepper::specialised_steps; })
@@ -93,7 +94,7 @@ template <class Stepper, class Observer = NoObserver>
 IntegrateOutcome integrate_steps(Stepper& stepper, Vec& z, double t0, double h,
                                  std::int64_t k_begin, std::int64_t k_end,
                                  Observer* observer = nullptr) {
-    if constexpr (has_specialised_steps<Stepper>()) {
+    if constexpr (has_specialised_steps<Stepper>() && std::is_same_v<Observer, NoObserver>) {
         return stepper.with_specialised_step(
             [&](auto&& step) { return step_loop(step, z, t0, h, k_begin, k_end, observer); });
     } else {

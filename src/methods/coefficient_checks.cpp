@@ -1,6 +1,10 @@
 // Coefficient-level checks (see coefficient_checks.hpp for the conditions and citations).
 #include "methods/coefficient_checks.hpp"
 
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -8,6 +12,8 @@
 #include <cstdio>
 #include <iterator>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -20,6 +26,117 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 std::size_t ui(int i) {
     return static_cast<std::size_t>(i);
+}
+
+// The small dense linear algebra of the GLM checks is done by GSL (gsl_eigen_nonsymm, the SVD)
+// rather than Eigen's eigen-, QR- and orthogonal decompositions, whose templates cost this file
+// about 15 s of compile time in every build; every GSL status is checked.
+void gsl_errors_as_statuses() {
+    static std::once_flag once;
+    std::call_once(once, [] { gsl_set_error_handler_off(); });
+}
+
+struct GslMatrix {
+    std::unique_ptr<gsl_matrix, decltype(&gsl_matrix_free)> m;
+    explicit GslMatrix(const Mat& a)
+        : m(gsl_matrix_alloc(static_cast<std::size_t>(a.rows()),
+                             static_cast<std::size_t>(a.cols())),
+            &gsl_matrix_free) {
+        for (Eigen::Index i = 0; i < a.rows(); ++i)
+            for (Eigen::Index j = 0; j < a.cols(); ++j)
+                gsl_matrix_set(m.get(), static_cast<std::size_t>(i), static_cast<std::size_t>(j),
+                               a(i, j));
+    }
+};
+
+// Whether the symmetric matrix G is positive definite: its Cholesky factorisation G = L Lᵀ exists
+// with every pivot positive.
+bool positive_definite(const Mat& G) {
+    const Eigen::Index n = G.rows();
+    Mat L = Mat::Zero(n, n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+        double d = G(j, j);
+        for (Eigen::Index k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+        if (!(d > 0.0)) return false;
+        L(j, j) = std::sqrt(d);
+        for (Eigen::Index i = j + 1; i < n; ++i) {
+            double x = G(i, j);
+            for (Eigen::Index k = 0; k < j; ++k) x -= L(i, k) * L(j, k);
+            L(i, j) = x / L(j, j);
+        }
+    }
+    return true;
+}
+
+// The eigenvalues of a real square matrix (empty if GSL's QR iteration fails).
+std::vector<std::complex<double>> eigenvalues(const Mat& V) {
+    gsl_errors_as_statuses();
+    const std::size_t n = static_cast<std::size_t>(V.rows());
+    GslMatrix a(V);
+    std::unique_ptr<gsl_vector_complex, decltype(&gsl_vector_complex_free)> ev(
+        gsl_vector_complex_alloc(n), &gsl_vector_complex_free);
+    std::unique_ptr<gsl_eigen_nonsymm_workspace, decltype(&gsl_eigen_nonsymm_free)> w(
+        gsl_eigen_nonsymm_alloc(n), &gsl_eigen_nonsymm_free);
+    std::vector<std::complex<double>> out;
+    if (gsl_eigen_nonsymm(a.m.get(), ev.get(), w.get()) != GSL_SUCCESS) return out;
+    for (std::size_t i = 0; i < n; ++i) {
+        const gsl_complex z = gsl_vector_complex_get(ev.get(), i);
+        out.emplace_back(GSL_REAL(z), GSL_IMAG(z));
+    }
+    return out;
+}
+
+// The minimum-norm least-squares solution of M x = rhs (rows ≥ columns) by the SVD, singular
+// values below max(rows, cols)·ε·σ_max counted as zero (NaN if the SVD fails).
+Vec min_norm_solve(const Mat& M, const Vec& rhs) {
+    gsl_errors_as_statuses();
+    const std::size_t rows = static_cast<std::size_t>(M.rows());
+    const std::size_t cols = static_cast<std::size_t>(M.cols());
+    GslMatrix u(M); // overwritten by U
+    std::unique_ptr<gsl_matrix, decltype(&gsl_matrix_free)> v(gsl_matrix_alloc(cols, cols),
+                                                              &gsl_matrix_free);
+    std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> sigma(gsl_vector_alloc(cols),
+                                                                  &gsl_vector_free);
+    std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> work(gsl_vector_alloc(cols),
+                                                                 &gsl_vector_free);
+    if (gsl_linalg_SV_decomp(u.m.get(), v.get(), sigma.get(), work.get()) != GSL_SUCCESS)
+        return Vec::Constant(M.cols(), nan);
+    const double cutoff = static_cast<double>(std::max(rows, cols)) *
+                          std::numeric_limits<double>::epsilon() * gsl_vector_get(sigma.get(), 0);
+    Vec x = Vec::Zero(M.cols());
+    for (std::size_t k = 0; k < cols; ++k) {
+        const double s = gsl_vector_get(sigma.get(), k);
+        if (!(s > cutoff)) continue;
+        double c = 0.0; // (Uᵀ rhs)_k / σ_k
+        for (std::size_t i = 0; i < rows; ++i)
+            c += gsl_matrix_get(u.m.get(), i, k) * rhs[static_cast<Eigen::Index>(i)];
+        c /= s;
+        for (std::size_t j = 0; j < cols; ++j)
+            x[static_cast<Eigen::Index>(j)] += c * gsl_matrix_get(v.get(), j, k);
+    }
+    return x;
+}
+
+// The rank of a complex square matrix by the SVD of its real form [Re −Im; Im Re] (each singular
+// value twice), singular values above `threshold`·σ_max counted.
+Eigen::Index complex_rank(const Eigen::MatrixXcd& C, double threshold) {
+    gsl_errors_as_statuses();
+    const Eigen::Index n = C.rows();
+    Mat R(2 * n, 2 * n);
+    R << C.real(), -C.imag(), C.imag(), C.real();
+    const std::size_t m = static_cast<std::size_t>(2 * n);
+    GslMatrix u(R);
+    std::unique_ptr<gsl_matrix, decltype(&gsl_matrix_free)> v(gsl_matrix_alloc(m, m),
+                                                              &gsl_matrix_free);
+    std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> sigma(gsl_vector_alloc(m),
+                                                                  &gsl_vector_free);
+    std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> work(gsl_vector_alloc(m),
+                                                                 &gsl_vector_free);
+    if (gsl_linalg_SV_decomp(u.m.get(), v.get(), sigma.get(), work.get()) != GSL_SUCCESS) return -1;
+    Eigen::Index count = 0;
+    for (std::size_t k = 0; k < m; ++k)
+        if (gsl_vector_get(sigma.get(), k) > threshold * gsl_vector_get(sigma.get(), 0)) ++count;
+    return count / 2;
 }
 
 Mat matrix_of(const ButcherTableau& t) {
@@ -248,8 +365,7 @@ GSymplecticity glm_g_symplecticity(const GlmCoefficients& m) {
     g.values = max_abs(m.G - m.V.transpose() * m.G * m.V);
     g.coupling = max_abs(m.D * m.U - m.B.transpose() * m.G * m.V);
     const Mat Dd = m.D.diagonal().asDiagonal();
-    const bool G_spd = max_abs(m.G - m.G.transpose()) == 0.0 &&
-                       Eigen::SelfAdjointEigenSolver<Mat>(m.G).eigenvalues().minCoeff() > 0.0;
+    const bool G_spd = max_abs(m.G - m.G.transpose()) == 0.0 && positive_definite(m.G);
     const bool D_pd = max_abs(m.D - Dd) == 0.0 && m.D.diagonal().minCoeff() > 0.0;
     g.certificate_valid = G_spd && D_pd;
     return g;
@@ -258,23 +374,21 @@ GSymplecticity glm_g_symplecticity(const GlmCoefficients& m) {
 GlmStability glm_stability(const GlmCoefficients& m) {
     const double tol = 1e-12;
     GlmStability st{0.0, true, 0.0};
-    const Eigen::EigenSolver<Mat> es(m.V, false);
-    const Eigen::VectorXcd lambda = es.eigenvalues();
-    for (Eigen::Index i = 0; i < lambda.size(); ++i) {
+    const std::vector<std::complex<double>> lambda = eigenvalues(m.V);
+    if (lambda.size() != static_cast<std::size_t>(m.r)) return {nan, false, nan};
+    for (std::size_t i = 0; i < lambda.size(); ++i) {
         const double a = std::abs(lambda[i]);
         st.spectral_radius = std::max(st.spectral_radius, a);
         if (a > 1.0 + tol) st.power_bounded = false;
         if (std::abs(a - 1.0) > tol) continue;
         // On the unit circle: algebraic multiplicity must equal geometric multiplicity.
         Eigen::Index mult = 0;
-        for (Eigen::Index j = 0; j < lambda.size(); ++j)
+        for (std::size_t j = 0; j < lambda.size(); ++j)
             if (std::abs(lambda[j] - lambda[i]) <= 1e-8) ++mult;
         if (mult > 1) {
             const Eigen::MatrixXcd shifted =
                 m.V.cast<std::complex<double>>() - lambda[i] * Eigen::MatrixXcd::Identity(m.r, m.r);
-            Eigen::FullPivLU<Eigen::MatrixXcd> lu(shifted);
-            lu.setThreshold(1e-10);
-            if (m.r - lu.rank() != mult) st.power_bounded = false;
+            if (m.r - complex_rank(shifted, 1e-10) != mult) st.power_bounded = false;
         }
     }
     Mat P = Mat::Identity(m.r, m.r);
@@ -292,7 +406,7 @@ GlmVectorCondition glm_preconsistency(const GlmCoefficients& m) {
     Vec rhs = Vec::Zero(m.r + m.s);
     rhs.tail(m.s).setOnes();
     GlmVectorCondition out;
-    out.vector = M.completeOrthogonalDecomposition().solve(rhs);
+    out.vector = min_norm_solve(M, rhs);
     out.residual = (M * out.vector - rhs).cwiseAbs().maxCoeff();
     return out;
 }
@@ -302,7 +416,7 @@ GlmVectorCondition glm_consistency(const GlmCoefficients& m) {
     const Mat M = m.V - Mat::Identity(m.r, m.r);
     const Vec rhs = u - m.B * Vec::Ones(m.s);
     GlmVectorCondition out;
-    out.vector = M.completeOrthogonalDecomposition().solve(rhs);
+    out.vector = min_norm_solve(M, rhs);
     out.residual = (M * out.vector - rhs).cwiseAbs().maxCoeff();
     return out;
 }

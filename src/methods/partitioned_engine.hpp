@@ -80,19 +80,16 @@ public:
     const ExponentialTableau& tilde() const { return tilde_; }
     bool scheduled() const { return prog_.scheduled(); }
 
-    [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
-        if constexpr (N != Eigen::Dynamic)
-            if (fixed_ != 0)
-                return with_shape<false>([&](auto&& step)
-                                             __attribute__((always_inline)) { return step(t, z); });
-        return step_program(t, z);
-    }
+    // One step by the program (every caller but the bare integration loop, which runs the
+    // compiled shape when there is one: the same numbers).
+    StepStatus step(double t, Vec& z) { return step_program(t, z); }
 
-    // The integration loop runs on the shape's step (core/integrate.hpp): one loop per shape.
+    // The bare integration loop (core/integrate.hpp, no observer) runs on the compiled shape's
+    // step: one loop per shape.
     static constexpr bool specialised_steps = static_dof<P>() != Eigen::Dynamic;
     template <class F>
     [[gnu::always_inline]] inline decltype(auto) with_specialised_step(F&& f) {
-        return with_shape<false>(std::forward<F>(f));
+        return with_shape(std::forward<F>(f));
     }
 
     // The schedule run by the interpreted program (or Newton), stages kept in the members.
@@ -123,12 +120,7 @@ public:
 
     // Advances z exactly as step() and writes Psi = ∂z₁/∂z₀ (implicit-function theorem).
     StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
-        StepStatus st;
-        if constexpr (N != Eigen::Dynamic)
-            st = with_shape<true>([&](auto&& step)
-                                      __attribute__((always_inline)) { return step(t, z); });
-        else
-            st = step_program(t, z);
+        const StepStatus st = step_program(t, z);
         if (st != StepStatus::ok) return st;
         stage_jacobians(t);
         assemble_newton_matrix();
@@ -272,35 +264,26 @@ private:
     }
 
     // Shape I's step: the coefficients may change (time-dependent γ) to another shape, which the
-    // program then runs. Keep: the stages stay in the members, for step_jacobian.
-    template <bool Keep, int I>
+    // program then runs.
+    template <int I>
     [[gnu::always_inline]] inline StepStatus step_shape(double t, Vec& z) {
         if (pv_.at_step(prob_, t, h_, hat_, tilde_)) {
             compile_program();
             if (fixed_ != I + 1) return step_program_now(t, z);
         }
-        constexpr int S = kShapes[I].s;
-        partitioned_shapes::Stages<P, S> x;
+        partitioned_shapes::Stages<P, kShapes[I].s> x;
         const partitioned_shapes::Context<P> cx{prob_, h_, hat_, tilde_, fc_, fsal_, c_};
         partitioned_shapes::step<I, damped>(cx, t, z, x);
-        if constexpr (Keep)
-            for (int i = 0; i < S; ++i) {
-                Q_[ui(i)] = x.Qs[i];
-                P_[ui(i)] = x.Ps[i];
-                F_[ui(i)] = x.Fs[i];
-                gP_[ui(i)] = x.Gs[i];
-                gam_[i] = x.gam[i];
-            }
         return StepStatus::ok;
     }
 
     // The steps handed to with_shape's f, inlined into its loop (a lambda's call operator may not
     // be): shape I's, and the program's.
-    template <bool Keep, int I>
+    template <int I>
     struct ShapeStep {
         PartitionedEngine& e;
         [[gnu::always_inline]] inline StepStatus operator()(double t, Vec& z) const {
-            return e.template step_shape<Keep, I>(t, z);
+            return e.template step_shape<I>(t, z);
         }
     };
     struct ProgramStep {
@@ -309,29 +292,29 @@ private:
     };
 
     // f(step) with step the shape in use, among the shapes of this provider (δ).
-    template <bool Keep, class F, int... I>
+    template <class F, int... I>
     [[gnu::always_inline]] inline decltype(auto) with_shape(F&& f,
                                                             std::integer_sequence<int, I...>) {
         using R = decltype(f(ProgramStep{*this}));
         R r{};
         const bool done =
-            ((kShapes[I].rayleigh == damped && fixed_ == I + 1 ? (r = call_shape<Keep, I>(f), true)
+            ((kShapes[I].rayleigh == damped && fixed_ == I + 1 ? (r = call_shape<I>(f), true)
                                                                : false) ||
              ...);
         if (!done) r = f(ProgramStep{*this});
         return r;
     }
-    template <bool Keep, int I, class F>
+    template <int I, class F>
     [[gnu::always_inline]] inline decltype(auto) call_shape(F& f) {
         if constexpr (kShapes[I].rayleigh == damped)
-            return f(ShapeStep<Keep, I>{*this});
+            return f(ShapeStep<I>{*this});
         else
             return f(ProgramStep{*this});
     }
-    template <bool Keep, class F>
+    template <class F>
     [[gnu::always_inline]] inline decltype(auto) with_shape(F&& f) {
-        return with_shape<Keep>(std::forward<F>(f),
-                                std::make_integer_sequence<int, int(kShapes.size())>{});
+        return with_shape(std::forward<F>(f),
+                          std::make_integer_sequence<int, int(kShapes.size())>{});
     }
 
     bool solve_stages(double t, Vec& z) {
