@@ -7,6 +7,8 @@
 #   - the ASan/UBSan build: every unit test (Catch2, including the CLI tests) and the smaller
 #     'sanitize' suite. The unit tests run once, under the sanitizers; building them a second
 #     time in Release would only repeat them (ci/suite.sh builds them there for local use).
+#     The ASan/UBSan build runs in the background from the start (below); its log is printed
+#     when it is waited for.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash ci/setup.sh
@@ -16,13 +18,31 @@ echo "== clang-format (${SECONDS} s)"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src reference tests -name '*.[ch]pp')
 clang-format --dry-run -Werror $files
 
-echo "== Release build: suites and cross-check (${SECONDS} s)"
-bash ci/build.sh release dampsym
-echo "== Release ctest (${SECONDS} s)"
-(cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports')
+# The ASan/UBSan build starts at once, in the background and at a lower priority: each build and
+# test phase alone leaves a core idle now and then (a last compile or a link alone, the last long
+# test), and the background build fills those gaps instead of running after them.
+echo "== ASan/UBSan build in the background (${SECONDS} s)"
+asan_log="$(mktemp)"
+trap 'rm -f "$asan_log"' EXIT
+nice -n 10 bash ci/build.sh asan >"$asan_log" 2>&1 &
+asan_pid=$!
+asan_status=0
 
-echo "== ASan/UBSan build and unit tests (${SECONDS} s)"
-bash ci/build.sh asan
+echo "== Release build: suites and cross-check (${SECONDS} s)"
+release_status=0
+bash ci/build.sh release dampsym || release_status=$?
+if [ "$release_status" -eq 0 ]; then
+  echo "== Release ctest (${SECONDS} s)"
+  (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports') || release_status=$?
+fi
+
+echo "== ASan/UBSan build: waiting for it (${SECONDS} s)"
+wait "$asan_pid" || asan_status=$?
+cat "$asan_log"
+if [ "$release_status" -ne 0 ]; then exit "$release_status"; fi
+if [ "$asan_status" -ne 0 ]; then exit "$asan_status"; fi
+
+echo "== ASan/UBSan unit tests (${SECONDS} s)"
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
    ctest --output-on-failure -j"$jobs" -LE 'crosscheck|stress|reports|case' -E '^(suite\.default|matrix\..*)$')
 echo "== done (${SECONDS} s)"
