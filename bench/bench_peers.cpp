@@ -81,20 +81,40 @@ void bare_csv1(benchmark::State& state) {
     set_step_counters(state, kN, evals);
 }
 
-// stormer-verlet (HLW(3.6), Lobatto IIIA-IIIB) in the Rayleigh form p' = −sin q − 2γp, operation
-// for operation as the partitioned engine steps it (partitioned_engine.hpp: schedule Q₁ P₁ P₂ Q₂,
-// the P₁ stage a linear solve). Its chain from q_n to q_{n+1} holds a division by 1 + hγ and
-// the force at Q₂ (= q_{n+1}); the force at Q₁ = q_n is the previous step's F₂ recomputed.
-void bare_stormer_verlet(benchmark::State& state) {
-    const double h = kStep, hh = 0.5 * kStep, g = kGamma;
-    const double hd = 2.0 * h * 0.5 * g, denominator = 1.0 + (2.0 * h * 0.5) * g;
+// The timing loop of a bare loop that claims `method`'s arithmetic: kN calls of step(q, p) from the
+// pendulum's initial state per iteration, evals_per_step force evaluations each; the final state
+// must be the kernel's bit for bit (same_as_kernel_or_skip).
+template <class Step>
+void time_bare_loop(benchmark::State& state, std::string_view method, int evals_per_step,
+                    Step step) {
     std::int64_t evals = 0;
     double q_end = 0.0, p_end = 0.0;
     for (auto _ : state) {
         double q = kPendulumQ0, p = kPendulumP0;
         benchmark::DoNotOptimize(q);
         benchmark::DoNotOptimize(p);
-        for (std::int64_t k = 0; k < kN; ++k) {
+        for (std::int64_t k = 0; k < kN; ++k) step(q, p);
+        evals += evals_per_step * kN;
+        benchmark::DoNotOptimize(q);
+        benchmark::DoNotOptimize(p);
+        q_end = q;
+        p_end = p;
+        if (!finite_or_skip(state, q, p)) break;
+    }
+    same_as_kernel_or_skip(state, method, q_end, p_end);
+    set_step_counters(state, kN, evals);
+}
+
+// stormer-verlet (HLW(3.6), Lobatto IIIA-IIIB) in the Rayleigh form p' = −sin q − 2γp, operation
+// for operation as the partitioned engine steps it (partitioned_engine.hpp: schedule Q₁ P₁ P₂ Q₂,
+// the P₁ stage a linear solve). Its chain from q_n to q_{n+1} holds a division by 1 + hγ and
+// the force at Q₂ (= q_{n+1}); the force at Q₁ = q_n is the previous step's F₂, which the
+// compiler shares.
+void bare_stormer_verlet(benchmark::State& state) {
+    const double h = kStep, hh = 0.5 * kStep, g = kGamma;
+    const double hd = 2.0 * h * 0.5 * g, denominator = 1.0 + (2.0 * h * 0.5) * g;
+    time_bare_loop(
+        state, "stormer-verlet", 2, [=](double& q, double& p) __attribute__((always_inline)) {
             const double f1 = -std::sin(q);                // F(Q₁), Q₁ = q
             const double p1 = (p + hh * f1) / denominator; // (1 + hγ)P₁ = p + (h/2)F₁
             const double p2 = p + hh * f1 - hd * p1;       // P₂ = p + (h/2)(F₁ − 2γP₁)
@@ -103,16 +123,7 @@ void bare_stormer_verlet(benchmark::State& state) {
             q = q + hh * p1 + hh * p2;                     // q₁ = Q₂
             p = p + hh * (f1 - 2.0 * g * p1);              // p₁ = p + (h/2)(F₁ − 2γP₁)
             p = p + hh * (f2 - 2.0 * g * p2);              //        + (h/2)(F₂ − 2γP₂)
-        }
-        evals += 2 * kN;
-        benchmark::DoNotOptimize(q);
-        benchmark::DoNotOptimize(p);
-        q_end = q;
-        p_end = p;
-        if (!finite_or_skip(state, q, p)) break;
-    }
-    same_as_kernel_or_skip(state, "stormer-verlet", q_end, p_end);
-    set_step_counters(state, kN, evals);
+        });
 }
 
 // cse-if (B(2.18), symplectic Euler under the integrating factor, x_B = 2γh) as the partitioned
@@ -120,25 +131,11 @@ void bare_stormer_verlet(benchmark::State& state) {
 // on the chain from q_n to q_{n+1}.
 void bare_cse_if(benchmark::State& state) {
     const double h = kStep, e = std::exp(-2.0 * (kGamma * h));
-    std::int64_t evals = 0;
-    double q_end = 0.0, p_end = 0.0;
-    for (auto _ : state) {
-        double q = kPendulumQ0, p = kPendulumP0;
-        benchmark::DoNotOptimize(q);
-        benchmark::DoNotOptimize(p);
-        for (std::int64_t k = 0; k < kN; ++k) {
+    time_bare_loop(
+        state, "cse-if", 1, [=](double& q, double& p) __attribute__((always_inline)) {
             p = e * p + h * (-std::sin(q));
             q = q + h * p;
-        }
-        evals += kN;
-        benchmark::DoNotOptimize(q);
-        benchmark::DoNotOptimize(p);
-        q_end = q;
-        p_end = p;
-        if (!finite_or_skip(state, q, p)) break;
-    }
-    same_as_kernel_or_skip(state, "cse-if", q_end, p_end);
-    set_step_counters(state, kN, evals);
+        });
 }
 
 // csv1-perk (B(2.20), x_B = 2γh) as the partitioned engine steps it (damping in the
@@ -148,29 +145,15 @@ void bare_cse_if(benchmark::State& state) {
 void bare_csv1_perk(benchmark::State& state) {
     const double h = kStep, hh = h * 0.5, xb = 2.0 * (kGamma * h);
     const double e = std::exp(-0.5 * xb), e2 = std::exp(-xb), w = h * (0.5 * e);
-    std::int64_t evals = 0;
-    double q_end = 0.0, p_end = 0.0;
-    for (auto _ : state) {
-        double q = kPendulumQ0, p = kPendulumP0;
-        benchmark::DoNotOptimize(q);
-        benchmark::DoNotOptimize(p);
-        for (std::int64_t k = 0; k < kN; ++k) {
+    time_bare_loop(
+        state, "csv1-perk", 2, [=](double& q, double& p) __attribute__((always_inline)) {
             const double f1 = -std::sin(q);
             const double p1 = e * p + hh * f1;
             const double q2 = q + hh * p1 + hh * p1;
             const double f2 = -std::sin(q2);
             q = q + h * (0.5 * p1 + 0.5 * p1);
             p = e2 * p + (w * f1 + w * f2);
-        }
-        evals += 2 * kN;
-        benchmark::DoNotOptimize(q);
-        benchmark::DoNotOptimize(p);
-        q_end = q;
-        p_end = p;
-        if (!finite_or_skip(state, q, p)) break;
-    }
-    same_as_kernel_or_skip(state, "csv1-perk", q_end, p_end);
-    set_step_counters(state, kN, evals);
+        });
 }
 
 // velocity_verlet's system: a = F(q, v, t) with the damping in the "force".

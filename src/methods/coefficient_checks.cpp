@@ -86,57 +86,61 @@ std::vector<std::complex<double>> eigenvalues(const Mat& V) {
     return out;
 }
 
-// The minimum-norm least-squares solution of M x = rhs (rows ≥ columns) by the SVD, singular
-// values below max(rows, cols)·ε·σ_max counted as zero (NaN if the SVD fails).
-Vec min_norm_solve(const Mat& M, const Vec& rhs) {
+// The thin SVD M = U diag(σ) Vᵀ (rows ≥ columns, σ decreasing) by GSL; ok = false if it fails.
+struct Svd {
+    Mat U, V;
+    Vec sigma;
+    bool ok = false;
+};
+Svd svd(const Mat& M) {
     gsl_errors_as_statuses();
-    const std::size_t rows = static_cast<std::size_t>(M.rows());
     const std::size_t cols = static_cast<std::size_t>(M.cols());
     GslMatrix u(M); // overwritten by U
-    std::unique_ptr<gsl_matrix, decltype(&gsl_matrix_free)> v(gsl_matrix_alloc(cols, cols),
-                                                              &gsl_matrix_free);
+    GslMatrix v(Mat(M.cols(), M.cols()));
     std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> sigma(gsl_vector_alloc(cols),
                                                                   &gsl_vector_free);
     std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> work(gsl_vector_alloc(cols),
                                                                  &gsl_vector_free);
-    if (gsl_linalg_SV_decomp(u.m.get(), v.get(), sigma.get(), work.get()) != GSL_SUCCESS)
-        return Vec::Constant(M.cols(), nan);
-    const double cutoff = static_cast<double>(std::max(rows, cols)) *
-                          std::numeric_limits<double>::epsilon() * gsl_vector_get(sigma.get(), 0);
-    Vec x = Vec::Zero(M.cols());
-    for (std::size_t k = 0; k < cols; ++k) {
-        const double s = gsl_vector_get(sigma.get(), k);
-        if (!(s > cutoff)) continue;
-        double c = 0.0; // (Uᵀ rhs)_k / σ_k
-        for (std::size_t i = 0; i < rows; ++i)
-            c += gsl_matrix_get(u.m.get(), i, k) * rhs[static_cast<Eigen::Index>(i)];
-        c /= s;
-        for (std::size_t j = 0; j < cols; ++j)
-            x[static_cast<Eigen::Index>(j)] += c * gsl_matrix_get(v.get(), j, k);
+    Svd out;
+    if (gsl_linalg_SV_decomp(u.m.get(), v.m.get(), sigma.get(), work.get()) != GSL_SUCCESS)
+        return out;
+    out.U.resize(M.rows(), M.cols());
+    out.V.resize(M.cols(), M.cols());
+    out.sigma.resize(M.cols());
+    for (Eigen::Index j = 0; j < M.cols(); ++j) {
+        const auto jj = static_cast<std::size_t>(j);
+        out.sigma[j] = gsl_vector_get(sigma.get(), jj);
+        for (Eigen::Index i = 0; i < M.rows(); ++i)
+            out.U(i, j) = gsl_matrix_get(u.m.get(), static_cast<std::size_t>(i), jj);
+        for (Eigen::Index i = 0; i < M.cols(); ++i)
+            out.V(i, j) = gsl_matrix_get(v.m.get(), static_cast<std::size_t>(i), jj);
     }
-    return x;
+    out.ok = true;
+    return out;
+}
+
+// The minimum-norm least-squares solution of M x = rhs (rows ≥ columns) by the SVD, singular
+// values below max(rows, cols)·ε·σ_max counted as zero (NaN if the SVD fails).
+Vec min_norm_solve(const Mat& M, const Vec& rhs) {
+    const Svd d = svd(M);
+    if (!d.ok) return Vec::Constant(M.cols(), nan);
+    const double cutoff = static_cast<double>(std::max(M.rows(), M.cols())) *
+                          std::numeric_limits<double>::epsilon() * d.sigma[0];
+    Vec c = d.U.transpose() * rhs; // then (Uᵀ rhs)_k / σ_k, 0 for the σ_k counted as zero
+    for (Eigen::Index k = 0; k < c.size(); ++k)
+        c[k] = d.sigma[k] > cutoff ? c[k] / d.sigma[k] : 0.0;
+    return d.V * c;
 }
 
 // The rank of a complex square matrix by the SVD of its real form [Re −Im; Im Re] (each singular
-// value twice), singular values above `threshold`·σ_max counted.
+// value twice), singular values above `threshold`·σ_max counted (−1 if the SVD fails).
 Eigen::Index complex_rank(const Eigen::MatrixXcd& C, double threshold) {
-    gsl_errors_as_statuses();
     const Eigen::Index n = C.rows();
     Mat R(2 * n, 2 * n);
     R << C.real(), -C.imag(), C.imag(), C.real();
-    const std::size_t m = static_cast<std::size_t>(2 * n);
-    GslMatrix u(R);
-    std::unique_ptr<gsl_matrix, decltype(&gsl_matrix_free)> v(gsl_matrix_alloc(m, m),
-                                                              &gsl_matrix_free);
-    std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> sigma(gsl_vector_alloc(m),
-                                                                  &gsl_vector_free);
-    std::unique_ptr<gsl_vector, decltype(&gsl_vector_free)> work(gsl_vector_alloc(m),
-                                                                 &gsl_vector_free);
-    if (gsl_linalg_SV_decomp(u.m.get(), v.get(), sigma.get(), work.get()) != GSL_SUCCESS) return -1;
-    Eigen::Index count = 0;
-    for (std::size_t k = 0; k < m; ++k)
-        if (gsl_vector_get(sigma.get(), k) > threshold * gsl_vector_get(sigma.get(), 0)) ++count;
-    return count / 2;
+    const Svd d = svd(R);
+    if (!d.ok) return -1;
+    return (d.sigma.array() > threshold * d.sigma[0]).count() / 2;
 }
 
 Mat matrix_of(const ButcherTableau& t) {
