@@ -193,7 +193,7 @@ TEST_CASE("every registered method passes the coefficient checks of its family",
             CHECK(oc.measured_order == m.order);
             CHECK(oc.residual[static_cast<std::size_t>(m.order)] > 1e-6);
         } else if (dampsym::method_data<dampsym::GeneralLinearCoefficients>(m) != nullptr) {
-            CHECK(checks.size() == 4);
+            CHECK(checks.size() == 6);
         }
     }
     CHECK(checked >= 16);
@@ -490,7 +490,7 @@ TEST_CASE("dampsym methods --check agrees with every declaration", "[coefficient
                 CHECK(c["passed"] == true);
             }
             CHECK(names == std::vector<std::string>{"g-symplectic", "stable", "pre-consistent",
-                                                    "consistent"});
+                                                    "consistent", "linear-order-4", "stage-times"});
         }
         if (m["id"] == "cimp") {
             saw_cimp = true;

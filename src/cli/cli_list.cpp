@@ -3,6 +3,7 @@
 #include "cli/cli_detail.hpp"
 
 #include "harness/case.hpp"
+#include "harness/method_coefficients.hpp"
 #include "harness/method_files.hpp"
 #include "harness/plugins.hpp"
 #include "harness/problem_info.hpp"
@@ -171,11 +172,10 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
 // failures (order conditions beyond the declared order, symplecticity of a non-symplectic method).
 // Exit status 1 if any check disagrees.
 // With --methods FILE (issue 18, harness/method_files.hpp): the methods of those files instead of
-// the built-in ones, each with its file, checked by method_file_checks (the same checks, plus the
-// exponential families' B(2.30)/(2.23) conditions).
+// the built-in ones, each with its file, checked by the same method_checks as a built-in method of
+// its family.
 int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
                 const std::vector<std::string>& plugins, std::ostream& out) {
-    auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
     json methods = json::array();
     int agree = 0, disagree = 0, unchecked = 0;
     std::vector<const MethodInfo*> rows;
@@ -198,24 +198,15 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
                     {"citation", m.citation}};
         if (!files.empty()) row["file"] = method_file_of(m.id);
         if (check) {
-            const auto checks = files.empty() ? method_checks(m) : method_file_checks(m);
-            json arr = json::array();
-            for (const auto& c : checks) {
-                (c.agrees() ? agree : disagree) += 1;
-                arr.push_back({{"name", c.name},
-                               {"what", c.what},
-                               {"expected", c.expected},
-                               {"holds", c.holds},
-                               {"passed", c.agrees()},
-                               {"value", number(c.value)},
-                               {"tolerance", c.tolerance}});
-            }
-            if (checks.empty()) {
+            const CoefficientVerdict v = coefficient_verdict(m);
+            agree += v.agree;
+            disagree += v.disagree;
+            if (!v.checked()) {
                 ++unchecked;
                 row["checks"] = nullptr;
                 row["note"] = "no coefficient-level check";
             } else {
-                row["checks"] = arr;
+                row["checks"] = v.checks;
             }
         }
         methods.push_back(row);
@@ -253,8 +244,9 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
                 << c["name"].get<std::string>() << ": "
                 << (c["holds"].get<bool>() ? "holds" : "fails") << " ("
                 << (c["expected"].get<bool>() ? "expected to hold" : "expected to fail")
-                << "), value " << value << ", tol " << c["tolerance"].get<double>() << "; "
-                << c["what"].get<std::string>() << "\n";
+                << (c.contains("inconclusive") ? "; inconclusive" : "") << "), value " << value
+                << ", tol " << c["tolerance"].get<double>() << "; " << c["what"].get<std::string>()
+                << "\n";
         }
     }
     if (check)

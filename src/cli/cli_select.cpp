@@ -104,10 +104,18 @@ bool restrict_methods(CaseSpec& c, const std::vector<std::string>& globs) {
     c.methods = kept;
     std::vector<CheckSpec> checks;
     for (auto cs : c.checks) {
-        std::vector<std::string> ms;
-        for (const auto& m : cs.methods)
-            if (glob_any(globs, m)) ms.push_back(m);
+        std::vector<std::string> ms, missing;
+        for (const auto& m : cs.methods) (glob_any(globs, m) ? ms : missing).push_back(m);
         if (ms.empty()) continue;
+        // A comparison (ratio, spread) of methods some of which were not selected measures
+        // nothing: not run, never a failure; a per-method check keeps its selected methods.
+        if (cs.form != CheckForm::per_method && !missing.empty()) {
+            std::string names;
+            for (const auto& m : missing) names += (names.empty() ? "" : ", ") + m;
+            c.checks_not_run.push_back(
+                {cs, "compares with " + names + ", not selected (--method)"});
+            continue;
+        }
         cs.methods = ms;
         checks.push_back(cs);
     }

@@ -27,6 +27,32 @@ inline void set_undefined(json& o, const std::string& key, const std::string& re
     o["undefined"][key] = reason;
 }
 
+// No verdict without a measurement: why diagnostic `diag`'s own measurement in `metrics` did not
+// complete, or "" when it did. A diagnostic that measures in a pass of its own reports the pass's
+// "status" (conformal-symplectic: "diverged", "solve-failed" at "failed_at_step"; an order fit:
+// "order drops at small h", ...) and how much it measured ("steps_measured"); a check on any
+// metric of a pass that is not "ok", or that measured nothing, fails with this reason, whatever
+// the check's direction (a negative control too: a measurement that did not happen shows no
+// defect either) — harness/checks.cpp, and the matrix's cells alike.
+inline std::string incomplete_measurement(const json& metrics, const std::string& diag) {
+    if (!metrics.is_object() || !metrics.contains(diag) || !metrics[diag].is_object()) return {};
+    const json& d = metrics[diag];
+    if (d.contains("status") && d["status"].is_string() && d["status"] != "ok") {
+        std::string why = diag + ": " + d["status"].get<std::string>();
+        if (d.contains("failed_at_step") && d["failed_at_step"].is_number_integer())
+            why += " at step " + std::to_string(d["failed_at_step"].get<std::int64_t>());
+        if (d.contains("status_reason") && d["status_reason"].is_string())
+            why += ": " + d["status_reason"].get<std::string>();
+        else if (d.contains("reason") && d["reason"].is_string())
+            why += ": " + d["reason"].get<std::string>();
+        return why;
+    }
+    if (d.contains("steps_measured") && d["steps_measured"].is_number() &&
+        d["steps_measured"].get<double>() <= 0.0)
+        return diag + ": measured no step";
+    return {};
+}
+
 // The case facts of a run: its time span, output grid and reference.
 struct CaseFacts {
     double t0 = 0.0, t_end = 0.0;

@@ -9,6 +9,7 @@
 #include "diagnostics/metric_json.hpp"
 #include "diagnostics/order_fit.hpp"
 
+#include <limits>
 #include <vector>
 
 namespace dampsym {
@@ -26,7 +27,9 @@ struct LocalOrderDiagnostic {
 };
 
 // The fit of (dt, error) points of one method: errors below `floor` are dropped; `ref_error` is
-// the reference's estimate (0 for local errors), `roundoff` the round-off floor, for the report.
-json order_fit_json(const std::vector<OrderPoint>& points, double roundoff, double ref_error);
+// the reference's estimate (0 for local errors), `roundoff` the round-off floor, for the report;
+// errors not small against `solution_scale` (the solution's size) are dropped too (order_fit.hpp).
+json order_fit_json(const std::vector<OrderPoint>& points, double roundoff, double ref_error,
+                    double solution_scale = std::numeric_limits<double>::infinity());
 
 } // namespace dampsym

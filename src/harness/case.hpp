@@ -106,6 +106,14 @@ struct ReferenceSpec {
     double epsabs = 1e-14;
 };
 
+// A check the selection left without one of its methods (`--method`): not run, with the reason —
+// a third verdict beside pass and fail that never changes the exit status (a comparison whose
+// partner did not run measured nothing).
+struct NotRunCheck {
+    CheckSpec spec;
+    std::string reason;
+};
+
 struct CaseSpec {
     std::string id, title, source, file;
     std::vector<std::string> suites;
@@ -120,6 +128,7 @@ struct CaseSpec {
     std::vector<std::string> diagnostics;
     std::optional<double> output_dt;
     std::vector<CheckSpec> checks;
+    std::vector<NotRunCheck> checks_not_run; // left without a method by the selection
     std::vector<MeasureSpec> measures;
     std::string no_checks_because; // required (and only allowed) when the case has no check
     std::optional<SweepSpec> sweep;

@@ -141,6 +141,16 @@ void CaseRun::sweep_tasks(std::size_t m, std::vector<std::function<void()>>& tas
     }
 }
 
+// The size of the solution the global errors are measured against (order_fit.hpp): ‖z_ref(t_end)‖
+// when the reference resolves it (above 100× its error estimate), else no bound. The one-step
+// errors of local-order are not bounded this way (their steps are at most a step of the ladder).
+double CaseRun::solution_scale(bool global) const {
+    const double none = std::numeric_limits<double>::infinity();
+    if (!global || !facts_.reference_ok || facts_.ref.cols() == 0) return none;
+    const double n = facts_.ref.col(facts_.ref.cols() - 1).norm();
+    return std::isfinite(n) && n > 100.0 * facts_.ref_error ? n : none;
+}
+
 // Order fits (method level): "order" from the global error of each run of the ladder,
 // "local-order" from the one-step error (B Fig 3.2; the exact solution, no reference error).
 void CaseRun::order_fits() {
@@ -154,6 +164,7 @@ void CaseRun::order_fits() {
                                      ? std::max(1.0, facts_.ref.col(facts_.ref.cols() - 1).norm())
                                      : 1.0);
         const double ref_error = global ? facts_.ref_error : 0.0;
+        const double scale = solution_scale(global);
         for (std::size_t m = 0; m < c_.methods.size(); ++m) {
             std::vector<OrderPoint> pts;
             for (std::size_t d = 0; d < c_.dts.size(); ++d) {
@@ -164,7 +175,7 @@ void CaseRun::order_fits() {
                                               ? e->get<double>()
                                               : std::numeric_limits<double>::quiet_NaN()});
             }
-            method_metrics_[m][diag] = order_fit_json(pts, roundoff, ref_error);
+            method_metrics_[m][diag] = order_fit_json(pts, roundoff, ref_error, scale);
         }
     }
 }
@@ -203,6 +214,7 @@ json CaseRun::case_json(json checks) const {
                 {"runs", runs},
                 {"method_metrics", mm},
                 {"checks", checks}};
+    if (!c_.checks_not_run.empty()) out["checks_not_run"] = not_run_checks(c_);
     if (!c_.no_checks_because.empty()) out["no_checks_because"] = c_.no_checks_because;
     if (!c_.measures.empty()) out["measures"] = c_.raw["measures"];
     if (c_.raw.contains("figures")) out["figures"] = c_.raw["figures"]; // issue 14 (plot.py)

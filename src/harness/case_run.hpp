@@ -67,6 +67,7 @@ protected:
 
 private:
     void order_fits();
+    double solution_scale(bool global) const;
     json case_json(json checks) const;
 
     bool needs_reference_ = false, observes_ = false;
@@ -84,6 +85,9 @@ json time_repeated(const std::function<double()>& once, double budget, std::int6
 json evaluate_checks(const CaseSpec& c, const std::vector<json>& runs,
                      const std::vector<json>& method_metrics, const json& reference,
                      bool reference_ok);
+// The checks the selection left without one of their methods (CaseSpec::checks_not_run), each with
+// its reason: report.json's "checks_not_run" (checks.cpp).
+json not_run_checks(const CaseSpec& c);
 
 // The case's "measures" (docs/case-keys.md) of one run (measures.cpp); energy and energy_scale:
 // the problem's energy and its scale S_H, empty when it has none.

@@ -3,6 +3,7 @@
 // level, readable whatever the run's status, explained by a failed reference) comes from the
 // diagnostic registry (diagnostics/diagnostic.hpp).
 #include "diagnostics/diagnostic.hpp"
+#include "diagnostics/metric_json.hpp"
 #include "diagnostics/order_fit.hpp"
 #include "harness/case_run.hpp"
 
@@ -36,6 +37,18 @@ std::string undefined_reason(const json& metrics, const std::string& metric) {
     const json& u = (*parent)["undefined"];
     const std::string key = metric.substr(dot + 1);
     return u.contains(key) && u[key].is_string() ? u[key].get<std::string>() : std::string();
+}
+
+// An order check (`near` on an order fit's slope) fails when the fit's finest steps disagree with
+// its slope beyond the check's tolerance (diagnostics/order_fit.hpp).
+std::string finest_disagreement(const CheckSpec& cs, const json& metrics, const std::string& diag) {
+    if (cs.op != CheckOp::near || (diag != "order" && diag != "local-order") ||
+        cs.metric != diag + ".slope" || !metrics.contains(diag))
+        return {};
+    const json& fit = metrics[diag];
+    if (!fit.contains("slope") || !fit.contains("finest_local_order")) return {};
+    return finest_steps_disagree(fit["slope"].get<double>(),
+                                 fit["finest_local_order"].get<double>(), cs.tol);
 }
 
 json check_head(const CheckSpec& cs, const std::string& method) {
@@ -85,6 +98,9 @@ json evaluate(const CheckContext& x, const CheckSpec& cs, const std::string& mid
             ((*run).contains("failed_at_step")
                  ? " at step " + std::to_string((*run)["failed_at_step"].get<std::int64_t>())
                  : std::string()));
+    if (diag != "run")
+        if (const std::string why = incomplete_measurement(metrics, diag); !why.empty())
+            return fail_with(why);
     if ((!v || !v->is_number()) && !x.reference_ok && info && info->reads_reference)
         return fail_with("reference failed: " + x.reference.value("error", std::string()));
     // defined nowhere here (metric_json.hpp, docs/conventions.md): fails, whatever the check's
@@ -99,6 +115,10 @@ json evaluate(const CheckContext& x, const CheckSpec& cs, const std::string& mid
     const double value = v->get<double>();
     ck["value"] = value;
     ck["passed"] = check_passes(cs, value);
+    if (const std::string why = finest_disagreement(cs, metrics, diag); !why.empty()) {
+        ck["passed"] = false;
+        ck["message"] = why;
+    }
     return ck;
 }
 
@@ -224,6 +244,19 @@ json evaluate_checks(const CaseSpec& c, const std::vector<json>& runs,
         }
     }
     return checks;
+}
+
+json not_run_checks(const CaseSpec& c) {
+    json out = json::array();
+    for (const NotRunCheck& nr : c.checks_not_run) {
+        std::string label;
+        for (const auto& m : nr.spec.methods) label += (label.empty() ? "" : ", ") + m;
+        json ck = check_head(nr.spec, label);
+        ck["methods"] = nr.spec.methods;
+        ck["reason"] = nr.reason;
+        out.push_back(ck);
+    }
+    return out;
 }
 
 } // namespace dampsym::detail

@@ -94,8 +94,18 @@ std::string junit_test_name(const json& ck) {
     return name + "]";
 }
 
+// The case's checks that the selection left without a method (report "checks_not_run"), as
+// skipped testcases with the reason.
+void skipped_testcases(std::ostringstream& body, const json& c, const std::string& id) {
+    if (!c.contains("checks_not_run")) return;
+    for (const auto& ck : c["checks_not_run"])
+        body << "    <testcase classname=\"" << xml(id) << "\" name=\"" << xml(junit_test_name(ck))
+             << "\">\n      <skipped message=\"" << xml(ck.value("reason", std::string()))
+             << "\"/>\n    </testcase>\n";
+}
+
 std::string render_junit(const json& report) {
-    std::int64_t tests = 0, failures = 0, errors = 0;
+    std::int64_t tests = 0, failures = 0, errors = 0, skipped = 0;
     std::ostringstream body;
     double total_time = 0.0;
     const bool timed = report.contains("timings") && report["timings"].contains("wall_seconds");
@@ -110,6 +120,11 @@ std::string render_junit(const json& report) {
             else if (!ck["passed"].get<bool>())
                 ++f;
         }
+        const std::int64_t s = c.contains("checks_not_run")
+                                   ? static_cast<std::int64_t>(c["checks_not_run"].size())
+                                   : 0;
+        t += s;
+        skipped += s;
         tests += t;
         failures += f;
         errors += e;
@@ -119,7 +134,7 @@ std::string render_junit(const json& report) {
                 case_time += (*rt)["wall_seconds"].get<double>();
         const std::string id = c["id"].get<std::string>();
         body << "  <testsuite name=\"" << xml(id) << "\" tests=\"" << t << "\" failures=\"" << f
-             << "\" errors=\"" << e << "\" skipped=\"0\" time=\"" << seconds(case_time)
+             << "\" errors=\"" << e << "\" skipped=\"" << s << "\" time=\"" << seconds(case_time)
              << "\">\n    <properties>\n";
         auto property = [&](const char* name, const std::string& value) {
             body << "      <property name=\"" << name << "\" value=\"" << xml(value) << "\"/>\n";
@@ -158,11 +173,13 @@ std::string render_junit(const json& report) {
                 body << ">\n      <failure type=\"check-failed\" message=\"" << xml(what) << "\">"
                      << xml(detail.str()) << "</failure>\n    </testcase>\n";
         }
+        skipped_testcases(body, c, id);
         body << "  </testsuite>\n";
     }
     std::ostringstream os;
     os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"dampsym\" tests=\""
-       << tests << "\" failures=\"" << failures << "\" errors=\"" << errors << "\"";
+       << tests << "\" failures=\"" << failures << "\" errors=\"" << errors << "\" skipped=\""
+       << skipped << "\"";
     if (timed) os << " time=\"" << seconds(total_time) << "\"";
     os << ">\n" << body.str() << "</testsuites>\n";
     return os.str();

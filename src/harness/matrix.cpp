@@ -4,8 +4,11 @@
 // (docs/matrix.md). The battery is matrix_battery.cpp, the Markdown table matrix_render.cpp.
 #include "harness/matrix.hpp"
 
+#include "diagnostics/metric_json.hpp"
+#include "diagnostics/order_fit.hpp"
 #include "diagnostics/stability.hpp"
 #include "harness/matrix_battery.hpp"
+#include "harness/method_coefficients.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/runner.hpp"
 #include "methods/coefficient_checks.hpp"
@@ -103,6 +106,14 @@ Cell judge_run_metric(const Property& p, const MethodInfo& m, const json& run) {
         set_role(cell, claimed);
         return cell;
     }
+    const std::string incomplete =
+        incomplete_measurement(run["metrics"], metric.substr(0, metric.find('.')));
+    if (!incomplete.empty()) { // not measured: a failure of a claimed property, else n/a
+        cell.detail = incomplete;
+        if (claimed) cell.verdict = "fails";
+        set_role(cell, claimed);
+        return cell;
+    }
     const json* v = dotted(run["metrics"], metric);
     if (v && v->is_number()) {
         cell.value = v->get<double>();
@@ -137,20 +148,53 @@ Cell judge_run_metric(const Property& p, const MethodInfo& m, const json& run) {
     return cell;
 }
 
+Cell judge_coefficients(const MethodInfo& m) {
+    Cell cell;
+    const CoefficientVerdict v = coefficient_verdict(m);
+    if (!v.checked()) {
+        cell.detail = "no coefficients to check (the method is its code)";
+        return cell;
+    }
+    cell.value = v.disagree;
+    cell.verdict = v.disagree == 0 ? "holds" : "fails";
+    cell.extra["agree"] = v.agree;
+    cell.extra["checks"] = v.agree + v.disagree;
+    cell.extra["refuted"] = v.refuted;
+    if (v.disagree > 0) {
+        std::string names;
+        for (const auto& n : v.refuted) names += (names.empty() ? "" : ", ") + n;
+        cell.detail = "the coefficients refute the declaration: " + names;
+    }
+    set_role(cell, true);
+    return cell;
+}
+
 Cell judge_order(const Property& p, const MethodInfo& m, const json& c) {
     Cell cell;
     cell.extra["declared"] = m.order;
     cell.extra["ladder"] = order_ladder(m.order);
     const json* fit = method_metric(c, m, "order");
-    if (fit && fit->contains("slope") && (*fit)["slope"].is_number()) {
+    const bool fit_ok = fit && fit->value("status", std::string("ok")) == "ok";
+    if (fit_ok && fit->contains("slope") && (*fit)["slope"].is_number()) {
         cell.value = (*fit)["slope"].get<double>();
         CheckSpec crit = p.criterion;
         crit.value = m.order;
         cell.verdict = check_passes(crit, *cell.value) ? "holds" : "fails";
         if (fit->contains("r2")) cell.extra["r2"] = (*fit)["r2"];
+        if (fit->contains("finest_local_order")) {
+            const double finest = (*fit)["finest_local_order"].get<double>();
+            cell.extra["finest_local_order"] = finest;
+            if (const std::string why = finest_steps_disagree(*cell.value, finest, crit.tol);
+                !why.empty()) {
+                cell.verdict = "fails";
+                cell.detail = why;
+            }
+        }
     } else {
         cell.verdict = "fails";
         cell.detail = "no order fit";
+        if (fit && fit->contains("status") && (*fit)["status"].is_string())
+            cell.detail += ": " + (*fit)["status"].get<std::string>();
         if (fit && fit->contains("reason") && (*fit)["reason"].is_string())
             cell.detail += ": " + (*fit)["reason"].get<std::string>();
     }
@@ -224,11 +268,13 @@ json judge_matrix(const std::vector<const MethodInfo*>& methods, const json& bat
              {"source", p.source},
              {"criterion", p.criterion_text},
              {"claimed_by", p.from == matrix_detail::Source::order ? json("the declared order")
+                            : p.from == matrix_detail::Source::coefficients
+                                ? json("the declared order and claims")
                             : p.from == matrix_detail::Source::threshold
                                 ? json("a closed form (F ch. 3 or R(z))")
                                 : json(claim_words(p.claim))},
              {"controls_must_fail", p.controls_must_fail},
-             {"problem", p.case_json["problem"]}});
+             {"problem", p.case_json.contains("problem") ? p.case_json["problem"] : json()}});
     json rows = json::array();
     int claimed_failures = 0, controls_passing = 0, controls = 0, claimed_holds = 0;
     for (const MethodInfo* m : methods) {
@@ -241,7 +287,9 @@ json judge_matrix(const std::vector<const MethodInfo*>& methods, const json& bat
                     ? p.case_id + std::to_string(matrix_detail::ladder_group(m->order))
                     : p.case_id;
             const auto it = by_id.find(case_id);
-            if (!method_applies(m->id, p.problem) || it == by_id.end()) {
+            if (p.from == matrix_detail::Source::coefficients) {
+                cell = matrix_detail::judge_coefficients(*m);
+            } else if (!method_applies(m->id, p.problem) || it == by_id.end()) {
                 cell.detail = "the method (" + std::string(form_name(m->form)) +
                               " form) does not apply to problem '" + p.problem + "'";
             } else if (p.from == matrix_detail::Source::order) {

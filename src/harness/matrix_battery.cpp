@@ -25,6 +25,22 @@ CheckSpec criterion(CheckOp op, double value, double tol = 0.0, bool use_abs = f
     return c;
 }
 
+// The coefficient-level checks of the method's family (methods --check): order conditions to the
+// declared order, the structure its claims imply; a method without coefficients (a hand-written
+// scheme, a plugin) is n/a.
+void coefficients_property(std::vector<Property>& p) {
+    Property c;
+    c.id = "coefficients";
+    c.header = "coefficients";
+    c.title = "coefficient-level checks of the method's family (order conditions through the "
+              "declared order, symplecticity / conformal conditions / G-symplecticity it claims)";
+    c.source = "dampsym methods --check; src/methods/coefficient_checks.hpp";
+    c.from = Source::coefficients;
+    c.criterion_text = "every check agrees with the declaration (a sufficient condition that "
+                       "fails is inconclusive)";
+    p.push_back(c);
+}
+
 // The fitted order on the pendulum ladders.
 void order_property(std::vector<Property>& p) {
     Property o;
@@ -241,6 +257,7 @@ int ladder_group(int order) {
 const std::vector<Property>& properties() {
     static const std::vector<Property> props = [] {
         std::vector<Property> p;
+        coefficients_property(p);
         order_property(p);
         en_properties(p);
         en_undamped_property(p);
@@ -257,6 +274,7 @@ const std::vector<Property>& properties() {
 bool claims_property(const Property& p, const MethodInfo& m) {
     if (p.from == Source::order) return true; // every method declares its order
     if (p.from == Source::threshold) return false;
+    if (p.from == Source::coefficients) return true; // every declaration is checked
     // an RK method on the plain form that is symplectic for γ = 0 conserves every quadratic
     // invariant (B(1.18), HLW IV.2); a partitioned one only those of the form qᵀCp
     if (p.id == "quadratic-undamped" && (m.claims & claim_symplectic_if_undamped) != 0 &&
@@ -306,6 +324,7 @@ std::vector<CaseSpec> matrix_battery(const std::vector<const MethodInfo*>& metho
     std::map<std::string, bool> made; // the N-body case serves two properties
     const std::string file = "dampsym matrix battery";
     for (const matrix_detail::Property& p : matrix_detail::properties()) {
+        if (p.from == matrix_detail::Source::coefficients) continue; // no case to run
         if (p.from == matrix_detail::Source::order) {
             std::map<int, std::vector<std::string>> groups;
             for (const MethodInfo* m : methods)

@@ -19,9 +19,10 @@ using json = nlohmann::json;
 
 // How a property reads its value from the battery's report.
 enum class Source {
-    order,     // method_metrics[m].order.slope of the case of the method's ladder
-    run,       // runs[m].metrics.<metric> of the property's single-step case
-    threshold, // method_metrics[m].stability-sweep of the sweep case
+    order,        // method_metrics[m].order.slope of the case of the method's ladder
+    run,          // runs[m].metrics.<metric> of the property's single-step case
+    threshold,    // method_metrics[m].stability-sweep of the sweep case
+    coefficients, // the method's coefficient-level checks (no case: harness/method_coefficients)
 };
 
 struct Property {

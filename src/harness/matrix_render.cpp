@@ -21,7 +21,16 @@ std::string cell_text(const std::string& prop, const json& c) {
     const std::string verdict = c["verdict"];
     const std::string role = c["role"];
     std::string v;
-    if (c["value"].is_number()) {
+    if (prop == "coefficients" && c.contains("checks")) {
+        const int n = c["checks"].get<int>(), agree = c["agree"].get<int>();
+        v = std::to_string(agree) + "/" + std::to_string(n);
+        if (agree < n) {
+            std::string names;
+            for (const auto& r : c["refuted"])
+                names += (names.empty() ? "" : ", ") + r.get<std::string>();
+            v += " (" + names + ")";
+        }
+    } else if (c["value"].is_number()) {
         const double x = c["value"].get<double>();
         v = prop == "order" ? fmt(x, "%.2f") : fmt(x, "%.2g");
     } else if (prop == "threshold" && (verdict != "n/a" || c.contains("swept"))) {

@@ -5,7 +5,6 @@
 #include "harness/method_files.hpp"
 
 #include "harness/method_file_reader.hpp"
-#include "methods/exponential_conditions.hpp"
 
 #include <algorithm>
 #include <array>
@@ -198,42 +197,6 @@ std::string method_folder_beside(const std::string& cases_dir) {
     fs::path p(cases_dir);
     if (!p.has_filename()) p = p.parent_path(); // "verify/cases/"
     return (p.parent_path() / "methods").string();
-}
-
-std::vector<CoefficientCheck> method_file_checks(const MethodInfo& info) {
-    std::vector<CoefficientCheck> out = method_checks(info);
-    const bool claimed = (info.claims & claim_conformal_symplectic) != 0;
-    const double tol = coefficient_tolerance;
-    // Damping arguments γh (our γ) at which the exponential conditions are evaluated.
-    const double args[] = {0.01, 0.1, 0.5};
-    if (const auto* e = method_data<ExponentialCoefficients>(info)) {
-        double cond = 0.0, phi0 = 0.0;
-        for (const double x : args) {
-            cond = std::max(cond, erk_condition_residual(*e->data, x));
-            phi0 = std::max(phi0, erk_phi0_residual(*e->data, x));
-        }
-        out.push_back({"conformal-condition",
-                       "b_i a_ij φ0/φ_i + b_j a_ji φ0/φ_j − b_i b_j = 0 at γh = 0.01, 0.1, 0.5 "
-                       "(B(2.30), B Thm 2.11; sufficient, not necessary)",
-                       claimed, cond <= tol, cond, tol});
-        if (claimed) // necessary for the claim; silent about a method that does not claim it
-            out.push_back(
-                {"conformal-factor", "φ0 = e^{−γh} (B(2.31))", true, phi0 <= tol, phi0, tol});
-    } else if (const auto* p = method_data<PartitionedExponentialCoefficients>(info)) {
-        double cond = 0.0, phi0 = 0.0;
-        for (const double x : args) {
-            cond = std::max(cond, perk_condition_residual(*p->data, x));
-            phi0 = std::max(phi0, perk_phi0_residual(*p->data, x));
-        }
-        out.push_back({"conformal-condition",
-                       "B(2.23) at γh = 0.01, 0.1, 0.5 (B Thm 2.4, 2.10; sufficient, not "
-                       "necessary: cse-etd and csv2 violate it and are conformal symplectic)",
-                       claimed, cond <= tol, cond, tol});
-        if (claimed) // necessary for the claim; silent about a method that does not claim it
-            out.push_back({"conformal-factor", "φ̂0 φ̃0 = e^{−2γh} (B Thm 2.10)", true, phi0 <= tol,
-                           phi0, tol});
-    }
-    return out;
 }
 
 } // namespace dampsym

@@ -45,9 +45,4 @@ std::string loaded_method_source(std::string_view id);
 // The `methods/` folder beside a cases directory (verify/cases -> verify/methods).
 std::string method_folder_beside(const std::string& cases_dir);
 
-// The coefficient-level checks of method_checks (order conditions, symplecticity,
-// G-symplecticity) plus, for the exponential families, B(2.30)/(2.31) (ERK) and B(2.23)/Thm 2.10
-// (PERK) at a few damping arguments; expected iff the file claims "conformal-symplectic".
-std::vector<CoefficientCheck> method_file_checks(const MethodInfo& info);
-
 } // namespace dampsym

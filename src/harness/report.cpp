@@ -1,5 +1,6 @@
 #include "harness/report.hpp"
 
+#include "harness/method_coefficients.hpp"
 #include "harness/report_tables.hpp"
 
 #include <cctype>
@@ -106,9 +107,17 @@ void provenance_block(std::ostringstream& os, const json& report) {
 
 } // namespace
 
+static std::string join_names(const json& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n.get<std::string>();
+    return out;
+}
+
 json summarize(const json& cases) {
-    std::int64_t passed = 0, failed = 0, runs = 0, failed_cases = 0;
+    std::int64_t passed = 0, failed = 0, runs = 0, failed_cases = 0, not_run = 0;
     for (const auto& c : cases) {
+        if (c.contains("checks_not_run"))
+            not_run += static_cast<std::int64_t>(c["checks_not_run"].size());
         bool ok = true;
         for (const auto& ck : c["checks"]) {
             if (ck["passed"].get<bool>()) {
@@ -121,11 +130,18 @@ json summarize(const json& cases) {
         if (!ok) ++failed_cases;
         runs += static_cast<std::int64_t>(c["runs"].size());
     }
-    return {{"cases", cases.size()},
-            {"failed_cases", failed_cases},
-            {"runs", runs},
-            {"checks_passed", passed},
-            {"checks_failed", failed}};
+    json s = {{"cases", cases.size()},
+              {"failed_cases", failed_cases},
+              {"runs", runs},
+              {"checks_passed", passed},
+              {"checks_failed", failed}};
+    if (not_run > 0) s["checks_not_run"] = not_run; // only a selection leaves checks not run
+    // loaded methods whose coefficients refute their declaration (method_coefficients.hpp),
+    // flagged wherever the report is read; the verdicts stay those of the checks (a case may run a
+    // deliberately wrong method as a negative control)
+    if (const json refuted = refuted_methods(cases); !refuted.empty())
+        s["methods_refuted"] = refuted.size();
+    return s;
 }
 
 std::string report_json_text(const json& report) {
@@ -224,6 +240,12 @@ void case_tables(std::ostringstream& os, const json& c, const json* t) {
         if (!ck["passed"].get<bool>()) os << check_line(ck);
     for (const auto& ck : c["checks"])
         if (ck["passed"].get<bool>()) os << check_line(ck);
+    if (c.contains("checks_not_run"))
+        for (json ck : c["checks_not_run"]) {
+            ck["value"] = nullptr;
+            ck["message"] = ck["reason"];
+            os << check_line(ck, "not run");
+        }
     auto part = [&](const std::string& summary, auto&& table) {
         std::ostringstream tos;
         table(tos);
@@ -245,8 +267,17 @@ std::string render_markdown(const json& report, const json& figures) {
     const json& s = report["summary"];
     os << "# dampsym report\n\n";
     provenance_block(os, report);
+    const json refuted = refuted_methods(report["cases"]);
+    for (const auto& [id, names] : refuted.items())
+        os << "> **⚠ " << id << ": its coefficients refute its declaration** (" << join_names(names)
+           << "); every verdict on its runs rests on a method that is not "
+           << "what it declares (`dampsym methods --check --methods FILE`).\n\n";
     os << s["cases"] << " cases, " << s["runs"] << " runs: **" << s["checks_passed"]
-       << " checks passed, " << s["checks_failed"] << " failed** (" << wall_text(report)
+       << " checks passed, " << s["checks_failed"] << " failed**"
+       << (s.contains("checks_not_run")
+               ? ", " + s["checks_not_run"].dump() + " not run (a partner method not selected)"
+               : std::string())
+       << " (" << wall_text(report)
        << ").\n\nCases with a failing check come first; in each case failing checks come first. A "
           "*negative "
           "control* is a check that passes only when the structure check detects a method that "
@@ -301,6 +332,8 @@ std::string render_summary(const json& report) {
                       c["id"].get<std::string>().c_str(), pass + fail);
         os << line;
         if (fail) os << "  failed: " << failed;
+        if (c.contains("checks_not_run"))
+            os << "  (" << c["checks_not_run"].size() << " not run: a partner method not selected)";
         if (c.contains("no_checks_because")) os << "  (no checks: stated reason in the report)";
         os << "\n";
     }
@@ -311,8 +344,15 @@ std::string render_summary(const json& report) {
 std::string render_totals(const json& report) {
     std::ostringstream os;
     const json& s = report["summary"];
+    const json refuted = refuted_methods(report["cases"]);
+    for (const auto& [id, names] : refuted.items())
+        os << "REFUTED " << id << ": its coefficients refute its declaration (" << names.size()
+           << " coefficient checks: " << join_names(names)
+           << "; dampsym methods --check --methods FILE)\n";
     os << s["cases"] << " cases, " << s["runs"] << " runs, " << s["checks_passed"]
        << " checks passed, " << s["checks_failed"] << " failed";
+    if (s.contains("checks_not_run"))
+        os << ", " << s["checks_not_run"] << " not run (a partner method not selected)";
     if (report.contains("timings") && report["timings"].contains("wall_seconds"))
         os << ", " << num(report["timings"]["wall_seconds"], 3) << " s";
     os << "\n";

@@ -12,7 +12,7 @@ using json = nlohmann::json;
 
 std::string num(const json& v, int digits = 4);
 bool case_passed(const json& c);
-std::string check_line(const json& ck);
+std::string check_line(const json& ck, const char* result = nullptr);
 void measures_table(std::ostringstream& os, const json& c);
 // diag: "order" (global error at t_end) or "local-order" (one-step error, slope p + 1).
 void order_table(std::ostringstream& os, const json& c, const char* diag);

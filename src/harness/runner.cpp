@@ -2,6 +2,7 @@
 
 #include "harness/case_figures.hpp"
 #include "harness/case_job.hpp"
+#include "harness/method_coefficients.hpp"
 #include "harness/progress.hpp"
 #include "harness/report.hpp"
 
@@ -298,6 +299,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
         for (std::size_t i = 0; i < jobs.size(); ++i)
             if (prepared[i]) options.series_sink(jobs[i]->series());
     json timings_cases = take_timings(out_cases);
+    mark_refuted_methods(out_cases);
     json summary = summarize(out_cases);
     return {{"schema_version", kReportSchemaVersion},
             {"tool", {{"name", "dampsym"}, {"version", DAMPSYM_VERSION}}},

@@ -35,7 +35,8 @@
 //         underlying RK method is symplectic);
 //   PartitionedTableau: PRK checks; GeneralLinearCoefficients: GLM checks, G-symplecticity
 //         expected iff claim_g_symplectic;
-//   any other (hand-written cimp, csv1, csv2, exponential coefficient functions): no checks.
+//   ExponentialCoefficients, PartitionedExponentialCoefficients: exponential_checks.cpp;
+//   any other (hand-written cimp, csv1, csv2, B's PDE schemes, plugins): no checks.
 // Order conditions are expected to hold through the declared order and to fail at the next order
 // (not checked for order ≥ 6, the largest tree order generated for RK).
 #pragma once
@@ -125,10 +126,25 @@ struct CoefficientCheck {
     bool holds;       // what the coefficients give
     double value;     // the residual (or measured quantity) behind `holds`
     double tolerance;
-    bool agrees() const { return expected == holds; }
+    // A sufficient condition only (B(2.30), B(2.23)): its failure on a method that claims the
+    // property is inconclusive (the property may hold for another reason; E_n decides), never a
+    // disagreement.
+    bool sufficient_only = false;
+    bool inconclusive() const { return sufficient_only && expected && !holds; }
+    bool agrees() const { return expected == holds || inconclusive(); }
 };
 // The checks of the method's family (empty: no coefficient-level check applies).
 std::vector<CoefficientCheck> method_checks(const MethodInfo& info);
+
+// The exponential families' checks (methods/exponential_checks.cpp): the γh = 0 limit's row sums
+// and order conditions, and for a conformal symplectic claim B(2.30)/(2.31) resp. B(2.23)/Thm 2.10
+// and the limit's symplecticity.
+struct ExponentialRKData;
+struct PartitionedExponentialRKData;
+void erk_checks(const ExponentialRKData& data, int order, unsigned claims,
+                std::vector<CoefficientCheck>& out);
+void perk_checks(const PartitionedExponentialRKData& data, int order, unsigned claims,
+                 std::vector<CoefficientCheck>& out);
 
 // Claim bits decoded to words ("conformal-symplectic", …; unknown bits as "claim-bit-N").
 std::vector<std::string> claim_words(unsigned claims);

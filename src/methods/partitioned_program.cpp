@@ -4,7 +4,7 @@
 namespace dampsym {
 
 namespace {
-std::size_t ui(int i) {
+std::size_t program_index(int i) {
     return static_cast<std::size_t>(i);
 }
 } // namespace
@@ -16,29 +16,30 @@ void PartitionedProgram::build(const ExponentialTableau& hat, const ExponentialT
         for (int i = 0; i < s_; ++i) force_used = force_used || tilde.A(i, j) != 0.0;
         need_force.push_back(force_used);
     }
-    std::vector<bool> qd(ui(s_), false), pd(ui(s_), false);
+    std::vector<bool> qd(program_index(s_), false), pd(program_index(s_), false);
     std::vector<int> order;
     bool progress = true;
     while (progress && static_cast<int>(order.size()) < 2 * s_) {
         progress = false;
         for (int i = 0; i < s_; ++i) {
-            if (!qd[ui(i)]) {
+            if (!qd[program_index(i)]) {
                 bool ready = true;
                 for (int j = 0; j < s_; ++j)
-                    if (hat.A(i, j) != 0.0 && !pd[ui(j)]) ready = false;
+                    if (hat.A(i, j) != 0.0 && !pd[program_index(j)]) ready = false;
                 if (ready) {
-                    qd[ui(i)] = true;
+                    qd[program_index(i)] = true;
                     order.push_back(i);
                     progress = true;
                 }
             }
-            if (!pd[ui(i)]) {
+            if (!pd[program_index(i)]) {
                 bool ready = true;
                 for (int j = 0; j < s_; ++j)
-                    if (tilde.A(i, j) != 0.0 && (!qd[ui(j)] || (damped_ && j != i && !pd[ui(j)])))
+                    if (tilde.A(i, j) != 0.0 &&
+                        (!qd[program_index(j)] || (damped_ && j != i && !pd[program_index(j)])))
                         ready = false;
                 if (ready) {
-                    pd[ui(i)] = true;
+                    pd[program_index(i)] = true;
                     order.push_back(s_ + i);
                     progress = true;
                 }
@@ -57,7 +58,7 @@ void PartitionedProgram::compile(const ExponentialTableau& hat, const Exponentia
         Task task{code < s_ ? code : code - s_, code < s_, false, 0.0, 0.0, terms.size(), 0};
         const int i = task.i;
         if (task.q) {
-            task.force = need_force[ui(i)] != 0;
+            task.force = need_force[program_index(i)] != 0;
             task.phi = hat.phi[i];
             for (int j = 0; j < s_; ++j)
                 if (hat.A(i, j) != 0.0) terms.push_back({j, h * hat.A(i, j), 0.0});

@@ -45,6 +45,24 @@ static int identity_jacobian(void* ctx, const dampsym_host* host, double t, doub
     for (int i = 0; i < d * d; ++i) jac[i] = (i % (d + 1) == 0) ? 1.0 : 0.0;
     return 0;
 }
+/* Explicit Euler z_next = z + h f(t, z) claiming conformal symplecticity, with a Jacobian of NaNs:
+ * E_n measures nothing, so no E_n check may pass on it (docs/conventions.md "No verdict without a
+ * measurement"). */
+static int euler_step(void* ctx, const dampsym_host* host, double t, double h, const double* z,
+                      double* z_next) {
+    (void)ctx;
+    const int d = host->dim(host->host_ctx);
+    host->rhs(host->host_ctx, t, z, z_next);
+    for (int i = 0; i < d; ++i) z_next[i] = z[i] + h * z_next[i];
+    return 0;
+}
+static int nan_jacobian(void* ctx, const dampsym_host* host, double t, double h, const double* z,
+                        double* z_next, double* jac) {
+    const int d = host->dim(host->host_ctx);
+    euler_step(ctx, host, t, h, z, z_next);
+    for (int i = 0; i < d * d; ++i) jac[i] = NAN;
+    return 0;
+}
 #endif
 
 static const dampsym_method methods[] = {
@@ -55,6 +73,8 @@ static const dampsym_method methods[] = {
     {"bad-oob", "writes z_next[dim]", 1, DAMPSYM_FORM_PLAIN, 0, overflowing_step, NULL, NULL},
     {"jac-identity", "z_next = z, with its Jacobian", 1, DAMPSYM_FORM_PLAIN, 0, copy_step,
      identity_jacobian, NULL},
+    {"jac-nan", "explicit Euler claiming conformal symplecticity, its Jacobian NaN", 1,
+     DAMPSYM_FORM_PLAIN, DAMPSYM_CLAIM_CONFORMAL_SYMPLECTIC, euler_step, nan_jacobian, NULL},
 #elif defined(BAD_NULL_STEP)
     {"bad-null-step", NULL, 1, DAMPSYM_FORM_PLAIN, 0, NULL, NULL, NULL},
 #elif defined(BAD_DUPLICATE)
