@@ -21,7 +21,8 @@ through the dampsym binary and tools/figures/plot.py:
                                                  whose names contain one; or pytest with the
                                                  environment variables DAMPSYM and WORK)
 
-About 25 s on the 2-core machine (most of it matplotlib's import in each plot)."""
+24 s of CPU (62 s wall on the shared 2-core machine at load 10): most of it matplotlib's import
+in each of the 16 starts of plot.py."""
 
 import json
 import os
