@@ -4,10 +4,10 @@
 // DIR/report.md with the figures embedded; `dampsym plot DIR` does the drawing part on an existing
 // report directory.
 //
-// Outputs stay in the report directory (issue 33): a case id becomes a file name only through
-// output_file_name (a valid case id, so no '/', no "..", no absolute path), a report's ids are
-// validated when it is loaded for drawing (load_figure_report, as a case file's), series/ and
-// figures/ must be directories of DIR (not symbolic links), and dampsym removes only what it
+// Outputs stay in the report directory (docs/reports.md "Figures"): a case id becomes a file name
+// only through output_file_name (a valid case id, so no '/', no "..", no absolute path), a report's
+// ids are validated when it is loaded for drawing (load_figure_report, as a case file's), series/
+// and figures/ must be directories of DIR (not symbolic links), and dampsym removes only what it
 // wrote there itself: each directory keeps a manifest, DIR/series/.dampsym-manifest and
 // DIR/figures/.dampsym-manifest (one file name a line), and a run removes the files an earlier
 // run listed, never another file. The figure script runs in a process group of its own and stops

@@ -20,7 +20,7 @@ line is the same), time-series legends are placed at fixed spots instead of "bes
 every vertex), dense lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and
 the cyclic garbage collector runs rarely (main).
 
-Inputs and outputs (issue 33, safeio.py): report.json (at most safeio.REPORT_LIMIT bytes, its
+Inputs and outputs (safeio.py): report.json (at most safeio.REPORT_LIMIT bytes, its
 ids and the keys read here checked: safeio.validate_report) and each series file (safeio.SERIES_LIMIT) are read only as
 regular files of bounded size; a figure's name is its case id (a valid case id) and kind; a file
 is replaced only when it is a regular file; only what figures/.dampsym-manifest lists (the

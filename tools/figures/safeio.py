@@ -1,4 +1,4 @@
-"""How tools/figures/plot.py reads its inputs and writes its outputs (issue 33; docs/reports.md
+"""How tools/figures/plot.py reads its inputs and writes its outputs (docs/reports.md
 "Figures"): every read is of a regular file (a symbolic link is not followed) of bounded size,
 checked before parsing; every output is a plain name inside the report directory (a case id only
 through output_name); a file is replaced atomically (FILE.dampsym-tmp, then renamed) and only

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Outputs confined to their directory, nothing deleted that dampsym did not write, signals and
-bounded inputs while figures are involved (issue 33 items 1, 4, 8; docs/reports.md "Figures"),
-through the dampsym binary and tools/figures/plot.py:
+bounded inputs while figures are involved (docs/reports.md "Figures"), through the dampsym binary
+and tools/figures/plot.py:
 
 1. a report's case ids are validated before anything is drawn (an id "../../../ESCAPED" or an
    absolute one: exit 2 naming report.json and the key, nothing written outside DIR); a user's
@@ -39,6 +39,8 @@ import safeio as sio  # noqa: E402
 
 DAMPSYM = os.environ.get("DAMPSYM", sys.argv[1] if len(sys.argv) > 2 else "")
 WORK = os.environ.get("WORK", sys.argv[2] if len(sys.argv) > 2 else "")
+if WORK:
+    os.makedirs(WORK, exist_ok=True)
 
 
 def case(cid: str, t_end: float = 2.0, **extra: object) -> Dict[str, object]:
