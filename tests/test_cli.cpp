@@ -403,6 +403,13 @@ TEST_CASE("cli: output paths: an empty --out or --junit, or --junit naming anoth
         CHECK_THAT(r.err, Catch::Contains(extra.size() == 2 ? "--out" : "--junit"));
         CHECK(no_report(out));
     }
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"plot", ""}, {"matrix", "--out", ""}, {"merge", "", (root / "none").string()}}) {
+        const CliResult r = run(args);
+        INFO(describe(args, r));
+        CHECK(r.status == 2);
+        CHECK_THAT(r.err, Catch::Contains("empty"));
+    }
     // a symbolic link where --junit or report.md goes: exit 3 naming it; link and target intact
     const fs::path target = root / "target.txt";
     dampsym_test::write_text(target, "keep\n");
