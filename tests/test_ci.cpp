@@ -278,8 +278,8 @@ TEST_CASE("cli: an unwritable --out or --junit exits 3 before any case runs", "[
     copy_data("cases/cli-pass.json", cases.path());
     write_text(root / "file", "x");
     fs::create_directories(root / "dir" / "report.json");
-    std::vector<std::string> outs{"",                               // empty name
-                                  (root / "file").string(),         // a regular file
+    // (an empty --out is a usage error, exit 2: test_cli.cpp "cli: output paths")
+    std::vector<std::string> outs{(root / "file").string(),         // a regular file
                                   (root / "file" / "sub").string(), // under a regular file
                                   (root / "dir").string(),          // report.json is a directory
                                   "/proc/dampsym-no-such-dir"};     // not creatable, even by root

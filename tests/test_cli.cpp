@@ -375,3 +375,67 @@ TEST_CASE("cli: the dampsym executable returns run_cli's exit status", "[cli]") 
     CHECK(status_of("run cli-pass --out '" + (cases / "cli-pass.json").string() + "/sub'") == 3);
     CHECK(status_of("--version") == 0);
 }
+
+TEST_CASE("cli: output paths: an empty --out or --junit, or --junit naming another output of the "
+          "run, exit 2; a symbolic link in place of an output is refused (exit 3), not replaced",
+          "[cli]") {
+    TempDir cases, root;
+    copy_data("cases/cli-pass.json", cases.path());
+    const fs::path out = root / "out";
+    const std::vector<std::string> base{"--cases", cases.str(), "run", "cli-pass", "-q"};
+    auto with = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args = base;
+        args.insert(args.end(), extra.begin(), extra.end());
+        return args;
+    };
+    for (const auto& extra : std::vector<std::vector<std::string>>{
+             {"--out", ""},
+             {"--out", out.string(), "--junit", ""},
+             {"--out", out.string(), "--junit", (out / "report.json").string()},
+             {"--out", out.string(), "--junit", (out / "sub" / ".." / "report.md").string()},
+             {"--out", out.string(), "--figures", "--junit", (out / "figures.md").string()},
+             {"--out", out.string(), "--figures", "--junit",
+              (out / "series" / "j.xml").string()}}) {
+        const auto args = with(extra);
+        const CliResult r = run(args);
+        INFO(describe(args, r));
+        CHECK(r.status == 2);
+        CHECK_THAT(r.err, Catch::Contains(extra.size() == 2 ? "--out" : "--junit"));
+        CHECK(no_report(out));
+    }
+    for (const auto& args : std::vector<std::vector<std::string>>{
+             {"plot", ""}, {"matrix", "--out", ""}, {"merge", "", (root / "none").string()}}) {
+        const CliResult r = run(args);
+        INFO(describe(args, r));
+        CHECK(r.status == 2);
+        CHECK_THAT(r.err, Catch::Contains("empty"));
+    }
+    // a symbolic link where --junit or report.md goes: exit 3 naming it; link and target intact
+    const fs::path target = root / "target.txt";
+    dampsym_test::write_text(target, "keep\n");
+    const fs::path link = root / "junit.xml";
+    fs::create_symlink(target, link);
+    auto args = with({"--out", out.string(), "--junit", link.string()});
+    CliResult r = run(args);
+    INFO(describe(args, r));
+    CHECK(r.status == 3);
+    CHECK_THAT(r.err, Catch::Contains(link.string()));
+    fs::create_directories(out);
+    fs::create_symlink(target, out / "report.md");
+    args = with({"--out", out.string()});
+    r = run(args);
+    INFO(describe(args, r));
+    CHECK(r.status == 3);
+    CHECK_THAT(r.err, Catch::Contains((out / "report.md").string()));
+    CHECK(fs::is_symlink(link));
+    CHECK(fs::is_symlink(out / "report.md"));
+    CHECK(dampsym_test::read_text(target) == "keep\n");
+    // the negative control: the same run with the link gone and --junit a regular path writes both
+    fs::remove(out / "report.md");
+    args = with({"--out", out.string(), "--junit", (root / "j.xml").string()});
+    r = run(args);
+    INFO(describe(args, r));
+    CHECK(r.status == 0);
+    CHECK(fs::is_regular_file(out / "report.md"));
+    CHECK(fs::is_regular_file(root / "j.xml"));
+}

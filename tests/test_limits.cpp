@@ -748,7 +748,7 @@ TEST_CASE("limits: a report that cannot be written (full disk) exits 3 with a me
     CHECK(status == 3); // not killed by SIGXFSZ (1000 + 25)
     CHECK_THAT(err, Catch::Contains("report.json: cannot write"));
     std::error_code ec;
-    CHECK_FALSE(fs::exists(out / "report.json.tmp", ec)); // no partial file left behind
+    CHECK_FALSE(fs::exists(out / "report.json.dampsym-tmp", ec)); // no partial file left behind
 }
 
 TEST_CASE("limits: a --figures series file that cannot be written: the report is written, "

@@ -6,6 +6,7 @@
 
 #include "harness/case.hpp"
 #include "harness/figures.hpp"
+#include "harness/limits.hpp"
 #include "harness/provenance.hpp"
 #include "harness/report.hpp"
 
@@ -80,7 +81,10 @@ Command add_plot_command(CLI::App& app, CliContext& ctx) {
                      "png (default), svg or pdf, or a comma list (the first of png/svg is "
                      "embedded in report.md)")
         ->check(figure_format_validator());
-    return {plot, [s, &ctx] { return make_figures(s->dir, s->jobs, s->format, ctx.err); }};
+    return {plot, [s, &ctx] {
+                install_stop_handlers(); // SIGINT/SIGTERM stop the script too: 130/143
+                return make_figures(s->dir, s->jobs, s->format, ctx.err);
+            }};
 }
 
 // A parse error: for `dampsym frobnicate` CLI11 says "A subcommand is required"; name the word.

@@ -28,6 +28,7 @@ struct MatrixArgs {
 
 int cmd_matrix(const MatrixArgs& a, const std::string& cases_dir,
                const std::vector<std::string>& command_line, std::ostream& out, std::ostream& err) {
+    if (a.out_dir.empty()) throw InputError("--out: empty directory name"); // as run: exit 2
     // as `dampsym run`: the methods/ folder beside the cases directory, then --methods files
     load_method_folder(method_folder_beside(cases_dir));
     for (const auto& f : a.method_files) load_method_file(f); // InputError: exit 2

@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <unistd.h>
@@ -22,14 +23,48 @@
 namespace dampsym::cli_detail {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct OutputOptions {
     std::string out_dir = "reports";
-    std::string junit;       // "" = none
-    std::string annotations; // "" or "github"
+    std::string junit;        // "" = none
+    bool junit_given = false; // --junit was on the command line (an empty FILE is an error)
+    std::string annotations;  // "" or "github"
     bool quiet = false;
     bool figures = false;              // run --figures (issue 14, harness/figures.hpp)
     std::string figure_format = "png"; // --figure-format png|svg|pdf[,...]
 };
+
+// A path as the file system would reach it, for comparing two output paths: absolute, with "."
+// and ".." and the symbolic links of its existing part resolved.
+fs::path resolved(const std::string& p) {
+    std::error_code ec;
+    const fs::path r = fs::weakly_canonical(fs::absolute(p), ec);
+    return ec ? fs::absolute(p).lexically_normal() : r;
+}
+
+// Usage errors of the output options (exit 2), before any work: an empty --out or --junit, and a
+// --junit FILE that is another output of the same run (report.json, report.md; with --figures
+// figures.md or a file under series/ or figures/), which it would silently overwrite.
+void check_output_options(const OutputOptions& o) {
+    if (o.out_dir.empty()) throw InputError("--out: empty directory name");
+    if (!o.junit_given) return;
+    if (o.junit.empty()) throw InputError("--junit: empty file name");
+    const fs::path junit = resolved(o.junit);
+    const fs::path dir = resolved(o.out_dir);
+    std::vector<fs::path> taken = {dir / "report.json", dir / "report.md"};
+    if (o.figures) taken.push_back(dir / "figures.md");
+    for (const auto& t : taken) {
+        std::error_code ec;
+        if (junit == t || fs::equivalent(junit, t, ec))
+            throw InputError("--junit: " + o.junit + " is " + t.string() +
+                             ", another output of this run");
+    }
+    if (o.figures &&
+        (junit.parent_path() == dir / "series" || junit.parent_path() == dir / "figures"))
+        throw InputError("--junit: " + o.junit + " is inside " + junit.parent_path().string() +
+                         ", which --figures writes");
+}
 
 // Writes the reports and prints the summary; returns the exit status of the checks.
 int finish_report(const json& report, const OutputOptions& o, std::ostream& out,
@@ -52,9 +87,12 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
             const std::string& cases_dir, const std::vector<std::string>& command_line,
             std::ostream& out, std::ostream& err) {
     for (const auto& s : sets) parse_override(s); // usage errors before any work
+    check_output_options(o);
     const Selected selected = select_cases(sel, sets, cases_dir, true, true);
     check_output_dir(o.out_dir); // an unwritable --out fails before any case runs (exit 3)
     if (!o.junit.empty()) check_output_file(o.junit);
+    if (o.figures)
+        if (const std::string e = figure_dirs_error(o.out_dir); !e.empty()) throw OutputError(e);
     // memory limit (the grid is stored with --figures), SIGINT/SIGTERM (harness/limits.hpp)
     before_run(selected.cases, jobs, limits, o.figures);
     for (const auto& c : selected.cases) {
@@ -93,9 +131,10 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
         for (const auto& e : output_errors) err << "dampsym: " << e << "\n";
         return 3;
     }
-    if (o.figures && report.value("interrupted", false) == false) {
-        // figures hook (issue 14): draw, then report.md again with the figures
-        if (make_figures(o.out_dir, jobs, o.figure_format, err) != 0) return 3;
+    if (o.figures && !stop_requested()) {
+        // figures hook (issue 14): draw, then report.md again with the figures; a signal while
+        // drawing stops the script and gives 130/143 (make_figures)
+        if (const int rc = make_figures(o.out_dir, jobs, o.figure_format, err); rc != 0) return rc;
         if (!o.quiet)
             out << "Figures: " << o.out_dir << "/figures/, " << o.out_dir << "/figures.md\n";
     }
@@ -105,6 +144,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
 int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs,
               const OutputOptions& o, const std::vector<std::string>& command_line,
               std::ostream& out, std::ostream& err) {
+    if (out_dir.empty()) throw InputError("OUT_DIR: empty directory name");
     std::vector<json> reports;
     for (const auto& in : inputs) reports.push_back(read_report(in));
     check_output_dir(out_dir);
@@ -141,8 +181,8 @@ Command add_run_command(CLI::App& app, CliContext& ctx) {
     add_selection_options(*run, s->sel);
     run->add_option("--out", s->oo.out_dir,
                     "directory for report.json and report.md (default: reports)");
-    run->add_option("--junit", s->oo.junit,
-                    "also write JUnit XML (one testcase per check) to FILE");
+    CLI::Option* junit = run->add_option("--junit", s->oo.junit,
+                                         "also write JUnit XML (one testcase per check) to FILE");
     run->add_option("--jobs,-j", s->jobs, "worker threads (results do not depend on it)")
         ->check(CLI::Range(1, 4096));
     run->add_option("--time-budget", s->time_budget,
@@ -177,7 +217,8 @@ Command add_run_command(CLI::App& app, CliContext& ctx) {
         "between runs of the same build. GITHUB_STEP_SUMMARY, if set, gets totals and "
         "failures.\n\n" +
         std::string(kExitCodes));
-    return {run, [s, &ctx] {
+    return {run, [s, &ctx, junit] {
+                s->oo.junit_given = junit->count() > 0;
                 return cmd_run(s->sel, s->oo, s->jobs, s->time_budget, s->limits, s->sets,
                                ctx.cases_dir, ctx.command_line, ctx.out, ctx.err);
             }};

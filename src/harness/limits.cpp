@@ -22,13 +22,18 @@ std::atomic<int> g_stop_signal{0};
 
 namespace {
 
+std::atomic<pid_t> g_child_group{0}; // the figure script's process group while it runs, else 0
+
 extern "C" void on_stop_signal(int sig) {
-    // Async-signal-safe only: an atomic exchange, write(2) and _exit(2).
+    // Async-signal-safe only: atomics, kill(2), write(2) and _exit(2).
+    const pid_t child = g_child_group.load();
     if (g_stop_signal.exchange(sig) != 0) {
+        if (child > 0) kill(-child, SIGKILL); // nothing of dampsym's goes on writing after it
         static const char msg[] = "\ndampsym: second signal: exiting at once\n";
         (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
         _exit(128 + sig);
     }
+    if (child > 0) kill(-child, sig); // the figure script stops with dampsym (its own group)
     static const char msg[] = "\ndampsym: stopping at the next step boundary (signal again to "
                               "exit at once); writing the report of what finished\n";
     (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
@@ -43,6 +48,12 @@ void install_stop_handlers() {
     sa.sa_flags = SA_RESTART;
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
+}
+
+void set_stop_child_group(pid_t group) noexcept {
+    g_child_group.store(group);
+    const int sig = stop_signal();
+    if (group > 0 && sig != 0) kill(-group, sig); // a signal that came before the group was set
 }
 
 int stop_signal() noexcept {

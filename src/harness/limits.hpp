@@ -9,7 +9,9 @@
 // - Signals: the first SIGINT/SIGTERM stops every run at its next step boundary (status
 //   "interrupted"); the report of what finished is written, marked "interrupted", and the exit
 //   status is 130/143. A second signal exits at once (the previous report in --out stays intact:
-//   reports are replaced atomically).
+//   reports are replaced atomically). While the figures are drawn (`run --figures`, `plot`) the
+//   signal is forwarded to the figure script, which stops quietly, and the exit status is
+//   130/143 too (set_stop_child_group).
 // - Memory: before anything runs, each case's peak memory is estimated (output grid × state size
 //   × the copies held at once, reference grid, stability sweep) and a case above `--max-memory`
 //   (default half the physical memory) is refused, exit 2, naming the estimate and the key to
@@ -36,6 +38,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <sys/types.h>
 #include <vector>
 
 namespace CLI {
@@ -68,6 +71,11 @@ int exit_status_after_run(int status);
 // Installs the SIGINT/SIGTERM handlers of `dampsym run` (first signal: request a stop; second:
 // _exit(128 + signal) at once).
 void install_stop_handlers();
+// The process group of a child that must stop with dampsym (the figure script, harness/figures.hpp,
+// runs in its own group, so that a terminal's Ctrl-C reaches dampsym alone): the first signal is
+// forwarded to the group, a second one kills it (SIGKILL) before dampsym exits. 0: none. A stop
+// already requested is forwarded at once.
+void set_stop_child_group(pid_t group) noexcept;
 // The signal that requested a stop (SIGINT, SIGTERM), or 0.
 int stop_signal() noexcept;
 extern std::atomic<int> g_stop_signal; // set by the handlers; read it through stop_requested()

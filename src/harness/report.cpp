@@ -8,10 +8,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace dampsym {
 namespace {
@@ -359,25 +362,74 @@ std::string render_totals(const json& report) {
     return os.str();
 }
 
-void write_file_atomic(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp";
-    std::error_code ec;
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
-        out << text;
-        out.flush();
-        if (!out) {
-            const int e = errno;
-            out.close();
-            std::filesystem::remove(tmp, ec); // a full disk keeps no partial file
-            throw OutputError(path + ": cannot write: " + std::strerror(e));
-        }
+namespace {
+
+// What a non-regular file is, for the message refusing to replace it.
+const char* file_kind(mode_t mode) {
+    if (S_ISLNK(mode)) return "a symbolic link";
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+// Creates `path` afresh for writing, never through a symbolic link (O_NOFOLLOW) and never into
+// an existing file (O_EXCL: a hard link to another file is not truncated); a leftover of that
+// name (a temporary file of a killed run) is unlinked first, which removes the name only.
+// Returns the descriptor, or -1 with errno set.
+int create_fresh(const std::string& path) {
+    const int flags = O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC;
+    int fd = ::open(path.c_str(), flags, 0666);
+    if (fd < 0 && errno == EEXIST && ::unlink(path.c_str()) == 0)
+        fd = ::open(path.c_str(), flags, 0666);
+    return fd;
+}
+
+// Writes all of `text` to fd; false with errno set on failure.
+bool write_all(int fd, const std::string& text) {
+    const char* p = text.data();
+    std::size_t left = text.size();
+    while (left > 0) {
+        const ssize_t n = ::write(fd, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n;
+        left -= static_cast<std::size_t>(n);
     }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw OutputError(path + ": cannot write: " + ec.message());
+    return true;
+}
+
+} // namespace
+
+void check_replaceable(const std::string& path) {
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) != 0) {
+        if (errno == ENOENT) return;
+        throw OutputError(path + ": cannot write: " + std::strerror(errno));
+    }
+    if (!S_ISREG(st.st_mode))
+        throw OutputError(path + ": exists and is " + file_kind(st.st_mode) +
+                          ": dampsym replaces only a regular file (remove it or choose another "
+                          "path)");
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+    if (path.empty()) throw OutputError("empty output file name");
+    check_replaceable(path); // a symlink, device or directory is refused, not replaced
+    const std::string tmp = path + kTemporarySuffix;
+    const int fd = create_fresh(tmp);
+    if (fd < 0) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
+    const bool written = write_all(fd, text);
+    const int e = errno;
+    if (::close(fd) != 0 || !written) {
+        ::unlink(tmp.c_str()); // a full disk keeps no partial file
+        throw OutputError(path + ": cannot write: " + std::strerror(written ? errno : e));
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int re = errno;
+        ::unlink(tmp.c_str());
+        throw OutputError(path + ": cannot write: " + std::strerror(re));
     }
 }
 
@@ -389,18 +441,14 @@ void check_output_dir(const std::string& dir) {
         throw OutputError(dir + ": --out: exists and is not a directory");
     fs::create_directories(dir, ec);
     if (ec) throw OutputError(dir + ": --out: cannot create directory: " + ec.message());
-    for (const char* name : {"report.json", "report.md"}) {
-        const fs::path p = fs::path(dir) / name;
-        if (fs::exists(p, ec) && !fs::is_regular_file(p, ec))
-            throw OutputError(p.string() + ": exists and is not a regular file");
-    }
-    const fs::path probe = fs::path(dir) / ".dampsym-write-probe";
-    {
-        std::ofstream out(probe, std::ios::binary | std::ios::trunc);
-        if (!out)
-            throw OutputError(dir + ": --out: directory is not writable: " + std::strerror(errno));
-    }
-    fs::remove(probe, ec);
+    for (const char* name : {"report.json", "report.md"})
+        check_replaceable((fs::path(dir) / name).string());
+    const std::string probe = (fs::path(dir) / ".dampsym-write-probe").string();
+    const int fd = create_fresh(probe);
+    if (fd < 0)
+        throw OutputError(dir + ": --out: directory is not writable: " + std::strerror(errno));
+    ::close(fd);
+    ::unlink(probe.c_str());
 }
 
 void check_output_file(const std::string& file) {
@@ -409,15 +457,15 @@ void check_output_file(const std::string& file) {
     std::error_code ec;
     const fs::path p(file);
     if (fs::is_directory(p, ec)) throw OutputError(file + ": is a directory");
+    check_replaceable(file); // a symlink or device (e.g. /dev/stdout) is refused before any work
     const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
     fs::create_directories(parent, ec);
     if (ec) throw OutputError(file + ": cannot create its directory: " + ec.message());
-    const fs::path probe = parent / (p.filename().string() + ".dampsym-write-probe");
-    {
-        std::ofstream out(probe, std::ios::binary | std::ios::trunc);
-        if (!out) throw OutputError(file + ": cannot write: " + std::strerror(errno));
-    }
-    fs::remove(probe, ec);
+    const std::string probe = (parent / (p.filename().string() + ".dampsym-write-probe")).string();
+    const int fd = create_fresh(probe);
+    if (fd < 0) throw OutputError(file + ": cannot write: " + std::strerror(errno));
+    ::close(fd);
+    ::unlink(probe.c_str());
 }
 
 void write_reports(const json& report, const std::string& dir) {

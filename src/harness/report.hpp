@@ -1,6 +1,8 @@
 // Report writers: DIR/report.json (schema/report.schema.json, full precision) and DIR/report.md
 // (for people: provenance, then one table per case, failing cases and failing checks first).
-// Files are written to a temporary name and renamed, so a report is never half-written.
+// Files are written to a temporary name (FILE.dampsym-tmp) and renamed, so a report is never
+// half-written; only a regular file (or nothing) is replaced: a symbolic link, device or directory
+// in its place is an error (OutputError, exit 3) naming it.
 //
 // report.json is written with its byte-stable part first (schema_version, tool, summary, cases:
 // identical between runs of the same build and selection) and the two parts that are not after it
@@ -44,10 +46,19 @@ const nlohmann::json* run_timing(const nlohmann::json& report, std::size_t case_
 // then creates and removes a probe file in it. Throws OutputError naming DIR and the reason.
 void check_output_dir(const std::string& dir);
 // The same for a single output file (e.g. --junit FILE): its directory must be writable and FILE
-// must not be a directory.
+// must be absent or a regular file (check_replaceable).
 void check_output_file(const std::string& file);
 
-// Writes `text` to `path` atomically (temporary file + rename). Throws OutputError.
+// The suffix of the temporary file that write_file_atomic renames over its target.
+inline constexpr const char* kTemporarySuffix = ".dampsym-tmp";
+
+// Throws OutputError naming `path` unless it is absent or a regular file (lstat: a symbolic link
+// counts as a link, whatever it points to).
+void check_replaceable(const std::string& path);
+
+// Writes `text` to `path` atomically: to path + kTemporarySuffix (created afresh, never through a
+// symbolic link), then renamed over `path`. Only a regular file or nothing is replaced
+// (check_replaceable). Throws OutputError.
 void write_file_atomic(const std::string& path, const std::string& text);
 
 } // namespace dampsym

@@ -6,11 +6,14 @@ helpers (min/max decimation, the fitted slope line).
 Everything here is plain Python (json, math): importing it costs nothing, so the data test runs in
 a fraction of a second."""
 
-import json
 import math
 import os
 import re
+import sys
 import zlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import safeio as sio  # noqa: E402
 
 # Fixed colour, marker and line style per method, the same in every figure: conformal methods
 # (F, B) solid, classical and exponential Runge-Kutta methods dashed, the symplectic (undamped)
@@ -163,16 +166,17 @@ def case_figure_kinds(case):
 
 
 def series_path(report_dir, case_id):
-    return os.path.join(report_dir, "series", case_id + ".json")
+    """DIR/series/<case id>.json; the id must be a valid case id (safeio.output_name)."""
+    return os.path.join(report_dir, "series", sio.output_name(case_id, ".json"))
 
 
 def load_series(report_dir, case_id):
-    """One case's series file, or None."""
-    p = series_path(report_dir, case_id)
-    if not os.path.exists(p):
+    """One case's series file, or None if there is none: a regular file of at most
+    safeio.SERIES_LIMIT bytes (safeio.InputProblem otherwise)."""
+    try:
+        return sio.load_json(series_path(report_dir, case_id), sio.SERIES_LIMIT)
+    except FileNotFoundError:
         return None
-    with open(p) as f:
-        return json.load(f)
 
 
 def decimate_minmax(t, y, buckets):
@@ -237,16 +241,12 @@ def paper_figure(case):
 
 def load(report_dir):
     """report.json and the series files ({case id: series}) of a report directory."""
-    with open(os.path.join(report_dir, "report.json")) as f:
-        report = json.load(f)
+    report = sio.load_json(os.path.join(report_dir, "report.json"), sio.REPORT_LIMIT)
     series = {}
-    sdir = os.path.join(report_dir, "series")
-    if os.path.isdir(sdir):
-        for name in os.listdir(sdir):
-            if name.endswith(".json"):
-                with open(os.path.join(sdir, name)) as f:
-                    s = json.load(f)
-                series[s["case"]] = s
+    for c in report["cases"]:
+        s = load_series(report_dir, c["id"])
+        if s is not None:
+            series[s["case"]] = s
     return report, series
 
 

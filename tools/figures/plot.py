@@ -18,19 +18,50 @@ decade and no minor ticks beyond 3 decades (matplotlib's tick objects were most 
 time), each line is thinned to min/max per pixel column (figdata.decimate_columns: the drawn
 line is the same), time-series legends are placed at fixed spots instead of "best" (which scans
 every vertex), dense lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and
-the cyclic garbage collector runs rarely (main)."""
+the cyclic garbage collector runs rarely (main).
 
-import argparse
-import gc
-import json
-import math
-import multiprocessing
+Inputs and outputs (safeio.py): report.json (at most safeio.REPORT_LIMIT bytes, its
+ids and the keys read here checked: safeio.validate_report) and each series file (safeio.SERIES_LIMIT) are read only as
+regular files of bounded size; a figure's name is its case id (a valid case id) and kind; a file
+is replaced only when it is a regular file; only what figures/.dampsym-manifest lists (the
+figures of earlier runs) is removed. Exit status: 0; 1 a figure could not be drawn; 2 bad input
+(one line naming the file); 3 an output that cannot be written; 130/143 on SIGINT/SIGTERM, quietly
+(dampsym runs this script in a process group of its own and forwards its signals)."""
+
 import os
+import signal
 import sys
-import textwrap
+from types import FrameType
+from typing import Any, Dict, List, Optional, Tuple
+
+
+def on_stop(sig: int, _frame: Optional[FrameType]) -> None:
+    """SIGINT/SIGTERM: stop at once and quietly (no traceback), with the workers (a file is
+    renamed into place whole, so none is half-written); exit 130/143."""
+    if "multiprocessing" in sys.modules:
+        for p in sys.modules["multiprocessing"].active_children():
+            try:
+                os.kill(p.pid, sig)
+            except OSError:
+                pass
+    os._exit(128 + sig)
+
+
+# before the imports below (matplotlib takes a second): a signal while importing is quiet too
+signal.signal(signal.SIGINT, on_stop)
+signal.signal(signal.SIGTERM, on_stop)
+
+import argparse  # noqa: E402
+import gc  # noqa: E402
+import io  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import multiprocessing  # noqa: E402
+import textwrap  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import figdata as fd  # noqa: E402
+import safeio as sio  # noqa: E402
 
 import matplotlib  # noqa: E402
 import numpy as np  # noqa: E402
@@ -51,8 +82,8 @@ plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      # labels to place its title (a sixth of the drawing time)
                      "axes.titley": 1.0, "axes.titlepad": 4.0})
 
-REPORT = None
-OUT = None
+REPORT: Dict[str, Any] = {}
+OUT = ""
 FORMATS = ["png"]
 # pixel columns of a full-width axes (8 in at 100 dpi, less the margins): lines are thinned to
 # min/max per column of this many
@@ -132,7 +163,7 @@ def tidy(fig):
 # Blank figures kept for reuse within a worker, by layout: a matplotlib axes and its tick objects
 # cost more to build than most figures cost to draw, and two figures of one layout differ only in
 # what recycle() removes.
-BLANK = {}
+BLANK: Dict[Any, List[Any]] = {}
 
 
 def subplots(nrows, ncols, figsize, sharex=False, sharey=False):
@@ -176,28 +207,33 @@ def recycle(fig):
     BLANK.setdefault(key, []).append((fig, axs))
 
 
-def save(fig, case, kind):
-    name = f"{case['id']}-{kind}"
+def save(fig: Any, case: Dict[str, Any], kind: str) -> str:
+    """Writes the figure in every format as figures/<case id>-<kind>.<format> (the id through
+    safeio.output_name; each name listed in the manifest before its file is written)."""
+    name = sio.output_name(case["id"], f"-{kind}")
     tidy(fig)
+    figdir = os.path.join(OUT, "figures")
     for ext in FORMATS:
-        path = os.path.join(OUT, "figures", f"{name}.{ext}")
+        sio.note_written(figdir, f"{name}.{ext}")
         if ext == "png":
-            write_png(fig, path)
+            data = png_bytes(fig)
         else:
-            fig.savefig(path)
+            buf = io.BytesIO()
+            fig.savefig(buf, format=ext)
+            data = buf.getvalue()
+        sio.write_atomic(os.path.join(figdir, f"{name}.{ext}"), data)
     recycle(fig)
     return f"figures/{name}.{primary_format()}"
 
 
-def write_png(fig, path):
+def png_bytes(fig: Any) -> bytes:
     """The figure as savefig draws it (same dpi and face colour: rcParams savefig.dpi = figure.dpi,
     facecolor "auto"), encoded by figdata.encode_png: RGB when every pixel is opaque."""
     fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
     h, w, _ = rgba.shape
     pixels = rgba if (rgba[:, :, 3] != 255).any() else np.ascontiguousarray(rgba[:, :, :3])
-    with open(path, "wb") as f:
-        f.write(fd.encode_png(pixels, w, h, pixels.shape[2]))
+    return bytes(fd.encode_png(pixels, w, h, pixels.shape[2]))
 
 
 def dense(n):
@@ -213,7 +249,7 @@ def layout(fig, bottom=0.1, top=0.9, left=0.09, right=0.98, hspace=0.35, wspace=
 
 
 # The styles of the case being drawn (draw_case sets them: figdata.case_styles).
-CASE_STYLES = {}
+CASE_STYLES: Dict[str, Tuple[str, str, str]] = {}
 
 
 def style(m):
@@ -677,25 +713,40 @@ def case_methods(case):
     return out
 
 
-def draw_case(i):
-    """Every figure of case i, in a worker: reads only this case's series file."""
+# What draw_case returns per figure: (case id, kind, [(file, caption)], error or None, the exit
+# status the error calls for: 1 a figure failed, 2 bad input).
+Result = Tuple[str, str, List[Tuple[str, str]], Optional[str], int]
+
+
+def draw_case(i: int) -> List[Result]:
+    """Every figure of case i, in a worker: reads only this case's series file (bounded:
+    safeio.SERIES_LIMIT). An output that cannot be written (OutputProblem) ends the script."""
     case = REPORT["cases"][i]
     CASE_STYLES.clear()
     CASE_STYLES.update(fd.case_styles(case_methods(case)))
     try:
         ser = fd.load_series(OUT, case["id"])
-    except (OSError, ValueError) as e:
-        return [(case["id"], "series", [], f"series file unreadable: {e}")]
-    kinds, missing = plan(case, ser)
-    out = [(case["id"], k, [], "listed in the case's \"figures\" but there is nothing to draw "
-            "(no data of this kind: a run without --figures?)") for k in missing]
+    except sio.InputProblem as e:
+        return [(case["id"], "series", [], str(e), 2)]
+    except OSError as e:
+        return [(case["id"], "series", [], f"series file unreadable: {e}", 2)]
+    try:
+        kinds, missing = plan(case, ser)
+    except Exception as e:  # data the validation does not reach (a run's metrics): reported
+        return [(case["id"], "convergence", [], f"cannot plan its figures: "
+                 f"{type(e).__name__}: {e}", 1)]
+    out: List[Result] = [(case["id"], k, [], "listed in the case's \"figures\" but there is "
+                          "nothing to draw (no data of this kind: a run without --figures?)", 1)
+                         for k in missing]
     for kind in kinds:
         try:
-            out.append((case["id"], kind, DRAW[kind](case, ser, i), None))
+            out.append((case["id"], kind, DRAW[kind](case, ser, i), None, 0))
+        except sio.OutputProblem:
+            raise
         except Exception as e:  # one bad figure must not hide the others; reported, exit 1
             plt.close("all")
             BLANK.clear()
-            out.append((case["id"], kind, [], f"{type(e).__name__}: {e}"))
+            out.append((case["id"], kind, [], f"{type(e).__name__}: {e}", 1))
     return out
 
 
@@ -735,9 +786,74 @@ def gallery(manifest):
     return "\n".join(out) + "\n"
 
 
-def main():
+def load_report(path: str) -> Dict[str, Any]:
+    """report.json: a regular file of at most safeio.REPORT_LIMIT bytes, its case ids valid (as
+    a case file's) and the keys plot.py reads of each case of the right types
+    (safeio.validate_report). InputProblem naming the file and the key."""
+    try:
+        report = sio.load_json(path, sio.REPORT_LIMIT)
+    except FileNotFoundError:
+        raise sio.InputProblem(f"{path}: no report to plot") from None
+    problem = sio.validate_report(report, path)
+    if problem:
+        raise sio.InputProblem(problem)
+    return report
+
+
+def series_cost(i: int) -> int:
+    """Largest series file first (with a ladder's convergence figure), so that the workers
+    finish together."""
+    case = REPORT["cases"][i]
+    try:
+        size = os.lstat(fd.series_path(OUT, case["id"])).st_size
+    except OSError:
+        size = 0
+    return size + 200000 * (len(case["dt_ladder"]) >= 2)
+
+
+def draw_all(cases: List[int], jobs: int) -> List[Result]:
+    # Python's cyclic garbage collector ran every 700 allocations and scanned matplotlib's many
+    # artist objects again and again (a tenth of the drawing time): the objects built so far
+    # (modules, report.json) are frozen out of its scans, and it runs every 50 000 allocations
+    # (the same peak memory, ~190 MB per process, measured).
+    gc.freeze()
+    gc.set_threshold(50000, 50, 100)
+    cases.sort(key=lambda i: -series_cost(i))
+    if jobs > 1 and len(cases) > 1:
+        with multiprocessing.get_context("fork").Pool(min(jobs, len(cases))) as pool:
+            return [r for rs in pool.imap_unordered(draw_case, cases, chunksize=1) for r in rs]
+    return [r for i in cases for r in draw_case(i)]
+
+
+def write_results(results: List[Result]) -> int:
+    """figures/manifest.json and figures.md from what was drawn; the exit status (2 if a series
+    file was bad input, else 1 if a figure failed, else 0)."""
+    order = {k: n for n, k in enumerate(["convergence", "series", "snapshots", "orbit",
+                                         "portrait", "poincare", "stability"])}
+    manifest: Dict[str, Any] = {"formats": FORMATS, "cases": {}}
+    status = 0
+    for cid, kind, out, error, code in sorted(results, key=lambda r: (r[0], order[r[1]])):
+        if error:
+            status = max(status, code)
+            print(f"plot.py: {cid} {kind}: {error}", file=sys.stderr)
+        for f, caption in out:
+            manifest["cases"].setdefault(cid, []).append(
+                {"file": f, "caption": f"{cid}: {caption}", "kind": kind})
+    figdir = os.path.join(OUT, "figures")
+    # the workers listed their files as they drew them: the same manifest for any --jobs
+    sio.write_manifest(figdir, sorted(set(sio.listed(figdir))))
+    sio.write_atomic(os.path.join(figdir, "manifest.json"), json.dumps(manifest, indent=1).encode())
+    sio.write_atomic(os.path.join(OUT, "figures.md"), gallery(manifest).encode())
+    n = sum(len(v) for v in manifest["cases"].values())
+    failed = sum(1 for r in results if r[3])
+    print(f"plot.py: {n} figures ({','.join(FORMATS)}) in {os.path.join(OUT, 'figures')}"
+          + (f", {failed} failed" if failed else ""))
+    return status
+
+
+def main() -> int:
     global REPORT, OUT, FORMATS
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("report_dir")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--format", default="png",
@@ -750,51 +866,26 @@ def main():
     if bad or len(set(FORMATS)) != len(FORMATS):
         print(f"plot.py: --format {a.format}: give png, svg or pdf, each once", file=sys.stderr)
         return 2
-    with open(os.path.join(OUT, "report.json")) as f:
-        REPORT = json.load(f)
-    os.makedirs(os.path.join(OUT, "figures"), exist_ok=True)
-    for name in os.listdir(os.path.join(OUT, "figures")):
-        if name.endswith((".png", ".svg", ".pdf")):
-            os.remove(os.path.join(OUT, "figures", name))
-    cases = [i for i, c in enumerate(REPORT["cases"]) if a.filter in c["id"]]
-    # Python's cyclic garbage collector ran every 700 allocations and scanned matplotlib's many
-    # artist objects again and again (a tenth of the drawing time): the objects built so far
-    # (modules, report.json) are frozen out of its scans, and it runs every 50 000 allocations
-    # (the same peak memory, ~190 MB per process, measured).
-    gc.freeze()
-    gc.set_threshold(50000, 50, 100)
-
-    # largest series file first (with a ladder's convergence figure), so that the workers
-    # finish together
-    def cost(i):
-        p = fd.series_path(OUT, REPORT["cases"][i]["id"])
-        return (os.path.getsize(p) if os.path.exists(p) else 0) + \
-            200000 * (len(REPORT["cases"][i]["dt_ladder"]) >= 2)
-    cases.sort(key=lambda i: -cost(i))
-    if a.jobs > 1 and len(cases) > 1:
-        with multiprocessing.get_context("fork").Pool(min(a.jobs, len(cases))) as pool:
-            results = [r for rs in pool.imap_unordered(draw_case, cases, chunksize=1) for r in rs]
-    else:
-        results = [r for i in cases for r in draw_case(i)]
-    order = {k: n for n, k in enumerate(["convergence", "series", "snapshots", "orbit",
-                                         "portrait", "poincare", "stability"])}
-    manifest = {"formats": FORMATS, "cases": {}}
-    failed = 0
-    for cid, kind, out, error in sorted(results, key=lambda r: (r[0], order[r[1]])):
-        if error:
-            failed += 1
-            print(f"plot.py: {cid} {kind}: {error}", file=sys.stderr)
-        for f, caption in out:
-            manifest["cases"].setdefault(cid, []).append(
-                {"file": f, "caption": f"{cid}: {caption}", "kind": kind})
-    with open(os.path.join(OUT, "figures", "manifest.json"), "w") as f:
-        json.dump(manifest, f, indent=1)
-    with open(os.path.join(OUT, "figures.md"), "w") as f:
-        f.write(gallery(manifest))
-    n = sum(len(v) for v in manifest["cases"].values())
-    print(f"plot.py: {n} figures ({','.join(FORMATS)}) in {os.path.join(OUT, 'figures')}"
-          + (f", {failed} failed" if failed else ""))
-    return 1 if failed else 0
+    try:
+        REPORT = load_report(os.path.join(OUT, "report.json"))
+        figdir = os.path.join(OUT, "figures")
+        sio.own_directory(figdir)
+        sio.remove_listed(figdir)  # the figures of earlier runs; nothing dampsym did not write
+        cases = [i for i, c in enumerate(REPORT["cases"]) if a.filter in c["id"]]
+        return write_results(draw_all(cases, a.jobs))
+    except sio.InputProblem as e:
+        print(f"plot.py: {e}", file=sys.stderr)
+        return 2
+    except sio.OutputProblem as e:
+        print(f"plot.py: {e}", file=sys.stderr)
+        return 3
+    except OSError as e:
+        print(f"plot.py: {e.filename or OUT}: {e.strerror}", file=sys.stderr)
+        return 3
+    except Exception as e:  # one line, never a traceback (a report the schema let through)
+        print(f"plot.py: {OUT}: internal error: {type(e).__name__}: {str(e)[:200]}",
+              file=sys.stderr)
+        return 3
 
 
 if __name__ == "__main__":
