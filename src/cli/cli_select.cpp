@@ -182,16 +182,10 @@ CaseSpec load_substituted(const std::string& path, const std::vector<std::string
     }
 }
 
-} // namespace
-
-Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
-                      const std::string& cases_dir, bool default_suite, bool sharding) {
-    // Method files (issue 18): the methods/ folder beside the cases directory, then --methods;
-    // a case's own "method_files" are loaded by parse_case.
-    load_method_folder(method_folder_beside(cases_dir));
-    for (const auto& f : sel.method_files) load_method_file(f);
-    for (const auto& lib : sel.plugins) load_plugin(lib); // C plugins (harness/plugins.hpp)
-    const Substitutes subs = parse_substitutes(sel.substitutes);
+// The case files of the selection: the cases directory's files in the selected suites, matching
+// --filter and --problem, or the named case ids and files.
+std::vector<std::string> selected_paths(const Selection& sel, const std::string& cases_dir,
+                                        bool default_suite) {
     std::vector<std::string> paths;
     std::vector<CaseFile> files;
     auto ensure_scanned = [&] {
@@ -243,6 +237,12 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
             throw InputError(t + ": no case with this id in " + cases_dir);
         }
     }
+    return paths;
+}
+
+// Every selected file read and validated (with --substitute applied) before any case runs.
+std::vector<CaseSpec> load_selected(const std::vector<std::string>& paths,
+                                    const std::vector<std::string>& sets, const Substitutes& subs) {
     std::vector<CaseSpec> loaded;
     std::set<std::string> used; // --substitute's OLD ids met in the selected files
     for (const auto& p : paths) // all validated first
@@ -251,37 +251,17 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
         if (!used.count(old_id))
             throw InputError("--substitute: no selected case names the method '" + old_id + "'");
     check_unique_ids(loaded);
-    Selected out;
-    for (auto& c : loaded) {
-        if (!sel.targets.empty()) { // named cases: the filters still apply
-            if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
-            if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
-            if (!sel.suites.empty() &&
-                std::none_of(sel.suites.begin(), sel.suites.end(), [&](const std::string& s) {
-                    return s == "all" ||
-                           std::find(c.suites.begin(), c.suites.end(), s) != c.suites.end();
-                }))
-                continue;
-        }
-        if (!restrict_methods(c, sel.methods)) continue;
-        out.cases.push_back(std::move(c));
-    }
-    if (out.cases.empty()) {
-        if (sel.targets.empty() && sel.filters.empty() && sel.problems.empty() &&
-            sel.methods.empty() && !sel.suites.empty())
-            throw InputError("--suite: no case in " + cases_dir + " belongs to suite " +
-                             describe_selection(sel, default_suite).substr(8));
-        throw InputError("no case in " + cases_dir + " matches " +
-                         describe_selection(sel, default_suite && sel.targets.empty()));
-    }
-    for (const auto& c : out.cases) out.all_ids.push_back(c.id);
-    if (!sharding) return out;
-    if (sel.shard == "none") return out;
+    return loaded;
+}
+
+// --shard K/N (or the CI engines' variables): keeps this shard's cases, balanced by cost.
+void take_shard(Selected& out, const Selection& sel, const std::string& cases_dir) {
+    if (sel.shard == "none") return;
     if (!sel.shard.empty())
         out.shard = parse_shard(sel.shard);
     else if (sel.targets.empty()) // named cases are never split by the engines' variables
         out.shard = shard_from_env([](const char* name) { return std::getenv(name); });
-    if (!out.shard) return out;
+    if (!out.shard) return;
     json measured = json::object();
     const std::string costs_file =
         !sel.costs.empty() ? sel.costs
@@ -309,6 +289,46 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
     for (std::size_t i = 0; i < out.cases.size(); ++i)
         if (shard_of[i] == out.shard->index - 1) mine.push_back(std::move(out.cases[i]));
     out.cases = std::move(mine);
+}
+
+} // namespace
+
+Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
+                      const std::string& cases_dir, bool default_suite, bool sharding) {
+    // Method files (issue 18): the methods/ folder beside the cases directory, then --methods;
+    // a case's own "method_files" are loaded by parse_case.
+    load_method_folder(method_folder_beside(cases_dir));
+    for (const auto& f : sel.method_files) load_method_file(f);
+    for (const auto& lib : sel.plugins) load_plugin(lib); // C plugins (harness/plugins.hpp)
+    const Substitutes subs = parse_substitutes(sel.substitutes);
+    const std::vector<std::string> paths = selected_paths(sel, cases_dir, default_suite);
+    std::vector<CaseSpec> loaded = load_selected(paths, sets, subs);
+    Selected out;
+    for (auto& c : loaded) {
+        if (!sel.targets.empty()) { // named cases: the filters still apply
+            if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
+            if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
+            if (!sel.suites.empty() &&
+                std::none_of(sel.suites.begin(), sel.suites.end(), [&](const std::string& s) {
+                    return s == "all" ||
+                           std::find(c.suites.begin(), c.suites.end(), s) != c.suites.end();
+                }))
+                continue;
+        }
+        if (!restrict_methods(c, sel.methods)) continue;
+        out.cases.push_back(std::move(c));
+    }
+    if (out.cases.empty()) {
+        if (sel.targets.empty() && sel.filters.empty() && sel.problems.empty() &&
+            sel.methods.empty() && !sel.suites.empty())
+            throw InputError("--suite: no case in " + cases_dir + " belongs to suite " +
+                             describe_selection(sel, default_suite).substr(8));
+        throw InputError("no case in " + cases_dir + " matches " +
+                         describe_selection(sel, default_suite && sel.targets.empty()));
+    }
+    for (const auto& c : out.cases) out.all_ids.push_back(c.id);
+    if (!sharding) return out;
+    take_shard(out, sel, cases_dir);
     return out;
 }
 
