@@ -3,7 +3,8 @@
 # with --jobs 1 and --jobs 2, run dampsym_bench (raw output: reports/bench-raw.json), then
 # bench/bench_report.py, which writes reports/bench.json and reports/bench.md and prints the
 # acceptance table, then bench/run_timing.py (the kernel ratios through `dampsym run`) and
-# bench/figures_cost.py (the default suite with --figures against without). Exits 1
+# bench/figures_cost.py (the default suite with --figures against without), then the coefficient
+# mutants (ci/mutants.py, docs/mutation.md). Exits 1
 # if an acceptance row fails (2 on a usage or input error). Takes several minutes; run it on a
 # quiet machine.
 # Environment: DAMPSYM_BUILD_DIR (default build), DAMPSYM_BUILD_JOBS (default nproc).
@@ -49,5 +50,10 @@ for r in json.load(open("reports/pde-scipy.json")):
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 # The default suite with --figures against without (issue 14: at most 2x): reports/figures-cost.json.
 /usr/bin/python3 bench/figures_cost.py "$build/dampsym" --out-json reports/figures-cost.json || {
+  s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
+# Coefficient mutants (docs/mutation.md): every coefficient of every exportable built-in method
+# multiplied by (1 + 1e-6) must be killed by `methods --check`, the matrix or its default-suite
+# cases (about 3 minutes on 2 cores): reports/mutants/results.json.
+/usr/bin/python3 ci/mutants.py --dampsym "$build/dampsym" --jobs 2 --out reports/mutants --quiet || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 exit "$status"

@@ -31,6 +31,7 @@ struct Selection {
     std::string costs; // measured case costs for sharding ("" = next to the cases directory)
     std::vector<std::string> method_files; // --methods (issue 18, harness/method_files.hpp)
     std::vector<std::string> plugins;      // --plugin (issue 18, harness/plugins.hpp)
+    std::vector<std::string> substitutes;  // run --substitute OLD=NEW (docs/case-keys.md)
 };
 
 struct Selected {

@@ -4,9 +4,11 @@
 
 #include "harness/case.hpp"
 #include "harness/method_coefficients.hpp"
+#include "harness/method_export.hpp"
 #include "harness/method_files.hpp"
 #include "harness/plugins.hpp"
 #include "harness/problem_info.hpp"
+#include "harness/report.hpp"
 #include "methods/coefficient_checks.hpp"
 #include "methods/runtime_methods.hpp"
 
@@ -255,6 +257,22 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
     return disagree == 0 ? 0 : 1;
 }
 
+// `dampsym methods --export ID --as NEW_ID [--out FILE]`: the built-in's method file
+// (harness/method_export.hpp), validated by the method-file parser before it is written.
+int cmd_export(const std::string& id, const std::string& new_id, const std::string& out_file,
+               std::ostream& out) {
+    if (new_id.empty())
+        throw InputError("--as: missing: --export needs the id the method file gives the method "
+                         "(a method file cannot reuse a built-in id)");
+    const std::string text = export_method_file(id, new_id).dump(2) + "\n";
+    check_method_text(text, "--export " + id); // the export is a valid method file
+    if (out_file.empty())
+        out << text;
+    else
+        write_file_atomic(out_file, text);
+    return 0;
+}
+
 } // namespace
 
 Command add_list_command(CLI::App& app, CliContext& ctx) {
@@ -276,6 +294,7 @@ Command add_methods_command(CLI::App& app, CliContext& ctx) {
     struct State {
         bool check = false, as_json = false;
         std::vector<std::string> files, plugins;
+        std::string export_id, as_id, out_file;
     };
     auto s = std::make_shared<State>();
     auto* methods =
@@ -293,8 +312,19 @@ Command add_methods_command(CLI::App& app, CliContext& ctx) {
         ->add_option("--plugin", s->plugins,
                      "list the methods of these C plugin libraries (docs/plugins.md)")
         ->allow_extra_args(false);
-    return {methods,
-            [s, &ctx] { return cmd_methods(s->check, s->as_json, s->files, s->plugins, ctx.out); }};
+    auto* ex = methods->add_option(
+        "--export", s->export_id,
+        "write the method file of this built-in method (docs/method-files.md; bit for bit the "
+        "same steps) to stdout or --out");
+    methods->add_option("--as", s->as_id, "with --export: the id the method file gives it")
+        ->needs(ex);
+    methods->add_option("--out", s->out_file, "with --export: write to this file")->needs(ex);
+    ex->excludes(methods->get_option("--check"))->excludes(methods->get_option("--methods"));
+    return {methods, [s, &ctx] {
+                if (!s->export_id.empty())
+                    return cmd_export(s->export_id, s->as_id, s->out_file, ctx.out);
+                return cmd_methods(s->check, s->as_json, s->files, s->plugins, ctx.out);
+            }};
 }
 
 } // namespace dampsym::cli_detail

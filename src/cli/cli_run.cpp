@@ -192,6 +192,10 @@ Command add_run_command(CLI::App& app, CliContext& ctx) {
     add_limit_options(*run, s->limits); // --case-timeout, --max-memory (harness/limits.hpp)
     run->add_option("--set", s->sets, "override a case field, e.g. --set problem.gamma=0.3")
         ->take_all();
+    run->add_option("--substitute", s->sel.substitutes,
+                    "OLD=NEW: method NEW stands in for OLD in the selected cases and their checks "
+                    "(e.g. --methods mine.json --substitute csv1=my-csv1); repeatable")
+        ->allow_extra_args(false);
     run->add_option("--annotations", s->oo.annotations,
                     "github: print ::error lines for failing checks")
         ->check(CLI::IsMember({"github"}));

@@ -1,5 +1,6 @@
 #include "cli/cli_detail.hpp"
 
+#include "core/method.hpp"
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
@@ -28,6 +29,7 @@
 #include <mutex>
 #include <optional>
 #include <ostream>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -123,13 +125,75 @@ bool restrict_methods(CaseSpec& c, const std::vector<std::string>& globs) {
     return true;
 }
 
-Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
-                      const std::string& cases_dir, bool default_suite, bool sharding) {
-    // Method files (issue 18): the methods/ folder beside the cases directory, then --methods;
-    // a case's own "method_files" are loaded by parse_case.
-    load_method_folder(method_folder_beside(cases_dir));
-    for (const auto& f : sel.method_files) load_method_file(f);
-    for (const auto& lib : sel.plugins) load_plugin(lib); // C plugins (harness/plugins.hpp)
+namespace {
+
+// --substitute OLD=NEW: the method NEW stands in for OLD in every selected case that names OLD
+// (its "methods" and the methods, ratio and spread of its checks), before --set; recorded in the
+// case's overrides as "substitute": {OLD: NEW}. Validated after the method files are loaded.
+using Substitutes = std::vector<std::pair<std::string, std::string>>;
+
+Substitutes parse_substitutes(const std::vector<std::string>& given) {
+    Substitutes out;
+    for (const auto& s : given) {
+        const auto eq = s.find('=');
+        const std::string old_id = eq == std::string::npos ? "" : s.substr(0, eq);
+        const std::string new_id = eq == std::string::npos ? "" : s.substr(eq + 1);
+        if (!valid_case_id(old_id) || !valid_case_id(new_id))
+            throw InputError("--substitute: '" + brief(s) +
+                             "' is not OLD=NEW (two method ids, e.g. csv1=my-csv1)");
+        if (old_id == new_id) throw InputError("--substitute: '" + s + "' names one method twice");
+        if (find_method(new_id) == nullptr)
+            throw InputError("--substitute: '" + new_id +
+                             "' is not a built-in or loaded method (load it with --methods)");
+        for (const auto& [o, n] : out)
+            if (o == old_id) throw InputError("--substitute: '" + old_id + "' is given twice");
+        out.emplace_back(old_id, new_id);
+    }
+    return out;
+}
+
+// Renames in one list of method ids; true if any was renamed.
+bool rename_in(json& list, const std::string& old_id, const std::string& new_id) {
+    bool any = false;
+    if (!list.is_array()) return false;
+    for (auto& m : list)
+        if (m.is_string() && m.get<std::string>() == old_id) {
+            m = new_id;
+            any = true;
+        }
+    return any;
+}
+
+// Reads and parses one case file with the substitutions applied; `used` collects the OLD ids met.
+CaseSpec load_substituted(const std::string& path, const std::vector<std::string>& sets,
+                          const Substitutes& subs, std::set<std::string>& used) {
+    if (subs.empty()) return load_case(path, sets);
+    json j = read_case_json(path);
+    json applied = json::object();
+    for (const auto& [old_id, new_id] : subs) {
+        if (!j.is_object() || !j.contains("methods") || !rename_in(j["methods"], old_id, new_id))
+            continue;
+        if (j.contains("expect") && j["expect"].is_object())
+            for (auto& check : j["expect"])
+                for (const char* k : {"methods", "ratio", "spread"})
+                    if (check.is_object() && check.contains(k)) rename_in(check[k], old_id, new_id);
+        applied[old_id] = new_id;
+        used.insert(old_id);
+    }
+    if (applied.empty()) return parse_case(j, path, sets);
+    try {
+        CaseSpec c = parse_case(j, path, sets);
+        c.overrides["substitute"] = applied;
+        return c;
+    } catch (const InputError& e) {
+        throw InputError(std::string(e.what()) + " (with --substitute " + applied.dump() + ")");
+    }
+}
+
+// The case files of the selection: the cases directory's files in the selected suites, matching
+// --filter and --problem, or the named case ids and files.
+std::vector<std::string> selected_paths(const Selection& sel, const std::string& cases_dir,
+                                        bool default_suite) {
     std::vector<std::string> paths;
     std::vector<CaseFile> files;
     auto ensure_scanned = [&] {
@@ -181,40 +245,31 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
             throw InputError(t + ": no case with this id in " + cases_dir);
         }
     }
+    return paths;
+}
+
+// Every selected file read and validated (with --substitute applied) before any case runs.
+std::vector<CaseSpec> load_selected(const std::vector<std::string>& paths,
+                                    const std::vector<std::string>& sets, const Substitutes& subs) {
     std::vector<CaseSpec> loaded;
-    for (const auto& p : paths) loaded.push_back(load_case(p, sets)); // all validated first
+    std::set<std::string> used; // --substitute's OLD ids met in the selected files
+    for (const auto& p : paths) // all validated first
+        loaded.push_back(load_substituted(p, sets, subs, used));
+    for (const auto& [old_id, new_id] : subs)
+        if (!used.count(old_id))
+            throw InputError("--substitute: no selected case names the method '" + old_id + "'");
     check_unique_ids(loaded);
-    Selected out;
-    for (auto& c : loaded) {
-        if (!sel.targets.empty()) { // named cases: the filters still apply
-            if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
-            if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
-            if (!sel.suites.empty() &&
-                std::none_of(sel.suites.begin(), sel.suites.end(), [&](const std::string& s) {
-                    return s == "all" ||
-                           std::find(c.suites.begin(), c.suites.end(), s) != c.suites.end();
-                }))
-                continue;
-        }
-        if (!restrict_methods(c, sel.methods)) continue;
-        out.cases.push_back(std::move(c));
-    }
-    if (out.cases.empty()) {
-        if (sel.targets.empty() && sel.filters.empty() && sel.problems.empty() &&
-            sel.methods.empty() && !sel.suites.empty())
-            throw InputError("--suite: no case in " + cases_dir + " belongs to suite " +
-                             describe_selection(sel, default_suite).substr(8));
-        throw InputError("no case in " + cases_dir + " matches " +
-                         describe_selection(sel, default_suite && sel.targets.empty()));
-    }
-    for (const auto& c : out.cases) out.all_ids.push_back(c.id);
-    if (!sharding) return out;
-    if (sel.shard == "none") return out;
+    return loaded;
+}
+
+// --shard K/N (or the CI engines' variables): keeps this shard's cases, balanced by cost.
+void take_shard(Selected& out, const Selection& sel, const std::string& cases_dir) {
+    if (sel.shard == "none") return;
     if (!sel.shard.empty())
         out.shard = parse_shard(sel.shard);
     else if (sel.targets.empty()) // named cases are never split by the engines' variables
         out.shard = shard_from_env([](const char* name) { return std::getenv(name); });
-    if (!out.shard) return out;
+    if (!out.shard) return;
     json measured = json::object();
     const std::string costs_file =
         !sel.costs.empty() ? sel.costs
@@ -242,6 +297,46 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
     for (std::size_t i = 0; i < out.cases.size(); ++i)
         if (shard_of[i] == out.shard->index - 1) mine.push_back(std::move(out.cases[i]));
     out.cases = std::move(mine);
+}
+
+} // namespace
+
+Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
+                      const std::string& cases_dir, bool default_suite, bool sharding) {
+    // Method files (issue 18): the methods/ folder beside the cases directory, then --methods;
+    // a case's own "method_files" are loaded by parse_case.
+    load_method_folder(method_folder_beside(cases_dir));
+    for (const auto& f : sel.method_files) load_method_file(f);
+    for (const auto& lib : sel.plugins) load_plugin(lib); // C plugins (harness/plugins.hpp)
+    const Substitutes subs = parse_substitutes(sel.substitutes);
+    const std::vector<std::string> paths = selected_paths(sel, cases_dir, default_suite);
+    std::vector<CaseSpec> loaded = load_selected(paths, sets, subs);
+    Selected out;
+    for (auto& c : loaded) {
+        if (!sel.targets.empty()) { // named cases: the filters still apply
+            if (!sel.filters.empty() && !glob_any(sel.filters, c.id)) continue;
+            if (!sel.problems.empty() && !glob_any(sel.problems, c.problem_id)) continue;
+            if (!sel.suites.empty() &&
+                std::none_of(sel.suites.begin(), sel.suites.end(), [&](const std::string& s) {
+                    return s == "all" ||
+                           std::find(c.suites.begin(), c.suites.end(), s) != c.suites.end();
+                }))
+                continue;
+        }
+        if (!restrict_methods(c, sel.methods)) continue;
+        out.cases.push_back(std::move(c));
+    }
+    if (out.cases.empty()) {
+        if (sel.targets.empty() && sel.filters.empty() && sel.problems.empty() &&
+            sel.methods.empty() && !sel.suites.empty())
+            throw InputError("--suite: no case in " + cases_dir + " belongs to suite " +
+                             describe_selection(sel, default_suite).substr(8));
+        throw InputError("no case in " + cases_dir + " matches " +
+                         describe_selection(sel, default_suite && sel.targets.empty()));
+    }
+    for (const auto& c : out.cases) out.all_ids.push_back(c.id);
+    if (!sharding) return out;
+    take_shard(out, sel, cases_dir);
     return out;
 }
 

@@ -42,7 +42,7 @@ inline std::string show(const json& v) {
 
 // ---- exponential coefficient functions: Σ_k coef_k φ_k(arg_k x) ----
 
-enum class Phi { none, exp, phi1, phi2, phi3 };
+enum class Phi { none, exp, phi1, phi2, phi3, sinhc };
 
 // φ_k(z) = Σ_{n≥0} z^n/(n+k)! for |z| < 1 (25 terms: the remainder is below 1/25! < 1e-25
 // relative), else by the recurrence φ_{k+1}(z) = (φ_k(z) − 1/k!)/z from φ_1 = exprel.
@@ -82,6 +82,8 @@ struct ExpTerm {
             return coef * phi_k(2, arg * x);
         case Phi::phi3:
             return coef * phi_k(3, arg * x);
+        case Phi::sinhc: // sinh(z)/z = 2 sinh_half_over(2z): B(2.13)'s a_11 = ½ sinhc(x/2)
+            return coef * (2.0 * sinh_half_over(2.0 * (arg * x)));
         }
         return coef;
     }
@@ -241,11 +243,9 @@ public:
         if (v.contains("coef")) t.coef = coefficient(v["coef"], key + ".coef");
         if (v.contains("arg")) t.arg = coefficient(v["arg"], key + ".arg");
         const json& ph = need(v, "phi", key + ".");
-        static const std::pair<const char*, Phi> vocabulary[] = {{"exp", Phi::exp},
-                                                                 {"phi0", Phi::exp},
-                                                                 {"phi1", Phi::phi1},
-                                                                 {"phi2", Phi::phi2},
-                                                                 {"phi3", Phi::phi3}};
+        static const std::pair<const char*, Phi> vocabulary[] = {
+            {"exp", Phi::exp},   {"phi0", Phi::exp},  {"phi1", Phi::phi1},
+            {"phi2", Phi::phi2}, {"phi3", Phi::phi3}, {"sinhc", Phi::sinhc}};
         if (ph.is_string())
             for (const auto& [name, phi] : vocabulary)
                 if (ph.get<std::string>() == name) t.phi = phi;
@@ -253,7 +253,7 @@ public:
             bad(file_, key + ".phi",
                 "unknown φ-function " + show(ph) +
                     " (known: \"exp\" = \"phi0\" e^z, \"phi1\" (e^z-1)/z, \"phi2\" "
-                    "(e^z-1-z)/z^2, \"phi3\" (e^z-1-z-z^2/2)/z^3)");
+                    "(e^z-1-z)/z^2, \"phi3\" (e^z-1-z-z^2/2)/z^3, \"sinhc\" sinh(z)/z)");
         return t;
     }
     // Exponential tableau B(2.10) {"c", "A", "phi", "b", "phi0"}.
