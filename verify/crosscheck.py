@@ -96,7 +96,21 @@ Tolerance table, by metric family (verify/xfamilies.py FAMILIES, one compare fun
   other metrics     rel 1e-6 (smooth functions of the trajectory); integers (counts) exactly.
   check value       rel 1e-6 + our band of the metric (ratio/spread: relative bands add; a
                     log-log slope: 2 x the largest relative band / the log span of dt).
-  check verdict     equal; not comparable only when the threshold is inside our positive band.
+  check verdict     the report's `passed` equal to the case file's op and threshold applied to the
+                    report's own value, exactly (a flipped verdict, or `<=` evaluated as `<` on a
+                    tie, always disagrees); and equal to the verdict from OUR value, undecidable
+                    (not comparable) only when the threshold is inside our POSITIVE band.
+  reference         the certified reference's final state within 1e3 x max(our estimate, 1e3 eps
+                    |z|) of ours; its estimate within 3 decades of ours; its points and final time
+                    from the case file's grid.
+
+Tolerances that stay above 3e-6 relative (every metric x (1 + 3e-6), default suite: 6218
+comparisons still agree, 4282 disagree, 2077 not comparable; test_crosscheck_negative.py
+scale3e6): integers that stay 0 (undefined_points, explicit methods' Newton counts); step counts,
+final states and evaluation counts (not scaled); Newton counts of implicit methods (the solver
+family's range); error.* and measures below tol_state |z| / 3e-6 (the final state is known only to
+its tolerance); residuals, their numerators and slopes at round-off (below 64 eps / 3e-6); order
+slope and R^2 where our error bands allow it; the reference estimate (3 decades); chaotic runs.
 """
 import argparse
 import json
@@ -239,7 +253,7 @@ def check_case(case: Rec, selection: Optional[List[str]]) -> Rec:
     spec = case_spec(case)
     prob, why = xmt.make_problem(case)
     if prob is None:
-        return not_reproduced_case(case, why)
+        return not_reproduced_case(case, why or "problem not modelled")
     struct = xcaserec.structure(case, spec, selection)
     runs, ctxs = run_contexts(case, spec, prob)
     ours: Dict[Any, Rec] = {(cx.method, cx.dt): cx.mm for cx in ctxs}

@@ -26,12 +26,14 @@ issue 32 (a cross-check that cannot be talked into agreeing):
              kernel gives after n - 1 steps): the step count comes from the case file
   threshold: a check's threshold set to 1e30 (the case file's threshold decides)
   deleted  : a run and a check deleted from the report, and a run added
-  flipall  : EVERY check verdict of the cheap half of the default suite, every tie (a value equal
+  flipall  : EVERY check verdict of the cheap cases (55 of 87, 566 checks), every tie (a value equal
              to its threshold) and argon's flipped at once; each check must disagree (never agree,
              never "not comparable")
   state7   : every final state x (1 + 1e-7) in argon-crystal, outer-solar-system and kepler/osc
              cases: each run must disagree, or be "not comparable" only where our own ensemble
              shows a spread above 1e-8 (a chaotic run)
+  scale3e6 : (a measurement, not a ctest) every metric x (1 + 3e-6): comparisons still agreeing,
+             by family
 """
 import copy
 import json
@@ -318,7 +320,7 @@ def ties(report: Rep) -> List[str]:
 
 
 def mode_flipall(report: Rep, workdir: str) -> None:
-    ids = sorted(set(cheap_cases(report, 2_000_000)) | set(ties(report)) | {"argon-crystal"})
+    ids = sorted(set(cheap_cases(report, 50_000)) | set(ties(report)) | {"argon-crystal"})
     bad = slice_of(report, *ids)
     flipped = 0
     for c in bad["cases"]:
@@ -368,12 +370,45 @@ def mode_state7(report: Rep, workdir: str) -> None:
     print("%d final states x (1 + 1e-7): every one caught" % n)
 
 
+def scaled(x: Any, f: float) -> Any:
+    if isinstance(x, dict):
+        return {k: scaled(v, f) for k, v in x.items()}
+    if isinstance(x, list):
+        return [scaled(v, f) for v in x]
+    if isinstance(x, (int, float)) and not isinstance(x, bool):
+        return x * f
+    return x
+
+
+def mode_scale3e6(report: Rep, workdir: str) -> None:
+    """A measurement (no ctest: a whole cross-check): every metric of every run and fit x
+    (1 + 3e-6); prints how many comparisons still agree, by family."""
+    bad = copy.deepcopy(report)
+    for c in bad["cases"]:
+        for r in c["runs"]:
+            r["metrics"] = scaled(r.get("metrics") or {}, 1 + 3e-6)
+        c["method_metrics"] = scaled(c.get("method_metrics") or {}, 1 + 3e-6)
+    run_crosscheck(bad, workdir, "scale3e6", jobs=2)
+    res = result_of(workdir, "scale3e6")
+    fam: Dict[str, Dict[str, int]] = {}
+    for g in ("runs", "orders"):
+        for r in res[g]:
+            for c in r["comparisons"]:
+                f = c.get("family", c["quantity"] if g == "runs" else "order fits")
+                d = fam.setdefault(f, {"agree": 0, "disagree": 0, "not comparable": 0})
+                d[c["status"]] += 1
+    for f, d in sorted(fam.items(), key=lambda x: -x[1]["agree"]):
+        print("%-28s agree %5d  disagree %5d  not comparable %5d" % (f, d["agree"], d["disagree"], d["not comparable"]))
+    print("total: %s" % {k: sum(d[k] for d in fam.values()) for k in ("agree", "disagree", "not comparable")})
+
+
 MODES: Dict[str, Callable[[Rep, str], None]] = {
     "badinput": mode_badinput, "perturb": lambda r, w: mode_perturb_metric(r, w, "perturb"),
     "metric": lambda r, w: mode_perturb_metric(r, w, "metric"), "verdict": mode_verdict, "swap": mode_swap,
     "lawres": mode_lawres, "undefined": mode_undefined, "counts": mode_counts, "kg": mode_kg,
     "wrongcoef": mode_wrongcoef, "refest": mode_refest, "argmax": mode_argmax, "short": mode_short,
     "threshold": mode_threshold, "deleted": mode_deleted, "flipall": mode_flipall, "state7": mode_state7,
+    "scale3e6": mode_scale3e6,
 }
 
 

@@ -270,6 +270,7 @@ def spec_from_report(case: Json) -> Json:
     spec: Json = {k: case[k] for k in ("id", "t0", "t_end", "methods", "diagnostics", "measures")
                   if k in case}
     spec["dt_ladder"] = list(case.get("dt_ladder") or [])
+    spec["problem"] = {"id": (case.get("problem") or {}).get("id")}
     spec["_intervals"] = max(1, pts - 1) if pts >= 2 else 1
     spec["_from_report"] = True
     spec["_file"] = "(no case file: inputs from the report)"

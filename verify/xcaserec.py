@@ -234,6 +234,9 @@ def _ours_for(hd: Dict[str, Any], spec: Dict[str, Any], ours: Ours, unc: Ours, s
     if st != "ok" and diag not in ("run", "stability"):
         return Undef("run %s" % st)
     v = (ours.get(key) or {}).get(hd["metric"])
+    cs_status = (ours.get(key) or {}).get("conformal-symplectic.status", "ok")
+    if diag == "conformal-symplectic" and cs_status != "ok":
+        return Undef("the measurement %s" % cs_status)   # its checks fail with that status
     if v is None:
         return "metric %s not recomputed" % hd["metric"]
     if isinstance(v, (Undef, str)):
@@ -262,6 +265,20 @@ def verdict_comp(hd: Dict[str, Any], v: float, band: float, passed: Any) -> Comp
     return comp("verdict", mine, bool(passed), st, "equal (undecidable only inside our positive band)", **kw)
 
 
+def own_verdict(hd: Dict[str, Any], rchk: Dict[str, Any]) -> Comp:
+    """The report's verdict against ITS OWN value with the case file's op and threshold, exactly
+    (a null value fails): a flipped verdict, or a `<=` evaluated as `<` on a tie, is seen even
+    where our value cannot decide (our band straddles the threshold)."""
+    tv = rchk.get("value")
+    if tv is None or not isinstance(tv, (int, float)):
+        want = False
+    else:
+        x = abs(float(tv)) if hd.get("abs") else float(tv)
+        want = decide(hd["op"], x, float(hd["expected"]), float(hd.get("tolerance") or 0.0))
+    return comp("verdict of its own value", want, bool(rchk.get("passed")), want == bool(rchk.get("passed")),
+                "equal: the case file's %s %.17g applied to the report's value" % (hd["op"], float(hd["expected"])))
+
+
 def check_record(cid: str, hd: Dict[str, Any], rchk: Dict[str, Any], spec: Dict[str, Any],
                  ours: Ours, unc: Ours, status: Dict[Any, str]) -> Dict[str, Any]:
     """One check: its head against the case file, its value and verdict against ours."""
@@ -280,6 +297,7 @@ def check_record(cid: str, hd: Dict[str, Any], rchk: Dict[str, Any], spec: Dict[
     for k in rchk:
         if k in CHECK_NOT_COMPARED:
             rec["not_compared"][k] = CHECK_NOT_COMPARED[k]
+    comps.append(own_verdict(hd, rchk))
     val = _ours_for(hd, spec, ours, unc, status)
     if isinstance(val, str):
         rec.update(verdict="not reproduced", reason=val)

@@ -37,6 +37,7 @@ NOT_COMPARED: List[Tuple[str, str]] = [
     (r"(^|\.)undefined\.", "the reason of an undefined metric (its definedness is compared)"),
     (r"^stability\.power_bounded_reason$", "a description string"),
     (r"^attractor\.probe$", "the probe's name (a description string)"),
+    (r"^[\w-]+\.reason$", "free text: why a diagnostic does not apply (its absence of values is compared)"),
 ]
 
 

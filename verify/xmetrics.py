@@ -1,10 +1,9 @@
 """Metrics of OUR trajectories for verify/crosscheck.py, each written from its definition in
 docs/conventions.md and docs/case-keys.md (never from the C++ sources); moved here from
 crosscheck.py unchanged.  A metric undefined by the docs' rule is an `Undef` with its reason."""
-import json
 import math
-import os
 import re
+from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -20,7 +19,7 @@ class BadInput(Exception):
     """Bad input (exit 2), with a message naming the file and the key."""
 
 
-def lsq_slope(t, y):
+def lsq_slope(t: Any, y: Any) -> float:
     t = np.asarray(t, float)
     y = np.asarray(y, float)
     if len(t) < 2:
@@ -33,29 +32,29 @@ class Undef:
     """A metric that is undefined by the docs' rule (docs/conventions.md, "Law residuals and
     their scales"); the report has null there and its reason under `undefined.<name>`."""
 
-    def __init__(self, why):
+    def __init__(self, why: str) -> None:
         self.why = why
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "undefined (%s)" % self.why
 
 
 DBL_MIN = np.finfo(float).tiny
 
 
-def scale_ok(S):
+def scale_ok(S: Any) -> Any:
     """A scale is usable where it is a positive normal number (docs: "Law residuals")."""
     S = np.asarray(S, float)
     return np.isfinite(S) & (S >= DBL_MIN)
 
 
-def metric_invariants(prob, traj, times, h=None):
+def metric_invariants(prob: Any, traj: Any, times: Any, h: Optional[float] = None) -> Dict[str, Any]:
     """Conformal laws of the invariants on their scales S(z) (docs/conventions.md, "Law
     residuals and their scales"): step and global residuals on S, the ratio deviation r_n where
     it is resolved, and the undefined points.  With constant gamma the step factor is
     e^{-2 gamma h} from the step size h itself: differencing Gamma(t_n) = gamma t_n loses
     eps gamma t_n (8e-15 relative at gamma t = 19, pde-kg-momentum), 10x the residual's round-off."""
-    out = {}
+    out: Dict[str, Any] = {}
     if not hasattr(prob, "invariants"):
         return out
     scales = prob.invariant_scales()
@@ -80,7 +79,7 @@ def metric_invariants(prob, traj, times, h=None):
         step_ok = okS[:-1] & np.isfinite(step)
         glob_ok = okS[1:] & np.isfinite(I[1:])
         undef = int(np.sum(~step_ok) + np.sum(~glob_ok) + (0 if okS[0] else 1))
-        d = dict(scale_initial=float(S[0]), undefined_points=undef)
+        d: Dict[str, Any] = dict(scale_initial=float(S[0]), undefined_points=undef)
         if step_ok.any():
             k = int(np.argmax(np.where(step_ok, step, -1.0)))
             d.update(max_step_res=float(step[k]), max_step_abs=float(np.max(num_[step_ok])),
@@ -98,8 +97,8 @@ def metric_invariants(prob, traj, times, h=None):
             d["global_res_slope"] = lsq_slope(times[1:][glob_ok], g[glob_ok])
         if undef:
             why = "scale not a positive normal number at %d points" % undef
-            for k in ("max_step_res", "last_step_res", "max_global_res", "global_res_slope"):
-                d[k] = Undef(why)
+            for kk in ("max_step_res", "last_step_res", "max_global_res", "global_res_slope"):
+                d[kk] = Undef(why)
         # r_n = e^{2 Gamma} I_n / I_0 - 1, resolved where u_n = eps S_n / |e^{-2 Gamma} I_0| is
         # <= 1e-8 or <= 1e-2 |r_n| (at n = 0 with r = 0)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -125,13 +124,13 @@ def metric_invariants(prob, traj, times, h=None):
     return out
 
 
-def metric_energy(prob, traj, times, ref=None):
+def metric_energy(prob: Any, traj: Any, times: Any, ref: Any = None) -> Dict[str, Any]:
     H = prob.energy(traj)
     dH = H - H[0]
     n = len(H)
     half = n // 2
     a1, a2 = np.max(np.abs(dH[:half + 1])), np.max(np.abs(dH[half:]))
-    out = dict(max_abs_change=float(np.max(np.abs(dH))), change_slope=lsq_slope(times, dH),
+    out: Dict[str, Any] = dict(max_abs_change=float(np.max(np.abs(dH))), change_slope=lsq_slope(times, dH),
                growth_ratio=float(a2 / a1) if a1 > 0 else Undef("|H_n - H_0| = 0 on the first half"))
     if prob.energy_scale is not None:
         S0 = float(prob.energy_scale(traj[0]))
@@ -148,7 +147,7 @@ _HB = np.array([[1, 0, 0, -10, 15, -6], [0, 1, 0, -6, 8, -3], [0, 0, .5, -1.5, 1
                 [0, 0, 0, .5, -1, .5], [0, 0, 0, -4, 7, -3], [0, 0, 0, 10, -15, 6]], float)
 
 
-def _horner(c, x):
+def _horner(c: Any, x: Any) -> Any:
     """sum_j c[..., j] x^j row by row (c: rows x coefficients, low to high; x: rows, or rows x
     points when c has a point axis inserted)."""
     acc = c[..., -1]
@@ -157,7 +156,7 @@ def _horner(c, x):
     return acc
 
 
-def _largest_maxima(coef, dcoef, ddcoef, s):
+def _largest_maxima(coef: Any, dcoef: Any, ddcoef: Any, s: Any) -> None:
     """Steps where the quintic interpolant has several local maxima (coarse steps): s[r] set to
     the largest one's position (see dissipation_drift)."""
     # several local maxima of the interpolant in one step (coarse steps): the largest. The
@@ -185,7 +184,7 @@ def _largest_maxima(coef, dcoef, ddcoef, s):
                       and (ddcoef[r] * x.real ** np.arange(4)).sum() < 0)
         if len(cand) < 2:
             continue
-        best = None
+        best: Any = None
         for x in cand:
             lo, hi = max(0.0, x - 1e-6), min(1.0, x + 1e-6)
             dh = lambda y: (dcoef[r] * y ** np.arange(5)).sum()
@@ -202,7 +201,7 @@ def _largest_maxima(coef, dcoef, ddcoef, s):
         s[r] = best[1]
 
 
-def dissipation_drift(prob, traj, t0, h):
+def dissipation_drift(prob: Any, traj: Any, t0: float, h: float) -> Dict[str, Any]:
     """F (4.4): d = ln(max q) + Gamma(t) at the maxima of q, each located by the quintic Hermite
     interpolant through (q, q', q'') at both ends of the step where q' changes sign from + to -
     (docs/conventions.md §5; the largest of its local maxima when it has several in the step);
@@ -256,7 +255,7 @@ def dissipation_drift(prob, traj, t0, h):
                 first=[float(tm[0]), float(d[0])], last=[float(tm[-1]), float(d[-1])], _d=d)
 
 
-def poincare_metrics(prob, traj, dt, Zref):
+def poincare_metrics(prob: Any, traj: Any, dt: float, Zref: Any) -> Dict[str, Any]:
     """Sections at t = t0 + k T (T the forcing period) after a 10 % transient, q wrapped to
     [-pi, pi): pointwise distances to OUR reference's sections and set distances (mean nearest
     distance, Hausdorff) (docs/conventions.md §5)."""
@@ -268,7 +267,7 @@ def poincare_metrics(prob, traj, dt, Zref):
     skip = int(0.1 * (n - 1))
     S2, R2 = S[skip:], R[skip:]
 
-    def dist(A, B):          # q is an angle: periodic difference in [-pi, pi)
+    def dist(A: Any, B: Any) -> Any:          # q is an angle: periodic difference in [-pi, pi)
         dq = np.mod(A[..., 0] - B[..., 0] + math.pi, 2 * math.pi) - math.pi
         return np.hypot(dq, A[..., 1] - B[..., 1])
     pw = dist(S2, R2)
@@ -278,7 +277,7 @@ def poincare_metrics(prob, traj, dt, Zref):
                 set_hausdorff=float(max(D.min(axis=1).max(), D.min(axis=0).max())))
 
 
-def metric_attractor(prob, traj, t0, dt, nsteps, stride):
+def metric_attractor(prob: Any, traj: Any, t0: float, dt: float, nsteps: int, stride: int) -> Dict[str, Any]:
     """docs/conventions.md section 5 'attractor': statistics of the probe over the output grid
     points with t >= t0 + (t_end - t0)/2 (t0 itself never), written from that definition."""
     t_end = t0 + nsteps * dt
@@ -287,7 +286,7 @@ def metric_attractor(prob, traj, t0, dt, nsteps, stride):
     tt = t0 + dt * idx
     keep = tt >= frm
     tt, s = tt[keep], np.array([prob.probe(traj[i]) for i in idx[keep]])
-    out = {"from": frm, "points": float(len(s))}
+    out: Dict[str, Any] = {"from": frm, "points": float(len(s))}
     names = ("mean", "std", "min", "max", "q10", "q50", "q90", "mean_se", "mean_rse", "crossings",
              "period", "period_spread")
     if len(s) < 20:
@@ -319,23 +318,23 @@ def metric_attractor(prob, traj, t0, dt, nsteps, stride):
     return out
 
 
-def metric_temperature(prob, traj):
+def metric_temperature(prob: Any, traj: Any) -> Dict[str, Any]:
     T = prob.temperature(traj)
     return dict(initial=float(T[0]), max=float(T.max()), min=float(T.min()), mean=float(T.mean()),
                 max_abs_dev_initial=float(np.max(np.abs(T - T[0]))))
 
 
-def metric_precession(prob, traj, ref=None):
+def metric_precession(prob: Any, traj: Any, ref: Any = None) -> Dict[str, Any]:
     """HLW Fig 2.1: the unwrapped turn of the perihelion direction atan2(A2, A1) of the
     Laplace-Runge-Lenz vector (every step here; the C++ side samples the output grid: the same
     total while no grid step turns it by pi)."""
-    def total(z):
+    def total(z: Any) -> Tuple[float, Any]:
         A = prob.runge_lenz(z)
         phi = np.arctan2(A[:, 1], A[:, 0])
         return float(np.sum(np.remainder(np.diff(phi) + math.pi, 2 * math.pi) - math.pi)), A
     tot, A = total(traj)
     ecc = np.hypot(A[:, 0], A[:, 1])
-    out = dict(initial_angle=float(math.atan2(A[0, 1], A[0, 0])), min_eccentricity=float(ecc.min()),
+    out: Dict[str, Any] = dict(initial_angle=float(math.atan2(A[0, 1], A[0, 0])), min_eccentricity=float(ecc.min()),
                total=tot)
     if ref is not None:
         out["reference_total"], _ = total(ref)
@@ -343,7 +342,7 @@ def metric_precession(prob, traj, ref=None):
     return out
 
 
-def table_factor(method, g, h):
+def table_factor(method: str, g: float, h: float) -> Optional[float]:
     """B Table 3.1: per-step linear-momentum factor each conformal method achieves."""
     if method in ("csv1", "csv1-perk"):
         return math.exp(-2 * g * h)
@@ -352,12 +351,12 @@ def table_factor(method, g, h):
     return None
 
 
-def metric_momentum(prob, traj, h, method):
+def metric_momentum(prob: Any, traj: Any, h: float, method: str) -> Dict[str, Any]:
     """Sum p and sum q x p per step (B Ex. 1.3): law residual |X_{n+1} - e^{-2 gamma h} X_n|_2 on
     the scales S_p = sum |p_i|, S_L = sum |q_i||p_i| of z_n, and for the linear momentum the
     factor B Table 3.1 gives the method; the measured factor X_{n+1}.X_n/|X_n|^2 only where
     |X_n| >= 1e-8 S(z_n) (docs/conventions.md, "Law residuals and their scales")."""
-    out = {}
+    out: Dict[str, Any] = {}
     law = math.exp(-2.0 * prob.g * h)
     for kind, fn, sfn in (("linear", prob.linear_momentum, prob.linear_momentum_scale),
                           ("angular", prob.angular_momentum, prob.angular_momentum_scale)):
@@ -369,7 +368,7 @@ def metric_momentum(prob, traj, h, method):
         num_ = np.linalg.norm(P[1:] - law * P[:-1], axis=-1)
         step = num_ / Sd
         tf = table_factor(method, prob.g, h) if kind == "linear" else None
-        d = dict(initial_norm=float(nrm[0]), scale_initial=float(S[0]),
+        d: Dict[str, Any] = dict(initial_norm=float(nrm[0]), scale_initial=float(S[0]),
                  undefined_points=int(np.sum(~okS)), _scale_max=float(np.max(S)))
         if okS.any():
             k = int(np.argmax(np.where(okS, step, -1.0)))
@@ -379,9 +378,9 @@ def metric_momentum(prob, traj, h, method):
             if tf is not None:
                 d["max_table_res"] = float(np.max((np.linalg.norm(P[1:] - tf * P[:-1], axis=-1) / Sd)[okS]))
         if not okS.all():
-            for k in ("max_law_res", "last_law_res", "max_table_res"):
-                if k in d or (k == "max_table_res" and tf is not None):
-                    d[k] = Undef("scale not a positive normal number")
+            for kk in ("max_law_res", "last_law_res", "max_table_res"):
+                if kk in d or (kk == "max_table_res" and tf is not None):
+                    d[kk] = Undef("scale not a positive normal number")
         fok = okS & (nrm[:-1] >= 1e-8 * S)
         d["factor_undefined_points"] = int(np.sum(~fok))
         exp_f = tf if tf is not None else law
@@ -401,14 +400,14 @@ def metric_momentum(prob, traj, h, method):
     return out
 
 
-def metric_conformal_symplectic(method, prob, h, t0, traj):
+def metric_conformal_symplectic(method: str, prob: Any, h: float, t0: float, traj: Any) -> Dict[str, Any]:
     """E_n: Psi^T J^-1 Psi against e^{-2 dGamma} J^-1 (canonical), or Psi D Psi^T against
     e^{-2 dGamma} D for a problem with a Poisson structure matrix D (B's Burgers (5.9))."""
     d = prob.d
     n = d // 2
     D = prob.structure() if hasattr(prob, "structure") else None
     Jinv = np.block([[np.zeros((n, n)), np.eye(n)], [-np.eye(n), np.zeros((n, n))]])
-    E = []
+    E: List[Tuple[Any, float]] = []
     for k in range(len(traj) - 1):
         t = t0 + k * h
         Psi = xrun.step_jacobian(method, prob, h, t, traj[k])
@@ -418,14 +417,14 @@ def metric_conformal_symplectic(method, prob, h, t0, traj):
         else:
             E.append((np.linalg.norm(Psi @ D @ Psi.T - fac * D), fac))
     Ea = np.array([e for e, _ in E])
-    scale = math.sqrt(d) if D is None else np.linalg.norm(D)
+    scale = math.sqrt(d) if D is None else float(np.linalg.norm(D))
     Er = np.array([e / (f * scale) for e, f in E])
     return dict(max_abs=float(Ea.max()), max_rel=float(Er.max()), last_abs=float(Ea[-1]),
                 last_rel=float(Er[-1]), steps_measured=len(E), max_rel_step=int(np.argmax(Er)) + 1,
                 _Er=Er)
 
 
-def metric_stability(method, prob, h):
+def metric_stability(method: str, prob: Any, h: float) -> Dict[str, Any]:
     M = xrun.step_jacobian(method, prob, h, 0.0, np.zeros(2))
     ev = np.linalg.eigvals(M)
     g = prob.g
@@ -435,7 +434,7 @@ def metric_stability(method, prob, h):
     b2 = (w - g) * (w + g)
     # exact flow: half trace of e^{hA} = e^{-gh} cos(beta h) (cosh for beta^2 < 0)
     hx = math.exp(-g * h) * (math.cos(math.sqrt(b2) * h) if b2 >= 0 else math.cosh(math.sqrt(-b2) * h))
-    out = dict(det=det, det_expected=dexp, det_abs_err=abs(det - dexp),
+    out: Dict[str, Any] = dict(det=det, det_expected=dexp, det_abs_err=abs(det - dexp),
                det_rel_err=abs(det - dexp) / dexp if dexp >= DBL_MIN
                else Undef("e^{-2 gamma h} underflows"), half_trace=float(ht),
                half_trace_exact=hx, half_trace_exact_err=abs(ht - hx),
@@ -460,7 +459,7 @@ def metric_stability(method, prob, h):
     return out
 
 
-def _component(prob, spec, Z):
+def _component(prob: Any, spec: Any, Z: Any) -> Any:
     """The components a measure reads (docs/case-keys.md): state, q, p, q[i], p[i], z[i]."""
     spec = spec or "state"
     if spec == "state":
@@ -476,7 +475,7 @@ def _component(prob, spec, Z):
     return Z[..., i:i + 1]
 
 
-def _grad_norm(fn, Z):
+def _grad_norm(fn: Any, Z: Any) -> float:
     """max_n |grad fn(z_n)|_2 by central differences (step 1e-6 |z|; only sizes a floor)."""
     g2 = np.zeros(len(Z))
     for i in range(Z.shape[-1]):
@@ -488,7 +487,7 @@ def _grad_norm(fn, Z):
     return float(np.sqrt(g2.max()))
 
 
-def measures(prob, case, Z, Zr, times, dz):
+def measures(prob: Any, case: Dict[str, Any], Z: Any, Zr: Any, times: Any, dz: float) -> Dict[str, Any]:
     """measure.<name> of docs/case-keys.md: the pointwise error U_n - u(t_n) of a component
     (Euclidean norm; `rel` divides pointwise by the reference component's norm), or the energy
     error H(U_n) - H(u(t_n)) (`rel`: by |H(u(t_n))|), reduced over the output grid t_1..t_end
@@ -498,7 +497,7 @@ def measures(prob, case, Z, Zr, times, dz):
     (propagated pointwise) and the reference estimate, for the comparison and the verdicts."""
     t0 = float(case.get("t0", 0.0))
     t_end = float(case.get("t_end", times[-1]))
-    out = {}
+    out: Dict[str, Any] = {}
     for name, spec in sorted(case["measures"].items()):
         qty = spec.get("quantity", "error")
         rel = spec.get("norm", "abs") == "rel"
@@ -550,27 +549,7 @@ def measures(prob, case, Z, Zr, times, dz):
     return out
 
 
-def sweep_spec(case):
-    """The (gamma, h) grid is an input of the case file (docs/case-keys.md `stability_sweep`),
-    not part of the report: read it from the file the report names, else from verify/cases."""
-    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases")
-    cands = [case.get("file") or "", os.path.join(here, os.path.basename(case.get("file") or "")),
-             os.path.join(here, "%s.json" % case["id"])]
-    for path in cands:
-        if path and os.path.isfile(path):
-            try:
-                with open(path) as fh:
-                    c = json.load(fh)
-            except (OSError, ValueError):
-                continue
-            if c.get("id") == case["id"] and c.get("stability_sweep"):
-                return c["stability_sweep"]
-    return None
-
-
-
-
-def make_problem(case):
+def make_problem(case: Dict[str, Any]) -> Tuple[Any, Optional[str]]:
     try:
         pid = case["problem"]["id"]
         params = dict(case["problem"].get("params", {}))
@@ -584,7 +563,7 @@ def make_problem(case):
         return None, "problem '%s' parameters not modelled (%s)" % (pid, exc)
 
 
-def reference_states(prob, case, times):
+def reference_states(prob: Any, case: Dict[str, Any], times: Any) -> Tuple[Any, float, str]:
     """(states at times, error estimate, note)."""
     t0 = float(case.get("t0", 0.0))
     if prob.exact_available and hasattr(prob, "exact"):
@@ -594,7 +573,7 @@ def reference_states(prob, case, times):
     return Z, est, "DOP853 rtol 2.3e-14 atol 1e-16, certified against rtol 1e-13"
 
 
-def get_path(d, path):
+def get_path(d: Any, path: str) -> Any:
     for k in path.split("."):
         if not isinstance(d, dict) or k not in d:
             return None
@@ -602,7 +581,7 @@ def get_path(d, path):
     return d
 
 
-def flatten(prefix, d, out):
+def flatten(prefix: str, d: Dict[str, Any], out: Dict[str, Any]) -> Dict[str, Any]:
     for k, v in d.items():
         key = prefix + "." + k if prefix else k
         if isinstance(v, dict):

@@ -41,9 +41,10 @@ def compare_status(cx: RunCtx) -> bool:
         return False
     ok = mine["status"] == status
     if ok and status in ("diverged", "solve-failed"):
-        ok = abs(mine["steps"] - int(num(cx.run.get("steps")))) <= (1 if status == "diverged" else 0)
+        # overflow near 1e308, or a Newton iteration at the edge of convergence, rounds either way
+        ok = abs(mine["steps"] - int(num(cx.run.get("steps")))) <= 1
     cx.comps.append(comp("status", "%s at %d" % (mine["status"], mine["steps"]),
-                         "%s at %s" % (status, cx.run.get("steps")), ok, "equal (a divergence step within 1)"))
+                         "%s at %s" % (status, cx.run.get("steps")), ok, "equal, the step of failure within 1"))
     return True
 
 
@@ -52,10 +53,14 @@ def compare_counts(cx: RunCtx) -> None:
     exact for explicit methods, inside the Newton family's range for implicit ones."""
     cx.comps.append(cmp_equal("steps_planned", cx.nsteps, cx.run.get("steps_planned"),
                               "equal: (t_end - t0) / dt of the case file"))
+    if cx.mine["status"] != "ok" or cx.run.get("status", "ok") != "ok":
+        for k in ("steps", "failed_at_step", "rhs_evals", "jac_evals", "newton_iters", "max_newton_iters_per_step"):
+            if k in cx.run:
+                cx.not_compared[k] = "a run that failed: follows the step of failure (compared within 1 by status)"
+        return
     cx.comps.append(cmp_equal("steps", cx.mine["steps"], cx.run.get("steps")))
-    if "failed_at_step" in cx.run or cx.mine["status"] != "ok":
-        cx.comps.append(cmp_equal("failed_at_step", cx.mm["run.failed_at_step"] or None,
-                                  cx.run.get("failed_at_step")))
+    if "failed_at_step" in cx.run:
+        cx.comps.append(cmp_equal("failed_at_step", None, cx.run.get("failed_at_step")))
     for k in ("rhs_evals", "jac_evals", "newton_iters", "max_newton_iters_per_step"):
         if k not in cx.run:
             continue
