@@ -100,6 +100,8 @@ Tolerance table, by metric family (verify/xfamilies.py FAMILIES, one compare fun
                     report's own value, exactly (a flipped verdict, or `<=` evaluated as `<` on a
                     tie, always disagrees); and equal to the verdict from OUR value, undecidable
                     (not comparable) only when the threshold is inside our POSITIVE band.
+  summary           the report's counts (cases, runs, checks passed / failed / not run, failed
+                    cases) equal to those of its own cases.
   reference         the certified reference's final state within 1e3 x max(our estimate, 1e3 eps
                     |z|) of ours; its estimate within 3 decades of ours; its points and final time
                     from the case file's grid.
@@ -435,6 +437,28 @@ def suite_cases(report: Rec) -> Optional[List[str]]:
     return sorted(cid for cid, path in xcase.case_index().items() if suite in xcase.suites_of(path))
 
 
+SUMMARY_KNOWN = ("cases", "failed_cases", "runs", "checks_passed", "checks_failed", "checks_not_run")
+
+
+def summary_record(report: Rec) -> Rec:
+    """The report's summary against its own cases (counts it must add up to)."""
+    cases, s = report["cases"], report.get("summary") or {}
+    chks = [k for c in cases for k in c.get("checks") or []]
+    ours = dict(cases=len(cases), runs=sum(len(c["runs"]) for c in cases),
+                checks_passed=sum(1 for k in chks if k.get("passed")),
+                checks_failed=sum(1 for k in chks if not k.get("passed")),
+                failed_cases=sum(1 for c in cases if any(not k.get("passed") for k in c.get("checks") or [])),
+                checks_not_run=sum(len(c.get("checks_not_run") or []) for c in cases))
+    comps = [dict(quantity="summary." + k, ours=ours[k], theirs=s[k], tolerance="equal: counted from its cases",
+                  agree=ours[k] == s[k], status="agree" if ours[k] == s[k] else "disagree") for k in SUMMARY_KNOWN if k in s]
+    rec = dict(case="(report)", method="(summary)", comparisons=comps, notes=[],
+               verdict="disagree" if any(c["status"] == "disagree" for c in comps) else "agree")
+    unknown = [k for k in s if k not in SUMMARY_KNOWN]
+    if unknown and rec["verdict"] == "agree":
+        rec.update(verdict="not reproduced", reason="fields not recomputed: " + ", ".join("summary." + k for k in unknown))
+    return rec
+
+
 def report_cases(report: Rec) -> List[Rec]:
     """A case twice, or a case of the selected suite that the report lacks (or one outside it)."""
     ids = [c["id"] for c in report["cases"]]
@@ -482,7 +506,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         print("crosscheck: bad input: %s" % exc, file=sys.stderr)
         return 2
     groups = {k: [x for r in res for x in r[k]] for k in ("structure", "runs", "orders", "checks")}
-    groups["structure"] = report_cases(report) + groups["structure"]
+    groups["structure"] = [summary_record(report)] + report_cases(report) + groups["structure"]
     summary: Rec = {k: count(v) for k, v in groups.items()}
     summary["comparisons"] = comparisons_tally([x for v in groups.values() for x in v])
     result = dict(tool="verify/crosscheck.py", report=os.path.abspath(args.report),

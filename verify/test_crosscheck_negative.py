@@ -92,7 +92,12 @@ def slice_of(report: Rep, *cids: str) -> Rep:
     if len(cases) != len(cids):
         fail("cases %s not all in the report" % (cids,))
     prov = dict(report.get("provenance") or {}, command_line="dampsym run " + " ".join(cids))
-    return dict(report, cases=cases, provenance=prov)
+    chks = [k for c in cases for k in c.get("checks") or []]
+    summary = dict(report.get("summary") or {}, cases=len(cases), runs=sum(len(c["runs"]) for c in cases),
+                   checks_passed=sum(1 for k in chks if k.get("passed")),
+                   checks_failed=sum(1 for k in chks if not k.get("passed")),
+                   failed_cases=sum(1 for c in cases if any(not k.get("passed") for k in c.get("checks") or [])))
+    return dict(report, cases=cases, provenance=prov, summary=summary)
 
 
 def case_of(rep: Rep, cid: str) -> Rep:
