@@ -118,6 +118,19 @@ def _window_valid(ladder: List[float], window: List[float], errs: Dict[float, fl
     return all(errs.get(lad[i], 0.0) > floor for i in idx)
 
 
+def local_orders(dts: List[float], es: List[float], window: List[float], theirs: Any, dlt: float) -> Optional[Comp]:
+    """The report's local orders between neighbouring step sizes of its window, from OUR errors:
+    each within 2 max(our error band / error) / log(h_i / h_{i+1}) + 1e-6.  None when the
+    report's list does not run over its window's neighbours (then listed as not compared)."""
+    pts = sorted([(d, e) for d, e in zip(dts, es) if any(abs(d - w) <= 1e-12 * w for w in window)], reverse=True)
+    if not isinstance(theirs, list) or len(theirs) != len(pts) - 1 or len(pts) < 2:
+        return None
+    mine = [math.log(pts[i][1] / pts[i + 1][1]) / math.log(pts[i][0] / pts[i + 1][0])
+            if pts[i][1] > 0 and pts[i + 1][1] > 0 else math.nan for i in range(len(pts) - 1)]
+    band = max(2 * dlt / math.log(pts[i][0] / pts[i + 1][0]) for i in range(len(pts) - 1)) + 1e-6
+    return cmp_list("local_orders", mine, theirs, 0.0, band, "our errors over the report's window")
+
+
 def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, Tuple[float, float, float]],
               ladder: List[float], ref_norm: float, kind: str) -> Dict[str, Any]:
     """An order fit: ours from our errors; the report's slope and R^2 against OUR errors fitted
@@ -152,6 +165,9 @@ def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, T
         if theirs.get("r2") is not None:
             comps.append(cmp_abs(kind + ".r2", mine["r2"], theirs.get("r2"), 0.0, b_r2,
                                  "our errors, its window; 1e-5 + 2 max relative error band"))
+        lo = local_orders(dts, es, window, theirs.get("local_orders"), dlt)
+        if lo is not None:
+            comps.append(lo)
         comps.append(comp(kind + ".window", fit.get("window_dt"), window,
                           _window_valid(ladder, window, {d: errs[d][0] for d in errs}, floor),
                           ">= 3 consecutive step sizes with errors above our floor %.3g" % floor))
@@ -167,12 +183,15 @@ def order_known(rec: Dict[str, Any], theirs: Dict[str, Any], kind: str) -> None:
     rec["not_compared"] = {k: why for k, why in (
         ("reason", "free text"), ("floor", "the C++ fit's own floor (ours decides the window's validity)"),
         ("points", "how many step sizes the C++ fit used (its window is checked)"),
-        ("local_orders", "local orders between neighbours: compared through the slope over the window"),
+        ("local_orders", "local orders between neighbours: compared where they run over the window's "
+                         "neighbours (see the comparisons), else through the slope"),
         ("errors", "the ladder's errors are compared run by run (error.final_abs)"),
         ("dts", "the ladder (compared with the case file)"), ("intercept", "follows from slope and errors"),
         ("dropped", "step sizes the C++ fit dropped below its own floor (the window's validity is checked "
                     "against ours)"), ("floor_source", "a description string"))
         if k in theirs}
+    if any(c["quantity"] == "local_orders" for c in rec["comparisons"]):
+        rec["not_compared"].pop("local_orders", None)
     unknown = [k for k in theirs if k not in known]
     if unknown:
         rec["unknown"] = unknown
