@@ -5,6 +5,7 @@
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/order_fit.hpp"
 #include "harness/case_run.hpp"
+#include "harness/diagnostic_status.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -85,6 +86,8 @@ json evaluate(const CheckContext& x, const CheckSpec& cs, const std::string& mid
             ((*run).contains("failed_at_step")
                  ? " at step " + std::to_string((*run)["failed_at_step"].get<std::int64_t>())
                  : std::string()));
+    if (const std::string why = diagnostic_status_failure(metrics, diag); !why.empty())
+        return fail_with(why);
     if ((!v || !v->is_number()) && !x.reference_ok && info && info->reads_reference)
         return fail_with("reference failed: " + x.reference.value("error", std::string()));
     // defined nowhere here (metric_json.hpp, docs/conventions.md): fails, whatever the check's
@@ -109,6 +112,15 @@ bool comparison_row(const CheckContext& x, const CheckSpec& cs,
     for (const auto& m : members) {
         const json& r = x.run(x.index_of(m), d);
         const json* v = r.contains("metrics") ? lookup(r["metrics"], cs.metric) : nullptr;
+        const std::string why =
+            r.contains("metrics")
+                ? diagnostic_status_failure(r["metrics"], cs.metric.substr(0, cs.metric.find('.')))
+                : std::string();
+        if (!why.empty()) {
+            if (missing.empty()) missing = m + " at dt = " + json(x.c.dts[d]).dump() + ": " + why;
+            row[m] = nullptr;
+            continue;
+        }
         if (r.value("status", std::string()) != "ok" || !v || !v->is_number()) {
             if (missing.empty())
                 missing = m + " at dt = " + json(x.c.dts[d]).dump() + ": " +
