@@ -18,14 +18,24 @@
 // against ΨDΨᵀ = e^{−2ΔΓ}D, relative to e^{−2ΔΓ}‖D‖_F (docs/pde.md). Poisson problems such as the
 // rigid body (odd dimension, no q/p split) are reported as not applicable; so is a kernel without
 // step_jacobian. In both cases nothing is integrated (z is left unchanged, steps_done = 0).
+//
+// E_n verifies nothing about the step if Ψ is not the step's derivative (a kick's (h/2)F' scaled
+// by 1 + 1e-7 in Ψ only is still symplectic), so the pass also checks Ψ against central
+// differences of step() at the first step, the middle one and the last (diagnostics/
+// jacobian_check.hpp: Richardson-extrapolated, tolerance from the scheme's truncation and
+// rounding and, for a step that solves, the Newton solve's stopping test), with a second stepper
+// of the method (StepChecker) so that the pass's own steps and numbers are untouched. A plugin
+// method whose Ψ is itself central differences of its step is not checked ("not-needed").
 #pragma once
 
 #include "core/integrate.hpp"
 #include "core/types.hpp"
+#include "diagnostics/jacobian_check.hpp"
 #include "diagnostics/series.hpp"
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace dampsym {
@@ -72,7 +82,40 @@ struct ConformalSymplecticStats {
     // How Ψ was obtained: "exact" (the kernel's step_jacobian), or for a C plugin's method
     // "plugin-jacobian" / "central-differences" (methods/plugin_kernel.hpp, docs/plugins.md).
     const char* jacobian = "exact";
+    // The check of Ψ against central differences of step() (jacobian_check.hpp): how it was done
+    // ("central-differences"; "not-run" without a StepChecker; "not-needed: ..." for a Ψ that is
+    // itself central differences) and its outcome.
+    const char* jacobian_check_mode = "not-run";
+    DerivativeCheck jacobian_check;
 };
+
+// A second stepper of the pass's method, with its own state and counters, that evaluates step()
+// at the perturbed states of the Jacobian check (the pass's stepper is never perturbed).
+template <class K>
+struct StepChecker {
+    K& stepper;
+    const Counters& counters; // newton_iters tells whether the step solves a nonlinear system
+};
+
+// Checks Ψ = ∂z₁/∂z₀ (the pass's step_jacobian at (t, z0)) against central differences of
+// checker.stepper.step() at z0 and merges the outcome into `out`. `k`: the step's index (the
+// seed of the random directions).
+template <class K>
+void check_step_jacobian(StepChecker<K>& checker, double t, const Vec& z0, const Mat& Psi,
+                         std::int64_t k, DerivativeCheck& out) {
+    auto g = [&](const Vec& x, Vec& y) {
+        y = x;
+        return checker.stepper.step(t, y) == StepStatus::ok;
+    };
+    const std::int64_t iters = checker.counters.newton_iters;
+    Vec g0(z0.size());
+    if (!g(z0, g0) || !g0.allFinite()) {
+        out.skipped += 1;
+        return;
+    }
+    const bool solves = checker.counters.newton_iters > iters;
+    out.merge(check_derivative(g, z0, g0, Psi, solves, static_cast<std::uint64_t>(k)));
+}
 
 // Whether the problem is in canonical coordinates z = [q; p] (see the header comment).
 template <class P>
@@ -127,16 +170,32 @@ inline double relative_defect(double c, double e_abs, double jinv_norm) {
     return std::numeric_limits<double>::quiet_NaN();
 }
 
+// The Jacobian check of a pass (st.jacobian_check_mode): none for a Ψ that is itself central
+// differences of the step (a plugin's, st.jacobian), else with `checker` when there is one.
+template <class K>
+StepChecker<K>* jacobian_check_plan(ConformalSymplecticStats& st, StepChecker<K>* checker) {
+    if (std::strcmp(st.jacobian, "central-differences") == 0) {
+        st.jacobian_check_mode = "not-needed: the step Jacobian is central differences of the "
+                                 "step itself";
+        return nullptr;
+    }
+    if (checker) st.jacobian_check_mode = "central-differences";
+    return checker;
+}
+
 // Integrates n steps of size h from t0 (t_k = t0 + k h, never accumulated) with
 // stepper.step_jacobian and measures E_k at every step. z is advanced in place (the final state);
 // the z arithmetic is the same as integrate()'s with step(). Never throws on a failed solve or a
 // divergence: they are reported in status.
 // series (figures, issue 14): when given, receives (t_{k+1}, E_k rel) of every step up to the
 // first whose relative defect is undefined.
+// checker (when given): Ψ is also checked against central differences of the step at steps 1,
+// n/2 + 1 and n (stats.jacobian_check).
 template <class K, class P>
 ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& problem, Vec& z,
                                                      double t0, double h, std::int64_t n,
-                                                     MinMaxDecimator* series = nullptr) {
+                                                     MinMaxDecimator* series = nullptr,
+                                                     StepChecker<K>* checker = nullptr) {
     ConformalSymplecticStats st;
     if constexpr (!has_conformal_structure<P>()) {
         st.applicability = ConformalSymplecticApplicability::not_canonical;
@@ -147,6 +206,7 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
     } else {
         if constexpr (requires { stepper.jacobian_source(); }) // a plugin's kernel
             st.jacobian = stepper.jacobian_source();
+        checker = jacobian_check_plan(st, checker);
         const int d = problem.dim();
         constexpr bool poisson = !is_canonical_problem<P>(); // the structure-matrix law
         Mat Jinv;
@@ -160,8 +220,11 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
             jinv_norm = std::sqrt(static_cast<double>(d)); // ‖J⁻¹‖_F
         }
         Mat Psi(d, d), JPsi(d, d), W(d, d);
+        Vec z_before;
         for (std::int64_t k = 0; k < n; ++k) {
             const double tk = time_at(t0, h, k);
+            const bool check_here = checker && (k == 0 || k == n / 2 || k == n - 1);
+            if (check_here) z_before = z;
             if (stepper.step_jacobian(tk, z, Psi) != StepStatus::ok) {
                 st.status = RunStatus::solve_failed;
                 st.failed_step = k + 1;
@@ -184,6 +247,7 @@ ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& proble
                 return st;
             }
             st.steps_measured = k + 1;
+            if (check_here) check_step_jacobian(*checker, tk, z_before, Psi, k, st.jacobian_check);
             st.last_abs = e_abs;
             if (e_abs > st.max_abs || st.max_abs_step == 0) {
                 st.max_abs = e_abs;

@@ -21,10 +21,11 @@ struct ConformalSymplecticDiagnostic {
 
 json conformal_symplectic_json(const ConformalSymplecticStats& st);
 
-// Typed hook: the Jacobian pass of kernel K over n steps from (t0, z0). Instantiated only for
-// kernels with a step Jacobian on canonical problems; the others report why without a pass.
-// series (figures, issue 14): when given, set to the per-step relative defect of the pass (left
-// empty when there is no pass).
+// Typed hook: the Jacobian pass of kernel K over n steps from (t0, z0), with the check of its
+// step Jacobian against central differences of the step (conformal_symplectic.hpp). Instantiated
+// only for kernels with a step Jacobian on canonical problems; the others report why without a
+// pass. series (figures, issue 14): when given, set to the per-step relative defect of the pass
+// (left empty when there is no pass).
 template <class K, class P>
 json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, double t0, double h,
                                   std::int64_t n,
@@ -35,12 +36,14 @@ json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, doub
     } else if constexpr (!kernel_has_step_jacobian<K>()) {
         st.applicability = ConformalSymplecticApplicability::no_step_jacobian;
     } else {
-        Counters counters;
+        Counters counters, checker_counters;
         K stepper(problem, info, h, counters);
+        K checker_stepper(problem, info, h, checker_counters); // the Jacobian check's steps
+        StepChecker<K> checker{checker_stepper, checker_counters};
         Vec z = problem.initial_state();
         if (series) series->emplace(n);
         st = conformal_symplectic_defect(stepper, problem, z, t0, h, n,
-                                         series ? &**series : nullptr);
+                                         series ? &**series : nullptr, &checker);
     }
     return conformal_symplectic_json(st);
 }

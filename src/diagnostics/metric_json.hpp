@@ -41,8 +41,8 @@ inline std::string incomplete_measurement(const json& metrics, const std::string
         std::string why = diag + ": " + d["status"].get<std::string>();
         if (d.contains("failed_at_step") && d["failed_at_step"].is_number_integer())
             why += " at step " + std::to_string(d["failed_at_step"].get<std::int64_t>());
-        if (d.contains("status_reason") && d["status_reason"].is_string())
-            why += ": " + d["status_reason"].get<std::string>();
+        if (d.contains("message") && d["message"].is_string())
+            why += ": " + d["message"].get<std::string>();
         else if (d.contains("reason") && d["reason"].is_string())
             why += ": " + d["reason"].get<std::string>();
         return why;

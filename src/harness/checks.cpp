@@ -129,6 +129,15 @@ bool comparison_row(const CheckContext& x, const CheckSpec& cs,
     for (const auto& m : members) {
         const json& r = x.run(x.index_of(m), d);
         const json* v = r.contains("metrics") ? lookup(r["metrics"], cs.metric) : nullptr;
+        const std::string diag = cs.metric.substr(0, cs.metric.find('.'));
+        const std::string why = r.contains("metrics") && diag != "run"
+                                    ? incomplete_measurement(r["metrics"], diag)
+                                    : std::string();
+        if (!why.empty()) {
+            if (missing.empty()) missing = m + " at dt = " + json(x.c.dts[d]).dump() + ": " + why;
+            row[m] = nullptr;
+            continue;
+        }
         if (r.value("status", std::string()) != "ok" || !v || !v->is_number()) {
             if (missing.empty())
                 missing = m + " at dt = " + json(x.c.dts[d]).dump() + ": " +

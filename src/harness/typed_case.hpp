@@ -12,6 +12,7 @@
 #include "core/integrate.hpp"
 #include "core/problem_concepts.hpp"
 #include "diagnostics/diagnostic_list.hpp"
+#include "diagnostics/problem_check_json.hpp"
 #include "diagnostics/recorder.hpp"
 #include "harness/case_run.hpp"
 #include "harness/figure_series.hpp" // figures hook (issue 14)
@@ -73,6 +74,16 @@ public:
                     });
             }
         }
+    }
+
+    // The case's report with the derivative checks of the problem (problem_check.hpp): a
+    // mismatch adds the failing check "problem Jacobian matches its force".
+    json finish() override {
+        json out = CaseRun::finish();
+        out["problem_check"] = problem_check();
+        const json failure = problem_check_failure(out["problem_check"]);
+        if (!failure.is_null()) out["checks"].push_back(failure);
+        return out;
     }
 
     // Figures hook (issue 14): the series file of the case (docs/reports.md "Series files").
@@ -280,6 +291,41 @@ private:
                 m["temperature"] = temperature_metrics(
                     facts_, rec.grid(), [this](const Vec& v) { return problem_.temperature(v); });
         return m;
+    }
+
+    // The problem's Jacobians against its functions (problem_check.hpp) at the initial state and
+    // at the reference's middle and last states, or, without a reference, at the final state of
+    // the first run that finished.
+    json problem_check() const {
+        ProblemCheck pc;
+        pc.parts = problem_check_parts<P>();
+        std::int64_t states = 0;
+        auto at = [&](double t, const Vec& z) {
+            if (!z.allFinite() || z.size() != problem_.dim()) return;
+            check_problem_at(problem_, t, z, static_cast<std::uint64_t>(states), pc);
+            ++states;
+        };
+        at(c_.t0, problem_.initial_state());
+        const Eigen::Index cols = facts_.ref.cols();
+        if (cols > 0 && static_cast<std::size_t>(cols) == ref_times_.size()) {
+            if (cols >= 3) at(ref_times_[(cols - 1) / 2], facts_.ref.col((cols - 1) / 2));
+            at(ref_times_.back(), facts_.ref.col(cols - 1));
+            return problem_check_json(pc, states);
+        }
+        for (const json& r : runs_) {
+            if (r.value("status", std::string()) != "ok" || !r.contains("final_time") ||
+                !r.contains("final_state") || !r["final_state"].is_array())
+                continue;
+            const json& a = r["final_state"];
+            Vec z(static_cast<Eigen::Index>(a.size()));
+            for (std::size_t i = 0; i < a.size(); ++i)
+                z[static_cast<Eigen::Index>(i)] = a[i].is_number()
+                                                      ? a[i].get<double>()
+                                                      : std::numeric_limits<double>::quiet_NaN();
+            at(r["final_time"].get<double>(), z);
+            break;
+        }
+        return problem_check_json(pc, states);
     }
 
     // The metrics that step kernel K again (separate steppers: the run above is untouched).
