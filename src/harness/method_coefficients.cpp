@@ -3,6 +3,7 @@
 #include "methods/coefficient_checks.hpp"
 #include "methods/runtime_methods.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -27,19 +28,49 @@ CoefficientVerdict coefficient_verdict(const MethodInfo& m) {
     return v;
 }
 
+namespace {
+
+// A built-in method whose coefficients refute its own declaration is a defect of dampsym itself
+// (a mistyped coefficient in catalog.cpp or a coefficient function): every case that runs it fails
+// this check, so that no suite passes on a method that is not what the harness says it is.
+nlohmann::json builtin_refuted_check(const std::string& id, const std::vector<std::string>& names) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    return {{"name", "built-in coefficients agree with their declaration"},
+            {"metric", "coefficients.refuted"},
+            {"method", id},
+            {"op", "le"},
+            {"expected", 0},
+            {"negative_control", false},
+            {"value", names.size()},
+            {"passed", false},
+            {"message",
+             "the coefficients refute the declaration: " + list + " (dampsym methods --check)"}};
+}
+
+} // namespace
+
 void mark_refuted_methods(nlohmann::json& cases) {
-    std::map<std::string, std::vector<std::string>> refuted; // per loaded method id, once
+    std::map<std::string, std::vector<std::string>> refuted; // per method id, once
     for (auto& c : cases) {
         if (!c.contains("runs")) continue;
+        std::vector<std::string> builtin_refuted;
         for (auto& r : c["runs"]) {
             const std::string id = r.value("method", std::string());
-            const MethodInfo* m = find_loaded_method(id);
+            const MethodInfo* loaded = find_loaded_method(id);
+            const MethodInfo* m = loaded ? loaded : find_method(id);
             if (!m) continue;
             auto it = refuted.find(id);
             if (it == refuted.end())
                 it = refuted.emplace(id, coefficient_verdict(*m).refuted).first;
-            if (!it->second.empty()) r["coefficients_refuted"] = it->second;
+            if (it->second.empty()) continue;
+            r["coefficients_refuted"] = it->second;
+            if (!loaded && std::find(builtin_refuted.begin(), builtin_refuted.end(), id) ==
+                               builtin_refuted.end())
+                builtin_refuted.push_back(id);
         }
+        for (const auto& id : builtin_refuted)
+            c["checks"].push_back(builtin_refuted_check(id, refuted[id]));
     }
 }
 

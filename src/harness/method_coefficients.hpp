@@ -21,9 +21,10 @@ struct CoefficientVerdict {
 
 CoefficientVerdict coefficient_verdict(const MethodInfo& m);
 
-// `dampsym run`: marks every run of a loaded method (method file) whose coefficients refute its
-// declaration with "coefficients_refuted" (the check names; `dampsym methods --check --methods
-// FILE` shows them in full). Built-in methods are held to their checks by the unit tests.
+// `dampsym run`: marks every run of a method whose coefficients refute its declaration with
+// "coefficients_refuted" (the check names; `dampsym methods --check [--methods FILE]` shows them
+// in full). A loaded method is flagged only (a case may run a deliberately wrong one as a negative
+// control); a built-in one is a defect of dampsym: every case running it gets a failing check.
 void mark_refuted_methods(nlohmann::json& cases);
 
 // The methods whose runs carry "coefficients_refuted" in a report's cases: id -> check names.
