@@ -1,5 +1,7 @@
 #include "harness/figures.hpp"
 
+#include "harness/bounded_read.hpp"
+#include "harness/case.hpp"
 #include "harness/provenance.hpp"
 #include "harness/report.hpp"
 
@@ -35,11 +37,13 @@ std::string shell_quote(const std::string& s) {
 }
 
 json read_json_file(const fs::path& p) {
-    std::ifstream in(p);
-    if (!in) return nullptr;
-    std::stringstream buf;
-    buf << in.rdbuf();
-    json j = json::parse(buf.str(), nullptr, false);
+    std::string text; // a FIFO, device or oversized file reads as no file (bounded_read.hpp)
+    try {
+        text = read_regular_file(p.string(), kMaxReportBytes, "report");
+    } catch (const InputError&) {
+        return nullptr;
+    }
+    json j = json::parse(text, nullptr, false);
     return j.is_discarded() ? json(nullptr) : j;
 }
 
@@ -67,6 +71,16 @@ int make_figures(const std::string& dir, int jobs, const std::string& formats, s
     if (!fs::exists(report)) {
         err << "dampsym: " << report.string() << ": no report to plot\n";
         return 3;
+    }
+    // the figure script would hang on a FIFO and exhaust memory on a huge file: bad input
+    if (const auto why = not_regular_reason(report.string(), false); !why.empty()) {
+        err << "dampsym: report " << quote_for_message(report.string()) << ": " << why << "\n";
+        return 2;
+    }
+    if (fs::file_size(report) > kMaxReportBytes) {
+        err << "dampsym: report " << quote_for_message(report.string()) << ": more than the "
+            << (kMaxReportBytes >> 20) << " MiB limit\n";
+        return 2;
     }
     const char* py_env = std::getenv("DAMPSYM_PYTHON");
     const std::string python = py_env && *py_env ? py_env : "/usr/bin/python3";
