@@ -4,6 +4,7 @@
 // the suite-sized tests (schemas, 3 shards + merge of the default suite) are in
 // verify/test_reports.py.
 #include "cli_support.hpp"
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
@@ -12,6 +13,7 @@
 #include <catch2/catch.hpp>
 #include <map>
 #include <set>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace {
@@ -354,4 +356,43 @@ TEST_CASE("cli: --annotations github and GITHUB_STEP_SUMMARY", "[ci]") {
     CHECK(s.find("rk3 third order") == std::string::npos); // passing checks are not listed
     const std::string x = read_text(out / "j.xml");
     CHECK(x.find("<failure") != std::string::npos);
+}
+
+// issue 33 item 6: the size limit is exact (max_bytes accepted, one more byte refused), a FIFO is
+// refused without blocking, and the shard count limit is exact (10000 accepted, 10001 refused).
+TEST_CASE("bounded reads: exact size limit, FIFO refused, shard count limit", "[ci]") {
+    TempDir dir;
+    const std::string ten = (dir / "ten").string(), eleven = (dir / "eleven").string();
+    write_text(ten, "0123456789");
+    write_text(eleven, "0123456789A");
+    CHECK(dampsym::read_regular_file(ten, 10, "report") == "0123456789");
+    CHECK_THROWS_WITH(dampsym::read_regular_file(eleven, 10, "report"),
+                      Catch::Contains("11 bytes, more than"));
+    const std::string fifo = (dir / "fifo").string();
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    CHECK_THROWS_WITH(dampsym::read_regular_file(fifo, 10, "report"), Catch::Contains("a FIFO"));
+    CHECK_THROWS_WITH(dampsym::read_regular_file(dir.str(), 10, "report"),
+                      Catch::Contains("a directory"));
+    CHECK(dampsym::not_regular_reason((dir / "absent").string(), true).empty());
+    CHECK_FALSE(dampsym::not_regular_reason((dir / "absent").string(), false).empty());
+    CHECK(dampsym::parse_shard("10000/10000").count == 10000);
+    CHECK_THROWS_AS(dampsym::parse_shard("1/10001"), dampsym::InputError);
+    const auto env = [](std::string total) {
+        return [total](const char* name) -> const char* {
+            if (std::string(name) == "TEST_TOTAL_SHARDS") return total.c_str();
+            if (std::string(name) == "TEST_SHARD_INDEX") return "0";
+            return nullptr;
+        };
+    };
+    CHECK(dampsym::shard_from_env(env("10000"))->count == 10000);
+    CHECK_THROWS_AS(dampsym::shard_from_env(env("10001")), dampsym::InputError);
+}
+
+// issue 33 item 10: 200 characters shown whole, 201 cut with "…"; control characters escaped.
+TEST_CASE("messages: long inputs cut, control characters escaped", "[ci]") {
+    const std::string two_hundred(200, 'x');
+    CHECK(dampsym::quote_for_message(two_hundred) == two_hundred);
+    CHECK(dampsym::quote_for_message(two_hundred + "y") == two_hundred + "…");
+    CHECK(dampsym::quote_for_message("a\nb\x01\tc") == "a\\nb\\x01\\tc");
+    CHECK(dampsym::quote_for_message("é", 1) == "é"); // one character, two bytes
 }

@@ -2,12 +2,12 @@
 // reports (harness/compare.hpp).
 #include "cli/cli_detail.hpp"
 
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
+#include "harness/finite_option.hpp"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace dampsym::cli_detail {
 
@@ -15,12 +15,11 @@ namespace fs = std::filesystem;
 
 json read_report(const std::string& arg) {
     const fs::path p = fs::is_directory(arg) ? fs::path(arg) / "report.json" : fs::path(arg);
-    std::ifstream in(p);
-    if (!in) throw InputError(p.string() + ": cannot open report");
-    std::stringstream buf;
-    buf << in.rdbuf();
-    const json j = json::parse(buf.str(), nullptr, false);
-    if (j.is_discarded()) throw InputError(p.string() + ": malformed JSON");
+    // regular files of at most kMaxReportBytes only: a FIFO would hang, /dev/zero never end
+    const json j =
+        json::parse(read_regular_file(p.string(), kMaxReportBytes, "report"), nullptr, false);
+    if (j.is_discarded())
+        throw InputError("report " + quote_for_message(p.string()) + ": malformed JSON");
     return j;
 }
 
@@ -61,8 +60,10 @@ Command add_compare_command(CLI::App& app, CliContext& ctx) {
     compare->add_option("BASE", s->base, "base report.json (or its directory)")->required();
     compare->add_option("NEW", s->next, "new report.json (or its directory)")->required();
     compare->add_option("--rtol", s->opt.rtol, "relative tolerance (default 0: bitwise)")
+        ->check(finite_number())
         ->check(CLI::NonNegativeNumber);
     compare->add_option("--atol", s->opt.atol, "absolute tolerance (default 0)")
+        ->check(finite_number())
         ->check(CLI::NonNegativeNumber);
     compare->add_flag("--ignore-timings", s->opt.ignore_timings,
                       "omit the (information-only) wall-time table");

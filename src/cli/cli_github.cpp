@@ -1,5 +1,6 @@
 #include "cli/cli_detail.hpp"
 
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
@@ -107,6 +108,12 @@ void github_step_summary(const json& report, std::ostream& err) {
                << text << " |\n";
         }
     if (failing > shown) os << "\n… and " << failing - shown << " more failing checks.\n";
+    // a FIFO would block the open until a reader comes, a device is no summary: regular files
+    if (const auto why = not_regular_reason(path, true); !why.empty()) {
+        err << "dampsym: warning: GITHUB_STEP_SUMMARY=" << quote_for_message(path) << ": " << why
+            << "; not written\n";
+        return;
+    }
     std::ofstream f(path, std::ios::app);
     f << os.str() << "\n";
     if (!f) err << "dampsym: warning: cannot append to GITHUB_STEP_SUMMARY=" << path << "\n";

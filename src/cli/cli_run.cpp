@@ -5,6 +5,7 @@
 
 #include "harness/case.hpp"
 #include "harness/figures.hpp"
+#include "harness/finite_option.hpp"
 #include "harness/junit.hpp"
 #include "harness/limits.hpp"
 #include "harness/progress.hpp"
@@ -120,6 +121,12 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     }
     if (!output_errors.empty()) report["output_errors"] = output_errors; // issue 17
     report["provenance"] = make_provenance(command_line, jobs, start);
+    // what was run, so that merge refuses shards of different selections or overrides
+    report["provenance"]["selection"] = {
+        {"targets", sel.targets}, {"suites", sel.suites},
+        {"filters", sel.filters}, {"problems", sel.problems},
+        {"methods", sel.methods}, {"method_files", sel.method_files},
+        {"plugins", sel.plugins}, {"sets", sets}};
     if (selected.shard)
         report["provenance"]["shard"] = {{"index", selected.shard->index},
                                          {"count", selected.shard->count},
@@ -141,7 +148,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     return status;
 }
 
-int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs,
+int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs, bool allow_mixed,
               const OutputOptions& o, const std::vector<std::string>& command_line,
               std::ostream& out, std::ostream& err) {
     if (out_dir.empty()) throw InputError("OUT_DIR: empty directory name");
@@ -156,11 +163,17 @@ int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs
                       return s;
                   }()},
                  {"start_utc", utc_iso8601(start)}};
-    const json merged = merge_reports(reports, inputs, prov);
+    const json merged = merge_reports(reports, inputs, prov, allow_mixed);
     OutputOptions mo = o;
     mo.out_dir = out_dir;
     mo.junit = out_dir + "/junit.xml";
-    return finish_report(merged, mo, out, err);
+    const int status = finish_report(merged, mo, out, err);
+    if (merged.contains("interrupted")) { // a shard stopped by a signal: the merge is incomplete
+        err << "dampsym: merge: a shard was interrupted ("
+            << merged["interrupted"].value("signal", "") << "); the merged report is incomplete\n";
+        return 1;
+    }
+    return status;
 }
 
 } // namespace
@@ -188,6 +201,7 @@ Command add_run_command(CLI::App& app, CliContext& ctx) {
     run->add_option("--time-budget", s->time_budget,
                     "seconds of timed repetitions per run of a step ladder (work-precision; "
                     "0 = off; default 0.02)")
+        ->check(finite_number())
         ->check(CLI::Range(0.0, 60.0));
     add_limit_options(*run, s->limits); // --case-timeout, --max-memory (harness/limits.hpp)
     run->add_option("--set", s->sets, "override a case field, e.g. --set problem.gamma=0.3")
@@ -232,6 +246,7 @@ Command add_merge_command(CLI::App& app, CliContext& ctx) {
     struct State {
         std::string out_dir;
         std::vector<std::string> inputs;
+        bool allow_mixed = false;
         OutputOptions oo;
     };
     auto s = std::make_shared<State>();
@@ -243,12 +258,17 @@ Command add_merge_command(CLI::App& app, CliContext& ctx) {
     merge->add_option("--annotations", s->oo.annotations, "github: ::error lines for failures")
         ->check(CLI::IsMember({"github"}));
     merge->add_flag("--quiet,-q", s->oo.quiet, "only errors and the final totals line");
+    merge->add_flag("--allow-mixed", s->allow_mixed,
+                    "merge reports of different commits, build types, --set overrides or "
+                    "selections (refused otherwise); the merged provenance lists the differences "
+                    "under \"mixed\"");
     merge->footer("\nExamples:\n  dampsym merge reports shard1 shard2 shard3\n\n"
                   "The merged report's part before \"provenance\" is byte-identical to that of "
                   "the unsharded run.\n\n" +
                   std::string(kExitCodes));
     return {merge, [s, &ctx] {
-                return cmd_merge(s->out_dir, s->inputs, s->oo, ctx.command_line, ctx.out, ctx.err);
+                return cmd_merge(s->out_dir, s->inputs, s->allow_mixed, s->oo, ctx.command_line,
+                                 ctx.out, ctx.err);
             }};
 }
 

@@ -1,6 +1,7 @@
 #include "cli/cli_detail.hpp"
 
 #include "core/method.hpp"
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
@@ -274,13 +275,12 @@ void take_shard(Selected& out, const Selection& sel, const std::string& cases_di
     const std::string costs_file =
         !sel.costs.empty() ? sel.costs
                            : (fs::path(cases_dir).parent_path() / "case_costs.json").string();
-    if (fs::exists(costs_file)) {
-        std::ifstream in(costs_file);
-        std::stringstream buf;
-        buf << in.rdbuf();
-        const json j = json::parse(buf.str(), nullptr, false);
+    if (fs::exists(costs_file)) { // (a FIFO or device is refused, a large file not read)
+        const json j =
+            json::parse(read_regular_file(costs_file, kMaxCostsBytes, "--costs"), nullptr, false);
         if (j.is_discarded() || !j.is_object() || !j.contains("cases") || !j["cases"].is_object())
-            throw InputError(costs_file + ": cases: expected {\"cases\": {ID: seconds}}");
+            throw InputError(quote_for_message(costs_file) +
+                             ": cases: expected {\"cases\": {ID: seconds}}");
         measured = j["cases"];
     } else if (!sel.costs.empty()) {
         throw InputError(sel.costs + ": --costs: file not found");

@@ -22,28 +22,8 @@ bool clock_key(const std::string& k) {
     return k == "wall_seconds" || k == "timing";
 }
 
-// The shortest of %.15g..%.17g that reads back as the same double (dt=0.05, not
-// 0.050000000000000003): run and check keys stay exact and readable.
-std::string dt_text(const json& dt) {
-    if (!dt.is_number()) return dt.dump();
-    const double x = dt.get<double>();
-    char buf[40];
-    for (int digits = 15; digits <= 17; ++digits) {
-        std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-        if (std::strtod(buf, nullptr) == x) break;
-    }
-    return buf;
-}
-
-std::string run_key(const json& r) {
-    return r["method"].get<std::string>() + " dt=" + dt_text(r["dt"]);
-}
-
-std::string check_key(const json& ck) {
-    std::string k = ck["name"].get<std::string>() + " [" + ck["method"].get<std::string>();
-    if (ck.contains("dt")) k += ", dt=" + dt_text(ck["dt"]);
-    return k + "]";
-}
+using compare_detail::check_key;
+using compare_detail::run_key;
 
 struct Walker {
     const CompareOptions& opt;

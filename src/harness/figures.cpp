@@ -1,5 +1,6 @@
 #include "harness/figures.hpp"
 
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
 #include "harness/limits.hpp"
 #include "harness/provenance.hpp"

@@ -14,6 +14,8 @@
 // with dampsym (SIGINT 130, SIGTERM 143; harness/limits.hpp).
 #pragma once
 
+#include "harness/bounded_read.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -24,8 +26,7 @@
 namespace dampsym {
 
 // Size limits of what is read back for drawing (report.json, figures/manifest.json; plot.py reads
-// series files up to its own SERIES_LIMIT): a default-suite report.json is about 2 MB.
-inline constexpr std::uintmax_t kMaxReportBytes = std::uintmax_t{256} << 20;
+// series files up to its own SERIES_LIMIT): kMaxReportBytes of harness/bounded_read.hpp.
 
 // The file name of a case's output: `id` + `suffix`, for a valid case id (valid_case_id: at most
 // 100 characters of A-Z a-z 0-9 . _ -, the first a letter or digit); any other id is refused

@@ -2,6 +2,7 @@
 
 #include "harness/case.hpp"
 #include "harness/case_job.hpp"
+#include "harness/finite_option.hpp"
 #include "harness/report.hpp"
 
 #include <CLI/CLI.hpp>
@@ -243,6 +244,7 @@ void add_limit_options(CLI::App& run, CliLimits& limits) {
                    "next step with status timeout (a reference: reference-failed), the case fails, "
                    "the others go on (exit 1); "
                    "a case's timeout_seconds wins; default 0 = none")
+        ->check(finite_number())
         ->check(CLI::Range(0.0, 1e9));
     run.add_option("--max-memory", limits.max_memory,
                    "refuse (exit 2) a case whose estimated peak memory exceeds SIZE (bytes, or "

@@ -271,6 +271,8 @@ void parse_glm_starting(const json& j, Reader& r, GlmCoefficients& g) {
         const json& st = j["starting"];
         if (!st.is_object()) bad(file, "starting", "must be an object");
         r.only(st, {"A", "U", "B", "V", "c"}, "starting.");
+        if (st.contains("A") && !st["A"].is_array()) // (was read as s0 = 0 and ignored)
+            bad(file, "starting.A", "must be an array of rows (A0 is s0×s0; [] for s0 = 0)");
         g.s0 = st.contains("A") ? static_cast<int>(st["A"].is_array() ? st["A"].size() : 0) : 0;
         if (g.s0 > max_stages) bad(file, "starting.A", "too many stages");
         if (g.s0 > 0) {

@@ -2,6 +2,7 @@
 #include "harness/plugins.hpp"
 
 #include "dampsym/plugin.h"
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
 #include "harness/case_util.hpp"
 #include "harness/method_files.hpp"
@@ -70,7 +71,7 @@ std::vector<MethodInfo> rows_of(const std::string& lib, const dampsym_plugin_des
         if (!m.id) fault(lib, where + ": null id");
         const std::string id(m.id);
         if (!valid_case_id(id))
-            fault(lib, where + ": '" + id +
+            fault(lib, where + ": '" + quote_for_message(id) +
                            "' is not a valid method id (1 to 100 characters of A-Z a-z 0-9 . _ "
                            "-, starting with a letter or digit)");
         if (!m.step) fault(lib, "method '" + id + "': null step function");
@@ -99,6 +100,8 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
     if (const auto it = reg.by_path.find(key); it != reg.by_path.end()) return it->second;
     // a path without '/' would be searched on the library path: name the file itself
     const std::string open_path = path.find('/') == std::string::npos ? "./" + path : path;
+    // dlopen of a FIFO blocks until a writer comes: regular files only
+    if (const auto why = not_regular_reason(open_path, false); !why.empty()) fault(path, why);
     void* handle = dlopen(open_path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
         const char* err = dlerror();

@@ -1,6 +1,8 @@
 #include "harness/shard.hpp"
 
+#include "harness/bounded_read.hpp"
 #include "harness/case.hpp"
+#include "harness/compare_input.hpp"
 #include "harness/report.hpp"
 
 #include <algorithm>
@@ -29,7 +31,10 @@ ShardSpec parse_shard(const std::string& text) {
     const auto k = slash == std::string::npos ? std::nullopt : parse_count(text.substr(0, slash));
     const auto n = slash == std::string::npos ? std::nullopt : parse_count(text.substr(slash + 1));
     if (!k || !n || *n < 1 || *k < 1 || *k > *n)
-        throw InputError("--shard " + text + ": expected K/N with 1 <= K <= N, e.g. 2/4");
+        throw InputError("--shard " + quote_for_message(text) +
+                         ": expected K/N with 1 <= K <= N, e.g. 2/4");
+    if (*n > kMaxShards)
+        throw InputError("--shard " + text + ": at most " + std::to_string(kMaxShards) + " shards");
     return {static_cast<int>(*k), static_cast<int>(*n), "--shard"};
 }
 
@@ -48,13 +53,22 @@ std::optional<ShardSpec> shard_from_env(const EnvLookup& env) {
         const auto n = parse_count(total);
         const auto i = parse_count(index);
         const std::string names = std::string(cv.total) + "/" + cv.index;
-        if (!n || *n < 1) throw InputError(std::string(cv.total) + "=" + total + ": not a count");
-        if (!i) throw InputError(std::string(cv.index) + "=" + index + ": not an index");
+        if (!n || *n < 1)
+            throw InputError(std::string(cv.total) + "=" + quote_for_message(total) +
+                             ": not a count");
+        if (*n > kMaxShards)
+            throw InputError(std::string(cv.total) + "=" + total + ": at most " +
+                             std::to_string(kMaxShards) + " shards");
+        if (!i)
+            throw InputError(std::string(cv.index) + "=" + quote_for_message(index) +
+                             ": not an index");
         long base = cv.base;
         if (base < 0) { // Slurm: task ids start at SLURM_ARRAY_TASK_MIN
             const char* min = env("SLURM_ARRAY_TASK_MIN");
             const auto m = min ? parse_count(min) : std::optional<long>(0);
-            if (!m) throw InputError(std::string("SLURM_ARRAY_TASK_MIN=") + min + ": not an index");
+            if (!m)
+                throw InputError(std::string("SLURM_ARRAY_TASK_MIN=") + quote_for_message(min) +
+                                 ": not an index");
             base = *m;
         }
         const long k = *i - base + 1;
@@ -62,7 +76,13 @@ std::optional<ShardSpec> shard_from_env(const EnvLookup& env) {
             throw InputError(std::string(cv.index) + "=" + index + ": outside the " +
                              std::to_string(*n) + " shards of " + cv.total);
         if (cv.base == 0)
-            if (const char* status = env("TEST_SHARD_STATUS_FILE")) std::ofstream touch(status);
+            if (const char* status = env("TEST_SHARD_STATUS_FILE")) {
+                // a FIFO would block the open until a reader comes: regular files only
+                if (const auto why = not_regular_reason(status, true); !why.empty())
+                    throw InputError("TEST_SHARD_STATUS_FILE=" + quote_for_message(status) + ": " +
+                                     why);
+                std::ofstream touch(status);
+            }
         return ShardSpec{static_cast<int>(k), static_cast<int>(*n), names};
     }
     return std::nullopt;
@@ -112,141 +132,171 @@ std::vector<double> estimate_costs(const std::vector<std::string>& ids,
 
 namespace {
 
+const json* shard_of(const json& r) {
+    if (r.contains("provenance") && r["provenance"].is_object() &&
+        r["provenance"].contains("shard") && r["provenance"]["shard"].is_object())
+        return &r["provenance"]["shard"];
+    return nullptr;
+}
+
+// r at a path of object keys, or null.
+json at_path(const json& r, std::initializer_list<const char*> path) {
+    const json* p = &r;
+    for (const char* k : path) {
+        if (!p->is_object() || !p->contains(k)) return nullptr;
+        p = &(*p)[k];
+    }
+    return *p;
+}
+
 // The shape merge_reports reads (schema/report.schema.json), checked before it reads anything, so
 // that a damaged or hostile report is bad input naming the key (exit 2), never a crash.
 void require_mergeable(const json& r, const std::string& name) {
+    compare_detail::require_current_report(r, name);
     auto bad = [&](const std::string& key, const std::string& what) {
         throw InputError(name + ": " + key + ": " + what + "; not a dampsym report");
     };
-    if (!r.is_object()) bad("(top level)", "not an object");
-    if (!r.contains("cases") || !r["cases"].is_array()) bad("cases", "missing or not an array");
-    if (!r.contains("schema_version") || !r["schema_version"].is_number_integer())
-        bad("schema_version", "missing or not an integer");
-    if (!r.contains("tool")) bad("tool", "missing");
-    for (std::size_t i = 0; i < r["cases"].size(); ++i) {
-        const json& c = r["cases"][i];
-        const std::string where = "cases[" + std::to_string(i) + "]";
-        if (!c.is_object() || !c.contains("id") || !c["id"].is_string())
-            bad(where + ".id", "missing or not a string");
-        if (!c.contains("runs") || !c["runs"].is_array())
-            bad(where + ".runs", "missing or not an array");
-        if (!c.contains("checks") || !c["checks"].is_array())
-            bad(where + ".checks", "missing or not an array");
-        for (const auto& ck : c["checks"])
-            if (!ck.is_object() || !ck.contains("passed") || !ck["passed"].is_boolean())
-                bad(where + ".checks", "a check without passed (true/false)");
-    }
-    if (r.contains("provenance")) {
-        const json& p = r["provenance"];
-        if (!p.is_object()) bad("provenance", "not an object");
-        if (p.contains("shard") && p["shard"].is_object()) {
-            const json& s = p["shard"];
-            for (const char* k : {"count", "index"})
-                if (!s.contains(k) || !s[k].is_number_integer() || s[k].get<std::int64_t>() < 1 ||
-                    s[k].get<std::int64_t>() > 1000000)
-                    bad(std::string("provenance.shard.") + k, "missing or not a count");
-            if (!s.contains("selected") || !s["selected"].is_array())
-                bad("provenance.shard.selected", "missing or not an array");
-            for (const auto& id : s["selected"])
-                if (!id.is_string()) bad("provenance.shard.selected", "not an array of ids");
-        }
-    }
-    if (r.contains("timings")) {
-        const json& t = r["timings"];
-        if (!t.is_object()) bad("timings", "not an object");
-        if (t.contains("wall_seconds") && !t["wall_seconds"].is_number())
-            bad("timings.wall_seconds", "not a number");
-        if (t.contains("cases")) {
-            if (!t["cases"].is_array()) bad("timings.cases", "not an array");
-            for (const auto& c : t["cases"])
-                if (!c.is_object() || !c.contains("id"))
-                    bad("timings.cases", "an entry without id");
-        }
+    if (!r.contains("provenance") || !r["provenance"].is_object())
+        bad("provenance", "missing or not an object");
+    const json& p = r["provenance"];
+    if (p.contains("shard")) {
+        const json& s = p["shard"];
+        if (!s.is_object()) bad("provenance.shard", "not an object");
+        for (const char* k : {"count", "index"})
+            if (!s.contains(k) || !s[k].is_number_integer() || s[k].get<std::int64_t>() < 1 ||
+                s[k].get<std::int64_t>() > kMaxShards)
+                bad(std::string("provenance.shard.") + k,
+                    "missing or not a count from 1 to " + std::to_string(kMaxShards));
+        if (s["index"].get<std::int64_t>() > s["count"].get<std::int64_t>())
+            bad("provenance.shard.index", "larger than provenance.shard.count");
+        if (!s.contains("selected") || !s["selected"].is_array())
+            bad("provenance.shard.selected", "missing or not an array");
+        for (const auto& id : s["selected"])
+            if (!id.is_string()) bad("provenance.shard.selected", "not an array of ids");
     }
 }
 
-} // namespace
+// What must agree between the reports merged: the build (commit, type) and what was run (the
+// overrides and the selection; for reports that are not shards of one selection, only the
+// overrides and methods, since their cases differ by design).
+std::vector<std::pair<std::string, json>> merge_identity(const json& r, bool sharded) {
+    std::vector<std::pair<std::string, json>> out{
+        {"provenance.build.git_commit", at_path(r, {"provenance", "build", "git_commit"})},
+        {"provenance.build.build_type", at_path(r, {"provenance", "build", "build_type"})},
+        {"provenance.selection.sets", at_path(r, {"provenance", "selection", "sets"})},
+        {"provenance.selection.methods", at_path(r, {"provenance", "selection", "methods"})}};
+    if (sharded)
+        for (const char* k :
+             {"targets", "suites", "filters", "problems", "method_files", "plugins"})
+            out.emplace_back(std::string("provenance.selection.") + k,
+                             at_path(r, {"provenance", "selection", k}));
+    return out;
+}
 
-json merge_reports(const std::vector<json>& reports, const std::vector<std::string>& names,
-                   const json& merge_provenance) {
-    if (reports.empty()) throw InputError("merge: no shard reports given");
-    for (std::size_t i = 0; i < reports.size(); ++i) {
-        const json& r = reports[i];
-        require_mergeable(r, names[i]);
-        if (r.value("schema_version", 0) != kReportSchemaVersion)
-            throw InputError(names[i] +
-                             ": schema_version: " + r.value("schema_version", json()).dump() +
-                             ", expected " + std::to_string(kReportSchemaVersion));
-        if (r["tool"] != reports[0]["tool"])
-            throw InputError(names[i] + ": tool: " + r["tool"].dump() + " differs from " +
-                             names[0] + "'s " + reports[0]["tool"].dump());
-    }
-    auto shard_of = [](const json& r) -> const json* {
-        if (r.contains("provenance") && r["provenance"].contains("shard") &&
-            r["provenance"]["shard"].is_object())
-            return &r["provenance"]["shard"];
-        return nullptr;
-    };
-    // The case order: that of the unsharded selection when the reports are shards of one.
-    std::vector<std::string> order;
+// Each report against the first: schema, tool, then the identity (refused unless allow_mixed;
+// the differences are returned, for the merged provenance's "mixed").
+json check_reports(const std::vector<json>& reports, const std::vector<std::string>& names,
+                   bool allow_mixed) {
+    for (std::size_t i = 0; i < reports.size(); ++i) require_mergeable(reports[i], names[i]);
     const bool sharded = shard_of(reports[0]) != nullptr;
-    if (sharded) {
-        const json& first = *shard_of(reports[0]);
-        const int count = first.value("count", 0);
-        std::map<int, std::string> seen;
-        for (std::size_t i = 0; i < reports.size(); ++i) {
-            const json* s = shard_of(reports[i]);
-            if (!s)
-                throw InputError(names[i] + ": provenance.shard: missing, but " + names[0] +
-                                 " is a shard");
-            if (s->value("count", 0) != count || (*s)["selected"] != first["selected"])
-                throw InputError(names[i] +
-                                 ": provenance.shard: shard of another selection "
-                                 "than " +
-                                 names[0]);
-            const int k = s->value("index", 0);
-            if (seen.count(k))
-                throw InputError(names[i] + ": provenance.shard.index: shard " + std::to_string(k) +
-                                 "/" + std::to_string(count) + " is also " + seen[k]);
-            seen[k] = names[i];
+    const auto first = merge_identity(reports[0], sharded);
+    json mixed = json::array();
+    for (std::size_t i = 1; i < reports.size(); ++i) {
+        const json& r = reports[i];
+        if (r["tool"] != reports[0]["tool"])
+            throw InputError(names[i] + ": tool: " + quote_for_message(r["tool"].dump()) +
+                             " differs from " + names[0] + "'s " +
+                             quote_for_message(reports[0]["tool"].dump()));
+        const auto mine = merge_identity(r, sharded);
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            if (mine[k].second == first[k].second) continue;
+            const std::string what = names[i] + ": " + mine[k].first + ": " +
+                                     quote_for_message(mine[k].second.dump()) + " differs from " +
+                                     names[0] + "'s " + quote_for_message(first[k].second.dump());
+            if (!allow_mixed) throw InputError(what + " (--allow-mixed merges them, and says so)");
+            mixed.push_back(what);
         }
-        for (int k = 1; k <= count; ++k)
-            if (!seen.count(k))
-                throw InputError("merge: shard " + std::to_string(k) + "/" + std::to_string(count) +
-                                 " is missing");
-        for (const auto& id : first["selected"]) order.push_back(id.get<std::string>());
-    } else {
+    }
+    return mixed;
+}
+
+// The case order: that of the unsharded selection when the reports are shards of one, else the
+// reports' cases in turn.
+std::vector<std::string> case_order(const std::vector<json>& reports,
+                                    const std::vector<std::string>& names) {
+    std::vector<std::string> order;
+    if (!shard_of(reports[0])) {
         for (std::size_t i = 0; i < reports.size(); ++i) {
             if (shard_of(reports[i]))
                 throw InputError(names[i] + ": provenance.shard: a shard, but " + names[0] +
                                  " is not");
             for (const auto& c : reports[i]["cases"]) order.push_back(c["id"].get<std::string>());
         }
+        return order;
     }
-    // Case records and their timings, by id.
-    std::map<std::string, std::pair<const json*, const json*>> by_id;
+    const json& first = *shard_of(reports[0]);
+    const auto count = first["count"].get<std::int64_t>();
+    std::map<std::int64_t, std::string> seen;
+    for (std::size_t i = 0; i < reports.size(); ++i) {
+        const json* s = shard_of(reports[i]);
+        if (!s)
+            throw InputError(names[i] + ": provenance.shard: missing, but " + names[0] +
+                             " is a shard");
+        if ((*s)["count"] != first["count"] || (*s)["selected"] != first["selected"])
+            throw InputError(names[i] + ": provenance.shard: shard of another selection than " +
+                             names[0]);
+        const auto k = (*s)["index"].get<std::int64_t>();
+        if (seen.count(k))
+            throw InputError(names[i] + ": provenance.shard.index: shard " + std::to_string(k) +
+                             "/" + std::to_string(count) + " is also " + seen[k]);
+        seen[k] = names[i];
+    }
+    for (std::int64_t k = 1; k <= count; ++k)
+        if (!seen.count(k))
+            throw InputError("merge: shard " + std::to_string(k) + "/" + std::to_string(count) +
+                             " is missing");
+    for (const auto& id : first["selected"]) order.push_back(id.get<std::string>());
+    return order;
+}
+
+// Case records and their timings entries, by id; every id once.
+using CaseRecords = std::map<std::string, std::pair<const json*, const json*>>;
+CaseRecords collect_cases(const std::vector<json>& reports, const std::vector<std::string>& names) {
+    CaseRecords by_id;
     std::map<std::string, std::string> from;
     for (std::size_t i = 0; i < reports.size(); ++i) {
         const json& r = reports[i];
+        const json& tc = r["timings"]["cases"];
         for (std::size_t ci = 0; ci < r["cases"].size(); ++ci) {
             const std::string id = r["cases"][ci]["id"].get<std::string>();
             if (by_id.count(id))
-                throw InputError(names[i] + ": cases: '" + id + "' is also in " + from[id]);
-            const json* t = nullptr;
-            if (r.contains("timings") && r["timings"].contains("cases") &&
-                ci < r["timings"]["cases"].size() && r["timings"]["cases"][ci]["id"] == id)
-                t = &r["timings"]["cases"][ci];
+                throw InputError(names[i] + ": cases: '" + quote_for_message(id) + "' is also in " +
+                                 from[id]);
+            const json* t = ci < tc.size() && tc[ci]["id"] == id ? &tc[ci] : nullptr;
             by_id[id] = {&r["cases"][ci], t};
             from[id] = names[i];
         }
     }
+    return by_id;
+}
+
+} // namespace
+
+json merge_reports(const std::vector<json>& reports, const std::vector<std::string>& names,
+                   const json& merge_provenance, bool allow_mixed) {
+    if (reports.empty()) throw InputError("merge: no shard reports given");
+    const json mixed = check_reports(reports, names, allow_mixed);
+    const std::vector<std::string> order = case_order(reports, names);
+    const CaseRecords by_id = collect_cases(reports, names);
     if (by_id.size() != order.size())
         throw InputError("merge: the shards hold " + std::to_string(by_id.size()) +
                          " cases, their selection " + std::to_string(order.size()));
+    if (order.empty()) throw InputError("merge: the reports hold no case; nothing to merge");
     json cases = json::array(), tcases = json::array();
     for (const auto& id : order) {
         const auto it = by_id.find(id);
-        if (it == by_id.end()) throw InputError("merge: case '" + id + "' is in no shard");
+        if (it == by_id.end())
+            throw InputError("merge: case '" + quote_for_message(id) + "' is in no shard");
         cases.push_back(*it->second.first);
         tcases.push_back(it->second.second ? *it->second.second
                                            : json{{"id", id}, {"runs", json::array()}});
@@ -258,28 +308,31 @@ json merge_reports(const std::vector<json>& reports, const std::vector<std::stri
         const json& r = reports[i];
         json entry = {{"report", names[i]}};
         if (const json* s = shard_of(r)) entry["shard"] = (*s)["index"];
-        if (r.contains("timings") && r["timings"].contains("wall_seconds")) {
-            entry["wall_seconds"] = r["timings"]["wall_seconds"];
-            wall = std::max(wall, r["timings"]["wall_seconds"].get<double>());
-        }
+        entry["wall_seconds"] = r["timings"]["wall_seconds"];
+        wall = std::max(wall, r["timings"]["wall_seconds"].get<double>());
         shards.push_back(entry);
     }
     timings["wall_seconds"] = wall; // the slowest shard: the elapsed time of a parallel run
     timings["shards"] = shards;
-    if (reports[0].contains("timings"))
-        for (const char* k : {"time_budget_seconds", "protocol"})
-            if (reports[0]["timings"].contains(k)) timings[k] = reports[0]["timings"][k];
+    for (const char* k : {"time_budget_seconds", "protocol"})
+        if (reports[0]["timings"].contains(k)) timings[k] = reports[0]["timings"][k];
     json prov = merge_provenance;
     json parts = json::array();
-    for (const auto& r : reports) parts.push_back(r.value("provenance", json::object()));
+    for (const auto& r : reports) parts.push_back(r["provenance"]);
     prov["merged_from"] = parts;
-    json summary = summarize(cases);
-    return {{"schema_version", reports[0]["schema_version"]},
-            {"tool", reports[0]["tool"]},
-            {"summary", summary},
-            {"cases", cases},
-            {"provenance", prov},
-            {"timings", timings}};
+    if (!mixed.empty()) prov["mixed"] = mixed; // --allow-mixed: what differed
+    json merged = {{"schema_version", reports[0]["schema_version"]},
+                   {"tool", reports[0]["tool"]},
+                   {"summary", summarize(cases)},
+                   {"cases", cases},
+                   {"provenance", prov},
+                   {"timings", timings}};
+    for (const auto& r : reports) // a shard stopped by a signal leaves the merged run incomplete
+        if (r.contains("interrupted")) {
+            merged["interrupted"] = r["interrupted"];
+            break;
+        }
+    return merged;
 }
 
 } // namespace dampsym

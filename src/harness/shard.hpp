@@ -21,6 +21,10 @@
 
 namespace dampsym {
 
+// The most shards --shard and the engines' variables may ask for: assign_shards keeps a load per
+// shard, and 999999999 shards once cost 7.5 GB before any case ran.
+constexpr long kMaxShards = 10000;
+
 struct ShardSpec {
     int index = 1; // 1-based
     int count = 1;
@@ -46,10 +50,13 @@ std::vector<double> estimate_costs(const std::vector<std::string>& ids,
                                    const nlohmann::json& measured);
 
 // Merges the report.json of each shard (names: for messages) into one report whose byte-stable
-// part is that of the unsharded run. Throws InputError if a shard is missing, repeated or from
-// another selection or build.
+// part is that of the unsharded run. Throws InputError if a report is malformed (the keys
+// compare_detail::require_current_report checks), holds no case, if a shard is missing or
+// repeated, or if the reports differ in commit, build type, overrides (--set) or selection
+// (--method, --filter, --problem, --suite, case ids); with allow_mixed the last four are allowed
+// and listed in the merged provenance's "mixed". An "interrupted" mark of any report is kept.
 nlohmann::json merge_reports(const std::vector<nlohmann::json>& reports,
                              const std::vector<std::string>& names,
-                             const nlohmann::json& merge_provenance);
+                             const nlohmann::json& merge_provenance, bool allow_mixed = false);
 
 } // namespace dampsym

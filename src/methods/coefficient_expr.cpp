@@ -22,7 +22,9 @@ public:
 
 private:
     [[noreturn]] void error(const std::string& what) const {
-        throw CoefficientExprError("expression \"" + s_ + "\": " + what + " (at character " +
+        // an expression may be megabytes long: the message shows the first 200 characters
+        const std::string shown = s_.size() > 200 ? s_.substr(0, 200) + "…" : s_;
+        throw CoefficientExprError("expression \"" + shown + "\": " + what + " (at character " +
                                    std::to_string(pos_ + 1) + ")");
     }
     void skip() {
