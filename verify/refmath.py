@@ -304,20 +304,37 @@ def integrate(method, prob, h, nsteps, keep=False, blowup=None):
 # ----------------------------------------------------------------------------------------
 # Order fit (conventions §5 "order") with the asymptotic-window rule.
 # ----------------------------------------------------------------------------------------
-def fit_order(dts, errors, floor):
-    """Least-squares slope of log(error) against log(dt) over the asymptotic window.
+def _window_at_finest(local):
+    """First index i of the longest window of local orders local[i:] (>= 2 of them) that ends at
+    the finest step and agrees within max(0.1 |mean|, 0.05) with a mean >= 0.5, or None."""
+    first = None
+    for i in range(len(local) - 2, -1, -1):
+        lo = local[i:]
+        m = lo.mean()
+        if m >= 0.5 and np.all(np.abs(lo - m) <= max(0.1 * abs(m), 0.05)):
+            first = i
+    return first
 
-    1. drop points whose error is not finite, not positive, or <= floor;
-    2. sort by dt descending; local orders between neighbours
-       p_i = log(e_i / e_{i+1}) / log(dt_i / dt_{i+1});
-    3. window = longest contiguous run of >= 3 points whose local orders all lie within
-       max(0.1 |mean|, 0.05) of their mean; ties: smallest spread (max - min), then finer;
+
+def fit_order(dts, errors, floor, solution_scale=math.inf):
+    """Least-squares slope of log(error) against log(dt) over the asymptotic window
+    (docs/conventions.md §5 "order").
+
+    1. drop points whose error is not finite, not positive, <= floor, or >= 0.1 solution_scale
+       (not small against the solution);
+    2. sort by dt descending; local orders p_i = log(e_i / e_{i+1}) / log(dt_i / dt_{i+1});
+    3. the window ENDS at the finest remaining point and reaches as far coarser as the local
+       orders in it agree within max(0.1 |mean|, 0.05) of their mean, mean >= 0.5, >= 3 points;
+       none: the fit fails with status "no convergence at the finest steps" (finest local order
+       < 0.5), "order drops at small h" (below the one before) or "order rises at small h";
     4. slope and R^2 of the least-squares line over the window.
     """
     pts = sorted(((float(d), float(e)) for d, e in zip(dts, errors)
-                  if e is not None and math.isfinite(e) and e > 0.0 and e > floor),
+                  if e is not None and math.isfinite(e) and 0.0 < e and e > floor
+                  and e < 0.1 * solution_scale),
                  key=lambda x: -x[0])
-    out = dict(ok=False, points=len(pts), slope=None, r2=None, window_dt=[], local_orders=[])
+    out = dict(ok=False, status="too few points", points=len(pts), slope=None, r2=None,
+               window_dt=[], local_orders=[])
     if len(pts) < 3:
         out["reason"] = "fewer than 3 usable points (%d)" % len(pts)
         return out
@@ -325,23 +342,18 @@ def fit_order(dts, errors, floor):
     le = np.log([e for _, e in pts])
     local = np.diff(le) / np.diff(ld)
     out["local_orders"] = local.tolist()
-    best = None
-    for i in range(len(pts)):
-        for j in range(i + 2, len(pts)):           # window = points i..j, local orders i..j-1
-            lo = local[i:j]
-            m = lo.mean()
-            if np.all(np.abs(lo - m) <= max(0.1 * abs(m), 0.05)):
-                key = (-(j - i + 1), lo.max() - lo.min(), -i)
-                if best is None or key < best[0]:
-                    best = (key, i, j)
-    if best is None:
-        out["reason"] = "no window with consistent local orders"
+    out["finest_local_order"] = float(local[-1])
+    i = _window_at_finest(local)
+    if i is None:
+        fin, before = local[-1], local[-2]
+        out["status"] = ("no convergence at the finest steps" if fin < 0.5 else
+                         "order drops at small h" if fin < before else "order rises at small h")
+        out["reason"] = "the finest steps' local orders disagree"
         return out
-    _, i, j = best
-    x, y = ld[i:j + 1], le[i:j + 1]
+    x, y = ld[i:], le[i:]
     slope, icept = np.polyfit(x, y, 1)
     ss_res = float(np.sum((y - (slope * x + icept)) ** 2))
     ss_tot = float(np.sum((y - y.mean()) ** 2))
-    out.update(ok=True, slope=float(slope), r2=1.0 - ss_res / ss_tot if ss_tot > 0 else 1.0,
-               window_dt=[d for d, _ in pts[i:j + 1]])
+    out.update(ok=True, status="ok", slope=float(slope),
+               r2=1.0 - ss_res / ss_tot if ss_tot > 0 else 1.0, window_dt=[d for d, _ in pts[i:]])
     return out

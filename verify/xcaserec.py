@@ -28,7 +28,10 @@ CASE_KNOWN = ("id", "problem", "methods", "t0", "t_end", "dt_ladder", "diagnosti
               "checks", "checks_not_run", "reference", "overrides", "measures")
 CASE_NOT_COMPARED = {"title": "free text", "source": "free text", "file": "the path dampsym read (we read "
                      "verify/cases by id)", "no_checks_because": "free text", "figures": "drawing options",
-                     "errors": "exceptions of the C++ tasks (their checks fail; those are compared)"}
+                     "errors": "exceptions of the C++ tasks (their checks fail; those are compared)",
+                     "problem_check": "dampsym's own check of the problem's Jacobians against central "
+                     "differences of its functions (rounding-level numbers; a failure adds a failing check, "
+                     "which is compared)"}
 REF_NOT_COMPARED = ("certifier", "certifier_epsabs", "certifier_epsrel", "epsabs", "epsrel", "stepper", "rhs_evals",
                     "ok", "kind", "error")
 
@@ -145,7 +148,10 @@ def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, T
     floor = max(1000 * EPS * max(1.0, ref_norm), 100 * est)
     dts = sorted(errs, reverse=True)
     es = [errs[d][0] for d in dts]
-    fit = fit_order(dts, es, floor)
+    # errors not small against the solution stay out (conventions §5): the reference's final norm
+    # where it resolves it, for the global fit only
+    scale = ref_norm if kind == "order" and ref_norm > 100 * est else math.inf
+    fit = fit_order(dts, es, floor, scale)
     comps = rec["comparisons"]
     span = math.log(max(dts) / min(dts)) if len(dts) > 1 else 1.0
     dlt = max([errs[d][2] / errs[d][0] for d in dts if errs[d][0] > floor] or [0.0])
@@ -154,6 +160,14 @@ def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, T
     if "status" in theirs:
         t_ok = bool(t_ok) and theirs.get("status") == "ok"
     comps.append(cmp_equal(kind + ".ok", bool(fit["ok"]), bool(t_ok)))
+    if "status" in theirs:
+        comps.append(cmp_equal(kind + ".status", fit["status"], theirs.get("status")))
+    if theirs.get("finest_local_order") is not None and fit.get("finest_local_order") is not None:
+        pts = [d for d in dts if errs[d][0] > floor]
+        lo_band = 2 * dlt / math.log(pts[-2] / pts[-1]) + 1e-6 if len(pts) > 1 else 1e-6
+        comps.append(cmp_abs(kind + ".finest_local_order", fit["finest_local_order"],
+                             theirs.get("finest_local_order"), 0.0, lo_band,
+                             "our errors at the two finest usable steps"))
     window = [float(w) for w in theirs.get("window_dt") or theirs.get("window") or []]
     if theirs.get("slope") is not None:
         if not window:
@@ -179,7 +193,7 @@ def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, T
 def order_known(rec: Dict[str, Any], theirs: Dict[str, Any], kind: str) -> None:
     """Fields of an order fit we compare (above) or deliberately do not."""
     known = {"ok", "slope", "r2", "window_dt", "window", "status", "reason", "points", "local_orders", "floor",
-             "dts", "errors", "intercept", "dropped", "floor_source"}
+             "dts", "errors", "intercept", "dropped", "floor_source", "finest_local_order", "solution_scale"}
     rec["not_compared"] = {k: why for k, why in (
         ("reason", "free text"), ("floor", "the C++ fit's own floor (ours decides the window's validity)"),
         ("points", "how many step sizes the C++ fit used (its window is checked)"),
@@ -187,6 +201,7 @@ def order_known(rec: Dict[str, Any], theirs: Dict[str, Any], kind: str) -> None:
                          "neighbours (see the comparisons), else through the slope"),
         ("errors", "the ladder's errors are compared run by run (error.final_abs)"),
         ("dts", "the ladder (compared with the case file)"), ("intercept", "follows from slope and errors"),
+        ("solution_scale", "the reference's final norm (the reference state is compared)"),
         ("dropped", "step sizes the C++ fit dropped below its own floor (the window's validity is checked "
                     "against ours)"), ("floor_source", "a description string"))
         if k in theirs}
