@@ -101,7 +101,8 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
     // a path without '/' would be searched on the library path: name the file itself
     const std::string open_path = path.find('/') == std::string::npos ? "./" + path : path;
     // dlopen of a FIFO blocks until a writer comes: regular files only
-    if (const auto why = not_regular_reason(open_path, false); !why.empty()) fault(path, why);
+    if (const auto why = not_regular_reason(open_path, false); !why.empty())
+        fault(path, "cannot load the plugin: " + why);
     void* handle = dlopen(open_path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
         const char* err = dlerror();
