@@ -203,6 +203,26 @@ json take_timings(json& out_cases) {
     return cases;
 }
 
+// The report of the finished cases: their records, the summary and the clock-dependent timings
+// (moved out of the records, docs/reports.md).
+json assemble_report(json out_cases, const RunOptions& options, double wall_seconds) {
+    json timings_cases = take_timings(out_cases);
+    mark_refuted_methods(out_cases);
+    json summary = summarize(out_cases);
+    return {{"schema_version", kReportSchemaVersion},
+            {"tool", {{"name", "dampsym"}, {"version", DAMPSYM_VERSION}}},
+            {"cases", std::move(out_cases)},
+            {"summary", std::move(summary)},
+            {"timings",
+             {{"wall_seconds", wall_seconds},
+              {"time_budget_seconds", options.time_budget},
+              {"protocol", "runs: wall time of the measured run (with its observers); timing: "
+                           "one warm-up of the bare step loop, then the minimum of N "
+                           "repetitions, N chosen so they total >= the budget (ladder cases "
+                           "only; failed runs are not timed)"},
+              {"cases", std::move(timings_cases)}}}};
+}
+
 } // namespace
 
 json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
@@ -298,21 +318,7 @@ json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
     if (options.series_sink) // figures hook (issue 14)
         for (std::size_t i = 0; i < jobs.size(); ++i)
             if (prepared[i]) options.series_sink(jobs[i]->series());
-    json timings_cases = take_timings(out_cases);
-    mark_refuted_methods(out_cases);
-    json summary = summarize(out_cases);
-    return {{"schema_version", kReportSchemaVersion},
-            {"tool", {{"name", "dampsym"}, {"version", DAMPSYM_VERSION}}},
-            {"cases", std::move(out_cases)},
-            {"summary", std::move(summary)},
-            {"timings",
-             {{"wall_seconds", seconds_since(start)},
-              {"time_budget_seconds", options.time_budget},
-              {"protocol", "runs: wall time of the measured run (with its observers); timing: "
-                           "one warm-up of the bare step loop, then the minimum of N "
-                           "repetitions, N chosen so they total >= the budget (ladder cases "
-                           "only; failed runs are not timed)"},
-              {"cases", std::move(timings_cases)}}}};
+    return assemble_report(std::move(out_cases), options, seconds_since(start));
 }
 
 } // namespace dampsym
