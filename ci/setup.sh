@@ -8,6 +8,7 @@ packages=(
   python3 python3-numpy python3-scipy python3-mpmath python3-jsonschema python3-junitparser
   python3-matplotlib
   clang-format
+  cmark-gfm # tests/markdown/check_gfm.py: report.md, figures.md as GitHub renders them
   clang-14 libfuzzer-14-dev # ci/fuzz.sh: the libFuzzer targets of tests/fuzz/
 )
 missing=()

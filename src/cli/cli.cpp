@@ -9,6 +9,7 @@
 #include "harness/limits.hpp"
 #include "harness/provenance.hpp"
 #include "harness/report.hpp"
+#include "harness/suggest.hpp"
 
 #include <CLI/CLI.hpp>
 #include <memory>
@@ -106,7 +107,11 @@ int parse_error(const Command (&commands)[N], const CLI::ParseError& e, int argc
         }
         if (a.empty() || a[0] == '-') continue;
         if (!is_command(a)) {
-            err << "dampsym: unknown subcommand '" << brief(a) << "' (known: " << known
+            std::vector<std::string> names;
+            for (const auto& c : commands) names.push_back(c.app->get_name());
+            const std::string hint = did_you_mean(a, names);
+            err << "dampsym: unknown subcommand '" << brief(a) << "'"
+                << (hint.empty() ? "" : "; " + hint) << " (known: " << known
                 << "; dampsym --help)\n";
             return 2;
         }
@@ -119,6 +124,13 @@ int parse_error(const Command (&commands)[N], const CLI::ParseError& e, int argc
 } // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+    // `dampsym help [COMMAND]`, as git and pip have it: the same as `dampsym [COMMAND] --help`
+    if (argc >= 2 && argc <= 3 && std::string(argv[1]) == "help") {
+        std::vector<const char*> args{argv[0]};
+        if (argc == 3) args.push_back(argv[2]);
+        args.push_back("--help");
+        return run_cli(static_cast<int>(args.size()), args.data(), out, err);
+    }
     CliContext ctx{default_cases_dir(), std::vector<std::string>(argv, argv + argc), out, err};
     CLI::App app{"dampsym: verification harness for structure-preserving integrators of damped "
                  "Hamiltonian systems"};
@@ -134,7 +146,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                            "  dampsym compare base/report.json reports/report.json\n"
                            "  dampsym list --suite default\n\n") +
                kExitCodes);
-    app.add_option("--cases", ctx.cases_dir, "directory of case files (default: verify/cases)");
+    app.add_option(
+        "--cases", ctx.cases_dir,
+        "directory of case files (default: $DAMPSYM_CASES, else " + source_dir() +
+            "/verify/cases, the verify/cases of the source tree this binary was built from; the "
+            "report's provenance names the directory used)");
     const Command commands[] = {
         add_list_command(app, ctx),    add_run_command(app, ctx),   add_plot_command(app, ctx),
         add_compare_command(app, ctx), add_merge_command(app, ctx), add_methods_command(app, ctx),

@@ -4,6 +4,7 @@
 #include "harness/case.hpp"
 #include "harness/compare.hpp"
 #include "harness/junit.hpp"
+#include "harness/markdown.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/progress.hpp"
 #include "harness/provenance.hpp"
@@ -101,11 +102,8 @@ void github_step_summary(const json& report, std::ostream& err) {
             if (failing++ == 0) os << "| case | check | result |\n|---|---|---|\n";
             if (shown >= 50) continue;
             ++shown;
-            std::string text = check_text(ck);
-            for (auto& ch : text)
-                if (ch == '|' || ch == '\n') ch = ' ';
-            os << "| " << c["id"].get<std::string>() << " | " << junit_test_name(ck) << " | "
-               << text << " |\n";
+            os << "| " << md_cell(c["id"].get<std::string>()) << " | "
+               << md_cell(junit_test_name(ck)) << " | " << md_cell(check_text(ck)) << " |\n";
         }
     if (failing > shown) os << "\n… and " << failing - shown << " more failing checks.\n";
     // a FIFO would block the open until a reader comes, a device is no summary: regular files

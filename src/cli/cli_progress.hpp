@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <mutex>
 #include <thread>
@@ -13,10 +14,14 @@
 namespace dampsym::cli_detail {
 
 // The progress line on stderr: only when stderr is a terminal, and only once the run has taken
-// more than a second; erased when the run ends.
+// more than a second; erased when the run ends. `on_case` (if set) is called with the record of
+// each case as it finishes, one call at a time, with the progress line erased first, terminal or
+// not (the per-case lines of `dampsym run`, so that a CI log shows each case when it ends).
 class ProgressLine {
 public:
-    explicit ProgressLine(bool enabled) : enabled_(enabled), start_(Clock::now()) {
+    explicit ProgressLine(bool enabled,
+                          std::function<void(const nlohmann::json&)> on_case = nullptr)
+        : enabled_(enabled), on_case_(std::move(on_case)), start_(Clock::now()) {
         if (enabled_) thread_ = std::thread([this] { loop(); });
     }
     ~ProgressLine() { stop(); }
@@ -24,10 +29,15 @@ public:
     ProgressLine& operator=(const ProgressLine&) = delete;
 
     ProgressCallback callback() {
-        if (!enabled_) return {};
+        if (!enabled_ && !on_case_) return {};
         return [this](const RunProgress& p) {
             std::lock_guard<std::mutex> lock(m_);
             state_ = p;
+            state_.finished = nullptr; // valid only during this call
+            if (!p.finished || !on_case_) return;
+            if (shown_) std::cerr << "\r\033[K" << std::flush;
+            shown_ = false;
+            on_case_(*p.finished);
         };
     }
     void stop() {
@@ -65,6 +75,7 @@ private:
         }
     }
     bool enabled_;
+    std::function<void(const nlohmann::json&)> on_case_;
     Clock::time_point start_;
     std::mutex m_;
     std::condition_variable cv_;

@@ -11,6 +11,7 @@
 #include "harness/progress.hpp"
 #include "harness/provenance.hpp"
 #include "harness/report.hpp"
+#include "harness/report_tables.hpp"
 #include "harness/runner.hpp"
 #include "harness/shard.hpp"
 
@@ -67,20 +68,65 @@ void check_output_options(const OutputOptions& o) {
                          ", which --figures writes");
 }
 
-// Writes the reports and prints the summary; returns the exit status of the checks.
-int finish_report(const json& report, const OutputOptions& o, std::ostream& out,
+// Writes the reports and prints the summary; returns the exit status of the checks. `streamed`:
+// the case lines were printed as the cases finished (run), so only the failing ones are
+// repeated here, in case order; else (merge) every case's line is printed. -q prints every
+// failing check (at most 50) and the totals.
+int finish_report(const json& report, const OutputOptions& o, bool streamed, std::ostream& out,
                   std::ostream& err) {
     write_reports(report, o.out_dir);
     if (!o.junit.empty()) write_file_atomic(o.junit, render_junit(report));
     if (o.annotations == "github") github_annotations(report, out);
     github_step_summary(report, err);
     if (o.quiet) {
-        out << render_totals(report);
+        out << render_failed_checks(report, 50) << render_totals(report);
+    } else if (!streamed) {
+        out << render_summary(report);
     } else {
-        out << render_summary(report) << "Reports: " << o.out_dir << "/report.json, " << o.out_dir
-            << "/report.md" << (o.junit.empty() ? "" : ", " + o.junit) << "\n";
+        const json& cases = report["cases"];
+        if (report["summary"]["failed_cases"].get<std::int64_t>() > 0) {
+            out << "\nFailed cases (report.md lists every check):\n";
+            for (std::size_t i = 0; i < cases.size(); ++i)
+                if (!report_detail::case_passed(cases[i]))
+                    out << render_case_line(cases[i], json());
+        }
+        out << render_totals(report);
     }
+    if (!o.quiet)
+        out << "Reports: " << o.out_dir << "/report.json, " << o.out_dir << "/report.md"
+            << (o.junit.empty() ? "" : ", " + o.junit) << "\n";
     return report["summary"]["checks_failed"].get<std::int64_t>() == 0 ? 0 : 1;
+}
+
+// The line of a case as it finishes (-q: failing cases only), flushed at once, so that a log
+// that is not a terminal shows it then, not at the end of the run.
+std::function<void(const json&)> case_line_printer(const OutputOptions& o, std::ostream& out) {
+    return [&o, &out](const json& c) {
+        if (o.quiet && report_detail::case_passed(c)) return;
+        double seconds = 0.0;
+        for (const auto& r : c["runs"])
+            if (r.contains("wall_seconds")) seconds += r["wall_seconds"].get<double>();
+        out << render_case_line(c, seconds) << std::flush;
+    };
+}
+
+// The cases directory in use when it is not ./verify/cases although that exists (a run from
+// another checkout than the binary's source tree reads the binary's cases, not the ones here).
+void note_other_cases_dir(const std::string& cases_dir, std::ostream& err) {
+    std::error_code ec;
+    const fs::path here = fs::path("verify") / "cases";
+    if (!fs::is_directory(here, ec) || fs::equivalent(here, cases_dir, ec)) return;
+    err << "note: cases from " << cases_dir << " (--cases, DAMPSYM_CASES or this binary's source "
+        << "tree), not ./verify/cases; give --cases verify/cases to run those\n";
+}
+
+// The shard in use, and where it came from (--shard or a CI engine's variables).
+void print_shard(const Selected& selected, const OutputOptions& o, std::ostream& out) {
+    if (!selected.shard || o.quiet) return;
+    out << "shard " << selected.shard->index << "/" << selected.shard->count << " (from "
+        << selected.shard->source << "): " << selected.cases.size() << " of "
+        << selected.all_ids.size() << " selected cases\n"
+        << std::flush;
 }
 
 int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_budget,
@@ -96,6 +142,8 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
         if (const std::string e = figure_dirs_error(o.out_dir); !e.empty()) throw OutputError(e);
     // memory limit (the grid is stored with --figures), SIGINT/SIGTERM (harness/limits.hpp)
     before_run(selected.cases, jobs, limits, o.figures);
+    print_shard(selected, o, out);
+    note_other_cases_dir(cases_dir, err);
     for (const auto& c : selected.cases) {
         const double secs = case_predicted_seconds(c);
         if (secs < 10.0) continue;
@@ -110,7 +158,8 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     json report;
     std::vector<std::string> output_errors; // streaming outputs that failed (limits.hpp)
     {
-        ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1);
+        ProgressLine progress(!o.quiet && &err == &std::cerr && isatty(STDERR_FILENO) == 1,
+                              case_line_printer(o, out));
         RunOptions ro;
         ro.jobs = jobs;
         ro.time_budget = time_budget;
@@ -121,6 +170,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     }
     if (!output_errors.empty()) report["output_errors"] = output_errors; // issue 17
     report["provenance"] = make_provenance(command_line, jobs, start);
+    report["provenance"]["cases_dir"] = fs::absolute(cases_dir).lexically_normal().string();
     // what was run, so that merge refuses shards of different selections or overrides
     report["provenance"]["selection"] = {
         {"targets", sel.targets}, {"suites", sel.suites},
@@ -133,7 +183,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                          {"source", selected.shard->source},
                                          {"selected", selected.all_ids}};
     mark_interrupted(report);
-    const int status = exit_status_after_run(finish_report(report, o, out, err));
+    const int status = exit_status_after_run(finish_report(report, o, true, out, err));
     if (!output_errors.empty()) { // issue 17: the report is written; the outputs are not
         for (const auto& e : output_errors) err << "dampsym: " << e << "\n";
         return 3;
@@ -167,7 +217,7 @@ int cmd_merge(const std::string& out_dir, const std::vector<std::string>& inputs
     OutputOptions mo = o;
     mo.out_dir = out_dir;
     mo.junit = out_dir + "/junit.xml";
-    const int status = finish_report(merged, mo, out, err);
+    const int status = finish_report(merged, mo, false, out, err);
     if (merged.contains("interrupted")) { // a shard stopped by a signal: the merge is incomplete
         err << "dampsym: merge: a shard was interrupted ("
             << merged["interrupted"].value("signal", "") << "); the merged report is incomplete\n";

@@ -13,6 +13,7 @@
 #include "harness/report.hpp"
 #include "harness/runner.hpp"
 #include "harness/shard.hpp"
+#include "harness/suggest.hpp"
 #include "methods/coefficient_checks.hpp"
 
 #include <algorithm>
@@ -243,7 +244,11 @@ std::vector<std::string> selected_paths(const Selection& sel, const std::string&
             if (!valid_case_id(t))
                 throw InputError(brief(t) + ": not a case id (ids are made of A-Z a-z 0-9 . _ -) "
                                             "and not a .json file");
-            throw InputError(t + ": no case with this id in " + cases_dir);
+            std::vector<std::string> ids;
+            for (const auto& f : files) ids.push_back(f.id);
+            const std::string hint = did_you_mean(t, ids);
+            throw InputError(t + ": no case with this id in " + cases_dir +
+                             (hint.empty() ? "" : "; " + hint));
         }
     }
     return paths;

@@ -1,6 +1,7 @@
 // The checks ("expect") and measures of a case (docs/case-keys.md).
 #include "harness/case_job.hpp"
 #include "harness/case_util.hpp"
+#include "harness/suggest.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -229,9 +230,15 @@ void parse_expect(const json& ej, const ProblemInfo& problem, const std::string&
             for (const auto& m : c.measures) names.push_back(m.name);
         if (std::find(names.begin(), names.end(), cs.metric.substr(dot + 1)) == names.end()) {
             std::string list;
-            for (const auto& n : names) list += (list.empty() ? "" : ", ") + diag + "." + n;
+            std::vector<std::string> full;
+            for (const auto& n : names) {
+                list += (list.empty() ? "" : ", ") + diag + "." + n;
+                full.push_back(diag + "." + n);
+            }
+            const std::string hint = did_you_mean(cs.metric, full);
             fail(file, base + ".metric",
-                 "unknown metric '" + brief(cs.metric) + "' (known: " + list + ")");
+                 "unknown metric '" + brief(cs.metric) + "'" + (hint.empty() ? "" : "; " + hint) +
+                     " (known: " + list + ")");
         }
         parse_check_methods(cj, c, diag, file, base, cs);
         int ops = 0;

@@ -3,6 +3,7 @@
 // --set KEY=VALUE overrides.
 #include "harness/case.hpp"
 #include "harness/case_util.hpp"
+#include "harness/json_file.hpp"
 #include "harness/limits.hpp"
 
 #include <cerrno>
@@ -58,6 +59,10 @@ public:
         if (what.size() > 200) what = what.substr(0, 200) + "...";
         error_ = source_ + ": malformed JSON at byte " + std::to_string(position) +
                  (frames_.empty() ? "" : " (in " + path() + ")") + ": " + what;
+        // a comment is the commonest such error in a hand-written file
+        if (!last_token.empty() && last_token.back() == '/')
+            error_ += "; comments (// or /* */) are not JSON: remove them (a case file can say "
+                      "what it means in \"notes\")";
         return false;
     }
 
@@ -158,17 +163,21 @@ json parse_json_checked(const std::string& text, const std::string& source) {
 }
 
 json read_case_json(const std::string& path) {
+    return read_json_file(path, "case file");
+}
+
+json read_json_file(const std::string& path, const std::string& kind) {
     // O_NONBLOCK: opening a FIFO must not wait for a writer; fstat then rejects it.
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0)
-        throw InputError(brief(path) + ": cannot open case file (" + std::strerror(errno) + ")");
+        throw InputError(brief(path) + ": cannot open " + kind + " (" + std::strerror(errno) + ")");
     struct Closer {
         int fd;
         ~Closer() { ::close(fd); }
     } closer{fd};
     struct stat st {};
     if (::fstat(fd, &st) != 0)
-        throw InputError(brief(path) + ": cannot stat case file (" + std::strerror(errno) + ")");
+        throw InputError(brief(path) + ": cannot stat " + kind + " (" + std::strerror(errno) + ")");
     if (!S_ISREG(st.st_mode)) {
         const char* kind = S_ISDIR(st.st_mode)    ? "a directory"
                            : S_ISFIFO(st.st_mode) ? "a FIFO"
@@ -176,10 +185,10 @@ json read_case_json(const std::string& path) {
                            : S_ISBLK(st.st_mode)  ? "a block device"
                            : S_ISSOCK(st.st_mode) ? "a socket"
                                                   : "not a regular file";
-        throw InputError(brief(path) + ": a case file must be a regular file; this is " + kind);
+        throw InputError(brief(path) + ": a " + kind + " must be a regular file; this is " + kind);
     }
     const auto too_big = [&] {
-        return InputError(brief(path) + ": case file larger than " +
+        return InputError(brief(path) + ": " + kind + " larger than " +
                           std::to_string(limits::max_file_bytes >> 20) + " MiB");
     };
     if (static_cast<std::uintmax_t>(st.st_size) > limits::max_file_bytes) throw too_big();
@@ -190,7 +199,7 @@ json read_case_json(const std::string& path) {
         const ssize_t got = ::read(fd, buf, sizeof buf);
         if (got < 0) {
             if (errno == EINTR) continue;
-            throw InputError(brief(path) + ": cannot read case file (" + std::strerror(errno) +
+            throw InputError(brief(path) + ": cannot read " + kind + " (" + std::strerror(errno) +
                              ")");
         }
         if (got == 0) break;

@@ -8,6 +8,7 @@
 #include "harness/limits.hpp"
 #include "harness/method_files.hpp"
 #include "harness/problem_info.hpp"
+#include "harness/suggest.hpp"
 #include "methods/runtime_methods.hpp"
 
 #include <algorithm>
@@ -30,9 +31,15 @@ const ProblemInfo* parse_problem(const json& j, const std::string& file, CaseSpe
     const ProblemInfo* prob = find_problem(c.problem_id);
     if (!prob) {
         std::string list;
-        for (const auto& p : problem_catalog()) list += (list.empty() ? "" : ", ") + p.id;
+        std::vector<std::string> ids;
+        for (const auto& p : problem_catalog()) {
+            list += (list.empty() ? "" : ", ") + p.id;
+            ids.push_back(p.id);
+        }
+        const std::string hint = did_you_mean(c.problem_id, ids);
         fail(file, "problem.id",
-             "unknown problem '" + brief(c.problem_id) + "' (known: " + list + ")");
+             "unknown problem '" + brief(c.problem_id) + "'" + (hint.empty() ? "" : "; " + hint) +
+                 " (known: " + list + ")");
     }
     std::set<std::string> allowed{"id"};
     for (const auto& ps : prob->params) {
@@ -128,11 +135,14 @@ void parse_methods(const json& j, const std::string& file, CaseSpec& c) {
         const std::string m = string_of(j["methods"][i], file, key);
         if (!find_method(m)) {
             std::string list;
-            for (const auto& mi : method_catalog())
-                list += (list.empty() ? "" : ", ") + std::string(mi.id);
-            for (const MethodInfo* mi : loaded_methods()) // method files (issue 18)
-                list += ", " + std::string(mi->id);
-            fail(file, key, "unknown method '" + brief(m) + "' (known: " + list + ")");
+            std::vector<std::string> ids;
+            for (const auto& mi : method_catalog()) ids.emplace_back(mi.id);
+            for (const MethodInfo* mi : loaded_methods()) ids.emplace_back(mi->id); // files
+            for (const auto& id : ids) list += (list.empty() ? "" : ", ") + id;
+            const std::string hint = did_you_mean(m, ids);
+            fail(file, key,
+                 "unknown method '" + brief(m) + "'" + (hint.empty() ? "" : "; " + hint) +
+                     " (known: " + list + ")");
         }
         if (std::find(c.methods.begin(), c.methods.end(), m) != c.methods.end())
             fail(file, key, "method '" + m + "' listed twice");
@@ -209,7 +219,11 @@ void parse_diagnostics(const json& j, const std::string& file, CaseSpec& c,
             if (std::find(known.begin(), known.end(), d) == known.end()) {
                 std::string list;
                 for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-                fail(file, key, "unknown diagnostic '" + brief(d) + "' (known: " + list + ")");
+                const std::string hint =
+                    did_you_mean(d, std::vector<std::string>(known.begin(), known.end()));
+                fail(file, key,
+                     "unknown diagnostic '" + brief(d) + "'" + (hint.empty() ? "" : "; " + hint) +
+                         " (known: " + list + ")");
             }
             if (c.wants(d)) fail(file, key, "diagnostic '" + d + "' listed twice");
             c.diagnostics.push_back(d);
@@ -332,7 +346,8 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
               {"id", "title", "source", "suites", "problem", "methods", "t0", "t_end", "dt",
                "dt_ladder", "diagnostics", "output_dt", "expect", "stability_sweep", "reference",
                "notes", "measures", "no_checks_because", "timeout_seconds", "figures",
-               "method_files"},
+               "method_files",
+               "$schema"}, // what an editor adds to use schema/case.schema.json; not read
               file, "");
     // clang-format on
     validate_limit_keys(j, file); // issue 17: timeout_seconds (src/harness/limits.hpp)

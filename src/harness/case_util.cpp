@@ -1,4 +1,5 @@
 #include "harness/case_util.hpp"
+#include "harness/suggest.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -45,7 +46,10 @@ void only_keys(const json& obj, const std::set<std::string>& allowed, const std:
         if (!allowed.count(it.key())) {
             std::string list;
             for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-            fail(file, prefix + brief(it.key()), "unknown key (allowed: " + list + ")");
+            const std::string hint =
+                did_you_mean(it.key(), std::vector<std::string>(allowed.begin(), allowed.end()));
+            fail(file, prefix + brief(it.key()),
+                 "unknown key" + (hint.empty() ? "" : "; " + hint) + " (allowed: " + list + ")");
         }
     }
 }

@@ -2,6 +2,7 @@
 
 #include "harness/case.hpp"
 #include "harness/compare_input.hpp"
+#include "harness/markdown.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -239,11 +240,12 @@ json total_wall(const json& r) {
     return nullptr;
 }
 
+// A value for a person: numbers to 6 significant digits (the JSON has them in full).
 std::string fmt(const json& v) {
     if (v.is_null()) return "—";
     if (v.is_number_float()) {
         char buf[40];
-        std::snprintf(buf, sizeof buf, "%.17g", v.get<double>());
+        std::snprintf(buf, sizeof buf, "%.6g", v.get<double>());
         return buf;
     }
     std::string s = v.dump();
@@ -251,10 +253,131 @@ std::string fmt(const json& v) {
     return s;
 }
 
-std::string md_cell(std::string s) {
-    std::string out;
-    for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
-    return out;
+// The signed relative change (new − base)/|base| of two numbers, "" otherwise.
+std::string relative_change(const json& r) {
+    if (!r["base"].is_number() || !r["new"].is_number()) return "";
+    const double a = r["base"].get<double>(), b = r["new"].get<double>();
+    char buf[40];
+    if (a == 0.0) return b == 0.0 ? "0" : "from 0";
+    std::snprintf(buf, sizeof buf, "%+.3g", (b - a) / std::abs(a));
+    return buf;
+}
+
+bool is_flip(const json& r, bool to_pass) {
+    return r["kind"] == "check flipped" && r["new"] == json(to_pass);
+}
+
+bool is_membership(const std::string& kind) {
+    for (const char* k :
+         {"case added", "case removed", "check added", "check removed", "run added", "run removed"})
+        if (kind == k) return true;
+    return false;
+}
+
+// Verdict flips (pass → fail first), then cases, runs and checks added or removed.
+void flips_and_membership(std::ostringstream& os, const json& rows) {
+    for (const bool to_pass : {false, true}) {
+        bool any = false;
+        for (const auto& r : rows) {
+            if (!is_flip(r, to_pass)) continue;
+            if (!any)
+                os << (to_pass ? "\n## Checks that now pass (fail → pass)\n\n"
+                               : "\n## Checks that now fail (pass → fail)\n\n")
+                   << "| case | check | base value | new value |\n|---|---|---|---|\n";
+            any = true;
+            os << "| " << md_cell(r["case"].get<std::string>()) << " | "
+               << md_cell(r["path"].get<std::string>()) << " | "
+               << md_cell(fmt(r.value("base_value", json()))) << " | "
+               << md_cell(fmt(r.value("new_value", json()))) << " |\n";
+        }
+    }
+    bool any = false;
+    for (const auto& r : rows) {
+        const std::string kind = r["kind"].get<std::string>();
+        if (!is_membership(kind)) continue;
+        if (!any) os << "\n## Added or removed\n\n| case | what | name |\n|---|---|---|\n";
+        any = true;
+        const std::string name = kind.rfind("run", 0) == 0 && r["run"].is_string()
+                                     ? r["run"].get<std::string>()
+                                     : r["path"].get<std::string>();
+        os << "| " << md_cell(r["case"].get<std::string>()) << " | " << kind << " | "
+           << md_cell(name) << " |\n";
+    }
+}
+
+// Every other change: changes that are not numbers (a status, a string) first, then numbers by
+// their relative change, largest first.
+void value_changes(std::ostringstream& os, const json& rows) {
+    std::vector<const json*> values;
+    for (const auto& r : rows)
+        if (r["kind"] != "check flipped" && !is_membership(r["kind"].get<std::string>()))
+            values.push_back(&r);
+    if (values.empty()) return;
+    auto rank = [](const json* r) {
+        return r->contains("rel_diff") ? (*r)["rel_diff"].get<double>() : HUGE_VAL;
+    };
+    std::stable_sort(values.begin(), values.end(),
+                     [&](const json* a, const json* b) { return rank(a) > rank(b); });
+    os << "\n## Values changed (largest relative change first)\n\n"
+          "| case | run | kind | path | base | new | relative change |\n"
+          "|---|---|---|---|---|---|---|\n";
+    const std::size_t limit = 500;
+    for (std::size_t i = 0; i < values.size() && i < limit; ++i) {
+        const json& r = *values[i];
+        os << "| " << md_cell(r["case"].get<std::string>()) << " | "
+           << (r["run"].is_null() ? "" : md_cell(r["run"].get<std::string>())) << " | "
+           << r["kind"].get<std::string>() << " | `" << md_cell(r["path"].get<std::string>())
+           << "` | " << md_cell(fmt(r["base"])) << " | " << md_cell(fmt(r["new"])) << " | "
+           << relative_change(r) << " |\n";
+    }
+    if (values.size() > limit)
+        os << "\n… " << values.size() - limit << " more rows (see --json).\n";
+}
+
+// The one-line count that leads: flips, then membership, then values.
+void change_counts(std::ostringstream& os, const json& rows) {
+    std::size_t to_fail = 0, to_pass = 0, membership = 0, values = 0;
+    for (const auto& r : rows) {
+        if (is_flip(r, false))
+            ++to_fail;
+        else if (is_flip(r, true))
+            ++to_pass;
+        else if (is_membership(r["kind"].get<std::string>()))
+            ++membership;
+        else
+            ++values;
+    }
+    os << "**" << rows.size() << " changes**: " << to_fail << " checks pass → fail, " << to_pass
+       << " fail → pass, " << membership << " cases, runs or checks added or removed, " << values
+       << " values changed.\n";
+}
+
+// Wall times (information only): the largest slowdowns and the largest speed-ups, apart.
+void timing_tables(std::ostringstream& os, const json& t) {
+    os << "\n## Timings (information only)\n\nTotal wall " << fmt(t["base_wall_seconds"]) << " s → "
+       << fmt(t["new_wall_seconds"]) << " s.\n";
+    std::vector<const json*> slower, faster;
+    for (const auto& c : t["cases"]) { // sorted by ratio, largest first
+        if (!c["ratio"].is_number()) continue;
+        if (c["ratio"].get<double>() > 1.0) slower.push_back(&c);
+        if (c["ratio"].get<double>() < 1.0) faster.insert(faster.begin(), &c);
+    }
+    auto table = [&](const char* title, const std::vector<const json*>& list) {
+        if (list.empty()) return;
+        os << "\n"
+           << title << " of the runs' wall time:\n\n"
+           << "| case | base s | new s | ratio |\n|---|---|---|---|\n";
+        for (std::size_t i = 0; i < list.size() && i < 5; ++i) {
+            char line[64];
+            std::snprintf(line, sizeof line, " | %.3g | %.3g | %.3g |\n",
+                          (*list[i])["base_seconds"].get<double>(),
+                          (*list[i])["new_seconds"].get<double>(),
+                          (*list[i])["ratio"].get<double>());
+            os << "| " << md_cell((*list[i])["case"].get<std::string>()) << line;
+        }
+    };
+    table("Largest slowdowns (ratio > 1)", slower);
+    table("Largest speed-ups (ratio < 1)", faster);
 }
 
 } // namespace
@@ -332,45 +455,11 @@ std::string render_compare_markdown(const json& result) {
     if (rows.empty()) {
         os << "**No change**: every final state, metric, order fit and check verdict agrees.\n";
     } else {
-        os << "**" << rows.size() << " changes**:";
-        for (auto it = result["counts"].begin(); it != result["counts"].end(); ++it)
-            os << " " << it.key() << " " << it.value();
-        os << ".\n\n| case | run | kind | path | base | new | rel diff |\n"
-              "|---|---|---|---|---|---|---|\n";
-        const std::size_t limit = 500;
-        for (std::size_t i = 0; i < rows.size() && i < limit; ++i) {
-            const json& r = rows[i];
-            os << "| " << md_cell(r["case"].get<std::string>()) << " | "
-               << (r["run"].is_null() ? "" : md_cell(r["run"].get<std::string>())) << " | "
-               << r["kind"].get<std::string>() << " | `" << md_cell(r["path"].get<std::string>())
-               << "` | " << md_cell(fmt(r["base"])) << " | " << md_cell(fmt(r["new"])) << " | "
-               << (r.contains("rel_diff") ? fmt(r["rel_diff"]) : "") << " |\n";
-        }
-        if (rows.size() > limit)
-            os << "\n… " << rows.size() - limit << " more rows (see --json).\n";
+        change_counts(os, rows);
+        flips_and_membership(os, rows);
+        value_changes(os, rows);
     }
-    if (result.contains("timings")) {
-        const json& t = result["timings"];
-        os << "\nTimings (information only): total wall " << fmt(t["base_wall_seconds"]) << " s → "
-           << fmt(t["new_wall_seconds"]) << " s.";
-        if (!t["cases"].empty()) {
-            os << " Largest slowdowns of the runs' wall time:\n\n| case | base s | new s | "
-                  "ratio |\n|---|---|---|---|\n";
-            for (std::size_t i = 0; i < t["cases"].size() && i < 5; ++i) {
-                const json& c = t["cases"][i];
-                char line[256];
-                std::snprintf(line, sizeof line, "| %s | %.3g | %.3g | %s |\n",
-                              c["case"].get<std::string>().c_str(), c["base_seconds"].get<double>(),
-                              c["new_seconds"].get<double>(),
-                              c["ratio"].is_number()
-                                  ? (std::to_string(c["ratio"].get<double>()).substr(0, 5)).c_str()
-                                  : "—");
-                os << line;
-            }
-        } else {
-            os << "\n";
-        }
-    }
+    if (result.contains("timings")) timing_tables(os, result["timings"]);
     return os.str();
 }
 

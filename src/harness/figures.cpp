@@ -14,6 +14,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <set>
 #include <spawn.h>
@@ -247,6 +248,10 @@ int make_figures(const std::string& dir, int jobs, const std::string& formats, s
         err << "dampsym: " << script.string() << ": figure script not found\n";
         return 3;
     }
+    // what dampsym printed so far comes before the script's lines (a CI log is a pipe, where
+    // std::cout is buffered; the script writes to the same descriptors)
+    std::cout.flush();
+    std::cerr.flush();
     err.flush();
     std::string error;
     const int st = run_in_own_group({python, script.string(), dir, "--jobs",

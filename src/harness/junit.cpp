@@ -86,6 +86,64 @@ bool is_error(const json& ck) {
     return m.rfind("run ", 0) == 0 || m.rfind("reference failed", 0) == 0;
 }
 
+// The <failure> (a check out of tolerance) or <error> (its run or reference failed) of a check.
+std::string failure_xml(const json& c, const json& ck) {
+    const std::string what = "metric " + ck["metric"].get<std::string>() + ": value " +
+                             junit_num(ck["value"]) + ", expected " + expected_text(ck);
+    std::ostringstream detail;
+    detail << "check: " << ck["name"].get<std::string>()
+           << (ck.value("negative_control", false) ? " (negative control)" : "")
+           << "\nmethod: " << ck["method"].get<std::string>();
+    if (ck.contains("dt")) detail << "\ndt: " << junit_num(ck["dt"]);
+    detail << "\nmetric: " << ck["metric"].get<std::string>()
+           << "\nvalue: " << junit_num(ck["value"]) << "\nexpected: " << expected_text(ck);
+    if (ck.contains("tolerance")) detail << "\ntolerance: " << junit_num(ck["tolerance"]);
+    if (ck.contains("message")) detail << "\nmessage: " << ck["message"].get<std::string>();
+    if (ck.contains("note")) detail << "\nnote: " << ck["note"].get<std::string>();
+    if (!c.value("source", std::string()).empty())
+        detail << "\nsource: " << c["source"].get<std::string>();
+    if (is_error(ck))
+        return "      <error type=\"run-failed\" message=\"" +
+               xml(ck["message"].get<std::string>()) + "\">" + xml(detail.str()) + "</error>\n";
+    return "      <failure type=\"check-failed\" message=\"" + xml(what) + "\">" +
+           xml(detail.str()) + "</failure>\n";
+}
+
+// The wall time of the runs a check reads: the run of its method and dt, or (a check across the
+// step sizes, or of the method as a whole) every run of its method; 0 when none is timed.
+double check_seconds(const json& report, std::size_t ci, const json& ck) {
+    const json& runs = report["cases"][ci]["runs"];
+    double sum = 0.0;
+    for (std::size_t ri = 0; ri < runs.size(); ++ri) {
+        if (runs[ri]["method"] != ck["method"]) continue;
+        if (ck.contains("dt") && runs[ri]["dt"] != ck["dt"]) continue;
+        if (const json* rt = run_timing(report, ci, ri); rt && rt->contains("wall_seconds"))
+            sum += (*rt)["wall_seconds"].get<double>();
+    }
+    return sum;
+}
+
+// The suite's timestamp (JUnit: ISO 8601 without a zone; the run's start, UTC) and host name,
+// from the report's provenance (a merged report: its first shard's).
+std::string suite_attributes(const json& report) {
+    const json none = json::object();
+    const json& p = report.contains("provenance") ? report["provenance"] : none;
+    const json& src = p.contains("host") || !p.contains("merged_from") ||
+                              !p["merged_from"].is_array() || p["merged_from"].empty() ||
+                              !p["merged_from"][0].is_object()
+                          ? p
+                          : p["merged_from"][0];
+    std::string stamp = src.value("start_utc", p.value("start_utc", std::string()));
+    if (!stamp.empty() && stamp.back() == 'Z') stamp.pop_back();
+    std::string host = "unknown";
+    if (src.contains("host") && src["host"].is_object() && src["host"].contains("hostname") &&
+        src["host"]["hostname"].is_string())
+        host = src["host"]["hostname"].get<std::string>();
+    std::string out = " hostname=\"" + xml(host) + "\"";
+    if (!stamp.empty()) out += " timestamp=\"" + xml(stamp) + "\"";
+    return out;
+}
+
 } // namespace
 
 std::string junit_test_name(const json& ck) {
@@ -100,8 +158,8 @@ void skipped_testcases(std::ostringstream& body, const json& c, const std::strin
     if (!c.contains("checks_not_run")) return;
     for (const auto& ck : c["checks_not_run"])
         body << "    <testcase classname=\"" << xml(id) << "\" name=\"" << xml(junit_test_name(ck))
-             << "\">\n      <skipped message=\"" << xml(ck.value("reason", std::string()))
-             << "\"/>\n    </testcase>\n";
+             << "\" time=\"0.000000\">\n      <skipped message=\""
+             << xml(ck.value("reason", std::string())) << "\"/>\n    </testcase>\n";
 }
 
 std::string render_junit(const json& report) {
@@ -112,6 +170,7 @@ std::string render_junit(const json& report) {
     double total_time = 0.0;
     const bool timed = report.contains("timings") && report["timings"].contains("wall_seconds");
     if (timed) total_time = report["timings"]["wall_seconds"].get<double>();
+    const std::string attributes = suite_attributes(report);
     for (std::size_t ci = 0; ci < report["cases"].size(); ++ci) {
         const json& c = report["cases"][ci];
         std::int64_t t = 0, f = 0, e = 0;
@@ -136,7 +195,7 @@ std::string render_junit(const json& report) {
         const std::string id = c["id"].get<std::string>();
         body << "  <testsuite name=\"" << xml(id) << "\" tests=\"" << t << "\" failures=\"" << f
              << "\" errors=\"" << e << "\" skipped=\"" << s << "\" time=\"" << seconds(case_time)
-             << "\">\n    <properties>\n";
+             << "\"" << attributes << ">\n    <properties>\n";
         auto property = [&](const char* name, const std::string& value) {
             body << "      <property name=\"" << name << "\" value=\"" << xml(value) << "\"/>\n";
         };
@@ -147,32 +206,13 @@ std::string render_junit(const json& report) {
         body << "    </properties>\n";
         for (const auto& ck : c["checks"]) {
             body << "    <testcase classname=\"" << xml(id) << "\" name=\""
-                 << xml(junit_test_name(ck)) << "\"";
+                 << xml(junit_test_name(ck)) << "\" time=\""
+                 << seconds(check_seconds(report, ci, ck)) << "\"";
             if (ck["passed"].get<bool>()) {
                 body << "/>\n";
                 continue;
             }
-            const std::string what = "metric " + ck["metric"].get<std::string>() + ": value " +
-                                     junit_num(ck["value"]) + ", expected " + expected_text(ck);
-            std::ostringstream detail;
-            detail << "check: " << ck["name"].get<std::string>()
-                   << (ck.value("negative_control", false) ? " (negative control)" : "")
-                   << "\nmethod: " << ck["method"].get<std::string>();
-            if (ck.contains("dt")) detail << "\ndt: " << junit_num(ck["dt"]);
-            detail << "\nmetric: " << ck["metric"].get<std::string>()
-                   << "\nvalue: " << junit_num(ck["value"]) << "\nexpected: " << expected_text(ck);
-            if (ck.contains("tolerance")) detail << "\ntolerance: " << junit_num(ck["tolerance"]);
-            if (ck.contains("message")) detail << "\nmessage: " << ck["message"].get<std::string>();
-            if (ck.contains("note")) detail << "\nnote: " << ck["note"].get<std::string>();
-            if (!c.value("source", std::string()).empty())
-                detail << "\nsource: " << c["source"].get<std::string>();
-            if (is_error(ck))
-                body << ">\n      <error type=\"run-failed\" message=\""
-                     << xml(ck["message"].get<std::string>()) << "\">" << xml(detail.str())
-                     << "</error>\n    </testcase>\n";
-            else
-                body << ">\n      <failure type=\"check-failed\" message=\"" << xml(what) << "\">"
-                     << xml(detail.str()) << "</failure>\n    </testcase>\n";
+            body << ">\n" << failure_xml(c, ck) << "    </testcase>\n";
         }
         skipped_testcases(body, c, id);
         body << "  </testsuite>\n";

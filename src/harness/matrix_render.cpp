@@ -1,5 +1,6 @@
 // The method × property matrix, the rendering: the matrix JSON (judge_matrix) as a Markdown table
 // with its legend and criteria (docs/matrix.md; the README's table is this output).
+#include "harness/markdown.hpp"
 #include "harness/matrix.hpp"
 
 #include <cstdio>
@@ -63,7 +64,8 @@ using json = nlohmann::json;
 std::string render_matrix_markdown(const json& matrix) {
     std::ostringstream md;
     md << "| method | order | claims |";
-    for (const auto& p : matrix["properties"]) md << " " << p["header"].get<std::string>() << " |";
+    for (const auto& p : matrix["properties"])
+        md << " " << md_cell(p["header"].get<std::string>()) << " |";
     md << "\n|---|---|---|";
     for (std::size_t i = 0; i < matrix["properties"].size(); ++i) md << "---|";
     md << "\n";
@@ -71,11 +73,12 @@ std::string render_matrix_markdown(const json& matrix) {
         std::string claims;
         for (const auto& w : m["claims"])
             claims += (claims.empty() ? "" : ", ") + w.get<std::string>();
-        md << "| " << m["id"].get<std::string>() << (m["built_in"].get<bool>() ? "" : " (loaded)")
-           << " | " << m["order"].get<int>() << " | " << (claims.empty() ? "none" : claims) << " |";
+        md << "| " << md_cell(m["id"].get<std::string>())
+           << (m["built_in"].get<bool>() ? "" : " (loaded)") << " | " << m["order"].get<int>()
+           << " | " << md_cell(claims.empty() ? "none" : claims) << " |";
         for (const auto& p : matrix["properties"]) {
             const std::string pid = p["id"];
-            md << " " << matrix_detail::cell_text(pid, m["cells"][pid]) << " |";
+            md << " " << md_cell(matrix_detail::cell_text(pid, m["cells"][pid])) << " |";
         }
         md << "\n";
     }

@@ -4,6 +4,7 @@
 // method_file_parse.cpp.
 #include "harness/method_files.hpp"
 
+#include "harness/json_file.hpp"
 #include "harness/method_file_reader.hpp"
 
 #include <algorithm>
@@ -155,7 +156,7 @@ std::vector<const MethodInfo*> load_method_file(const std::string& path) {
     const std::string key = ec ? path : canonical.string();
     method_file::Registry& reg = method_file::registry();
     if (!reg.loaded_files.count(key)) {
-        const json j = read_case_json(path); // regular file, bounded size, depth, duplicate keys
+        const json j = read_json_file(path, "method file"); // regular, bounded, depth, duplicates
         method_file::Reader r(path);
         std::vector<method_file::Parsed> parsed;
         parsed.push_back(

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <sys/utsname.h>
 #include <thread>
+#include <unistd.h>
 
 namespace dampsym {
 namespace {
@@ -113,12 +114,18 @@ json make_provenance(const std::vector<std::string>& command_line, int jobs,
     if (uname(&u) == 0)
         os = {{"sysname", u.sysname}, {"release", u.release}, {"machine", u.machine}};
     os["name"] = os_release();
+    char hostname[256] = "";
+    if (gethostname(hostname, sizeof hostname) != 0) hostname[0] = '\0';
+    hostname[sizeof hostname - 1] = '\0';
     std::string cpu = cpuinfo("model name");
     if (cpu.empty()) cpu = cpuinfo("Model"); // some ARM kernels
     return {{"version", DAMPSYM_VERSION},
             {"build", build_json()},
             {"host",
-             {{"os", os}, {"cpu_model", cpu}, {"cpu_count", std::thread::hardware_concurrency()}}},
+             {{"os", os},
+              {"hostname", hostname},
+              {"cpu_model", cpu},
+              {"cpu_count", std::thread::hardware_concurrency()}}},
             {"start_utc", utc_iso8601(start)},
             {"command_line", shell_join(command_line)},
             {"jobs", jobs}};

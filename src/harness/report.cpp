@@ -1,5 +1,7 @@
 #include "harness/report.hpp"
 
+#include "harness/junit.hpp"
+#include "harness/markdown.hpp"
 #include "harness/method_coefficients.hpp"
 #include "harness/report_tables.hpp"
 
@@ -51,7 +53,7 @@ void provenance_block(std::ostringstream& os, const json& report) {
     if (!report.contains("provenance")) return;
     const json& p = report["provenance"];
     auto row = [&](const char* label, const std::string& value) {
-        os << "| " << label << " | " << value << " |\n";
+        os << "| " << label << " | " << md_cell(value) << " |\n";
     };
     os << "| provenance | |\n|---|---|\n";
     if (p.contains("merged_from")) {
@@ -100,6 +102,7 @@ void provenance_block(std::ostringstream& os, const json& report) {
     if (p.contains("start_utc")) row("started (UTC)", text_of(p["start_utc"]));
     if (p.contains("command_line") && !p.contains("merged_from"))
         row("command line", "`" + text_of(p["command_line"]) + "`");
+    if (p.contains("cases_dir")) row("cases directory", text_of(p["cases_dir"]));
     if (p.contains("jobs")) row("--jobs", text_of(p["jobs"]));
     if (p.contains("shard") && p["shard"].is_object())
         row("shard", text_of(p["shard"].value("index", json())) + "/" +
@@ -196,13 +199,11 @@ void overview_table(std::ostringstream& os, const json& report,
         const std::string id = c["id"].get<std::string>();
         std::string src = c["source"].get<std::string>();
         if (src.size() > 48) src = src.substr(0, 45) + "…";
-        for (auto& ch : src)
-            if (ch == '|' || ch == '\n') ch = ' ';
-        os << "| [" << id << "](#" << anchor_of(id) << ") | "
+        os << "| [" << md_cell(id) << "](#" << anchor_of(id) << ") | "
            << (fail ? "**FAIL**" : (c["checks"].empty() ? "no checks" : "pass")) << " | " << pass
            << " | " << fail << " | " << c["runs"].size() << " | "
            << (t && t->contains("runs_wall_seconds") ? num((*t)["runs_wall_seconds"], 3) : "—")
-           << " | " << src << " |\n";
+           << " | " << md_cell(src) << " |\n";
     }
 }
 
@@ -315,32 +316,63 @@ std::string render_markdown(const json& report, const json& figures) {
     return os.str();
 }
 
+std::string render_case_line(const json& c, const json& seconds) {
+    int pass = 0, fail = 0;
+    std::vector<std::string> failed;
+    for (const auto& ck : c["checks"]) {
+        if (ck["passed"].get<bool>()) {
+            ++pass;
+        } else {
+            ++fail;
+            failed.push_back(junit_test_name(ck)); // "name [method, dt=0.1]"
+        }
+    }
+    std::ostringstream os;
+    char line[200];
+    std::snprintf(line, sizeof line, "%-4s %-34s ", fail ? "FAIL" : "ok",
+                  c["id"].get<std::string>().c_str());
+    os << line;
+    if (fail) {
+        // the count first, then the first three failing checks with method and dt
+        os << fail << " of " << pass + fail << " checks failed: ";
+        for (std::size_t i = 0; i < failed.size() && i < 3; ++i) os << (i ? "; " : "") << failed[i];
+        if (failed.size() > 3) os << " (+" << failed.size() - 3 << " more)";
+    } else {
+        std::snprintf(line, sizeof line, "%3d checks", pass);
+        os << line;
+    }
+    if (seconds.is_number()) os << "  " << num(seconds, 3) << " s";
+    if (c.contains("checks_not_run"))
+        os << "  (" << c["checks_not_run"].size() << " not run: a partner method not selected)";
+    if (c.contains("no_checks_because")) os << "  (no checks: stated reason in the report)";
+    return os.str() + "\n";
+}
+
 std::string render_summary(const json& report) {
     std::ostringstream os;
-    for (const auto& c : report["cases"]) {
-        int pass = 0, fail = 0;
-        std::string failed;
-        for (const auto& ck : c["checks"]) {
-            if (ck["passed"].get<bool>()) {
-                ++pass;
-            } else {
-                ++fail;
-                if (failed.size() < 80)
-                    failed += (failed.empty() ? "" : ", ") + ck["name"].get<std::string>() + " [" +
-                              ck["method"].get<std::string>() + "]";
-            }
-        }
-        char line[160];
-        std::snprintf(line, sizeof line, "%-4s %-34s %3d checks", fail ? "FAIL" : "ok",
-                      c["id"].get<std::string>().c_str(), pass + fail);
-        os << line;
-        if (fail) os << "  failed: " << failed;
-        if (c.contains("checks_not_run"))
-            os << "  (" << c["checks_not_run"].size() << " not run: a partner method not selected)";
-        if (c.contains("no_checks_because")) os << "  (no checks: stated reason in the report)";
-        os << "\n";
+    for (std::size_t ci = 0; ci < report["cases"].size(); ++ci) {
+        const json* t = case_timings(report, ci);
+        os << render_case_line(report["cases"][ci],
+                               t ? t->value("runs_wall_seconds", json()) : json());
     }
     os << render_totals(report);
+    return os.str();
+}
+
+std::string render_failed_checks(const json& report, std::size_t limit) {
+    std::ostringstream os;
+    std::size_t n = 0;
+    for (const auto& c : report["cases"])
+        for (const auto& ck : c["checks"]) {
+            if (ck["passed"].get<bool>()) continue;
+            if (n++ >= limit) continue;
+            os << "FAILED " << c["id"].get<std::string>() << ": " << junit_test_name(ck) << ": "
+               << ck["metric"].get<std::string>() << " = " << num(ck["value"], 6) << ", expected "
+               << expected_text(ck)
+               << (ck.contains("message") ? " (" + ck["message"].get<std::string>() + ")" : "")
+               << "\n";
+        }
+    if (n > limit) os << "... and " << n - limit << " more failing checks (report.md)\n";
     return os.str();
 }
 
@@ -358,6 +390,13 @@ std::string render_totals(const json& report) {
         os << ", " << s["checks_not_run"] << " not run (a partner method not selected)";
     if (report.contains("timings") && report["timings"].contains("wall_seconds"))
         os << ", " << num(report["timings"]["wall_seconds"], 3) << " s";
+    if (report.contains("provenance") && report["provenance"].contains("shard") &&
+        report["provenance"]["shard"].is_object()) {
+        const json& sh = report["provenance"]["shard"];
+        os << " (shard " << text_of(sh.value("index", json())) << "/"
+           << text_of(sh.value("count", json())) << " from " << text_of(sh.value("source", json()))
+           << ")";
+    }
     os << "\n";
     return os.str();
 }

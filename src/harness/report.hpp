@@ -35,7 +35,14 @@ std::string render_markdown(const nlohmann::json& report);
 // tools/figures/plot.py) embedded in each case's section (issue 14).
 std::string render_markdown(const nlohmann::json& report, const nlohmann::json& figures);
 std::string render_summary(const nlohmann::json& report); // the one-screen terminal summary
-std::string render_totals(const nlohmann::json& report);  // its last line
+// One case's line of that summary: "ok   ID   12 checks  0.31 s", or "FAIL ID  24 of 38 checks
+// failed: " and the first three failing checks with method and dt, "(+21 more)"; `seconds` (the
+// runs' wall time) is left out when null.
+std::string render_case_line(const nlohmann::json& case_record, const nlohmann::json& seconds);
+// Every failing check on its own line ("FAILED ID: name [method, dt=h]: metric = value, expected
+// ..."), at most `limit`, then how many more.
+std::string render_failed_checks(const nlohmann::json& report, std::size_t limit);
+std::string render_totals(const nlohmann::json& report); // its last line
 void write_reports(const nlohmann::json& report, const std::string& dir);
 
 // The timings entry of run `run_index` of case `case_index` (null if the report has none).

@@ -4,6 +4,7 @@
 #include "harness/report_tables.hpp"
 
 #include "harness/case.hpp"
+#include "harness/markdown.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,8 +31,7 @@ bool case_passed(const json& c) {
     return true;
 }
 
-std::string check_line(const json& ck, const char* result) {
-    std::ostringstream os;
+std::string expected_text(const json& ck) {
     const std::string op = ck["op"].get<std::string>();
     std::string expected = op == "near" ? num(ck["expected"]) + " ± " + num(ck["tolerance"])
                                         : (op == "le"   ? "≤ "
@@ -40,20 +40,26 @@ std::string check_line(const json& ck, const char* result) {
                                                         : "> ") +
                                               num(ck["expected"]);
     if (ck.value("abs", false)) expected = "|x| " + expected;
+    return expected;
+}
+
+std::string check_line(const json& ck, const char* result) {
+    std::ostringstream os;
+    const std::string expected = expected_text(ck);
     const std::string verdict = result ? result : ck.value("passed", false) ? "pass" : "**FAIL**";
-    os << "| " << verdict << " | "
-       << ck["name"].get<std::string>()
-       // the label once: many check names already say "(negative control)"
-       << (ck["negative_control"].get<bool>() &&
-                   ck["name"].get<std::string>().find("negative control") == std::string::npos
-               ? " (negative control)"
-               : "")
-       << " | " << ck["method"].get<std::string>() << " | "
-       << (ck.contains("dt") ? num(ck["dt"]) : "") << " | `" << ck["metric"].get<std::string>()
-       << "` | " << num(ck["value"], 6) << " | " << expected << " | "
-       << (ck.contains("message") ? ck["message"].get<std::string>() : "")
-       << (ck.value("refutes", false) ? " (passing refutes the paper's claim)" : "")
-       << (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "") << " |\n";
+    const std::string name = ck["name"].get<std::string>();
+    // the label once: many check names already say "(negative control)"
+    const bool label =
+        ck["negative_control"].get<bool>() && name.find("negative control") == std::string::npos;
+    const std::string note =
+        (ck.contains("message") ? ck["message"].get<std::string>() : std::string()) +
+        (ck.value("refutes", false) ? " (passing refutes the paper's claim)" : "") +
+        (ck.contains("across_dt") ? " (log–log slope against dt over the ladder)" : "");
+    os << "| " << verdict << " | " << md_cell(name + (label ? " (negative control)" : "")) << " | "
+       << md_cell(ck["method"].get<std::string>()) << " | "
+       << (ck.contains("dt") ? num(ck["dt"]) : "") << " | `"
+       << md_cell(ck["metric"].get<std::string>()) << "` | " << num(ck["value"], 6) << " | "
+       << md_cell(expected) << " | " << md_cell(note) << " |\n";
     return os.str();
 }
 
@@ -68,12 +74,12 @@ void measures_table(std::ostringstream& os, const json& c) {
     }
     os << "):\n\n| method | dt |";
     for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it)
-        os << " " << it.key() << " |";
+        os << " " << md_cell(it.key()) << " |";
     os << "\n|---|---|";
     for (std::size_t i = 0; i < c["measures"].size(); ++i) os << "---|";
     os << "\n";
     for (const auto& r : c["runs"]) {
-        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " |";
+        os << "| " << md_cell(r["method"].get<std::string>()) << " | " << num(r["dt"]) << " |";
         for (auto it = c["measures"].begin(); it != c["measures"].end(); ++it) {
             const json& m = r["metrics"];
             os << " "
@@ -108,11 +114,11 @@ void order_table(std::ostringstream& os, const json& c, const char* diag) {
         for (const auto& d : o["dropped"])
             dropped += (dropped.empty() ? "" : "; ") + num(d["dt"]) + ": " +
                        d["reason"].get<std::string>();
-        os << "| " << it.key() << " | "
+        os << "| " << md_cell(it.key()) << " | "
            << (o["ok"].get<bool>() ? num(o["slope"], 4)
-                                   : "failed: " + o["reason"].get<std::string>())
+                                   : md_cell("failed: " + o["reason"].get<std::string>()))
            << " | " << (o.contains("r2") ? num(o["r2"], 6) : "—") << " | " << window << " | "
-           << local << " | " << dropped << " |\n";
+           << local << " | " << md_cell(dropped) << " |\n";
     }
 }
 
@@ -125,8 +131,8 @@ void sweep_table(std::ostringstream& os, const json& c) {
            << (s.contains("formula_source") ? s["formula_source"].get<std::string>()
                                             : std::string("no formula"))
            << "), and first h where M is not power-bounded.\n\n"
-           << "| γ | h F empirical | h F formula | h not power-bounded | max \\|½trM − e^{−γh}cos "
-              "βh\\| |\n"
+           << "| γ | h F empirical | h F formula | h not power-bounded | "
+           << md_cell("max |½trM − e^{−γh}cos βh|") << " |\n"
            << "|---|---|---|---|---|\n";
         for (const auto& r : s["rows"])
             os << "| " << num(r["gamma"]) << " | " << num(r["h_F_empirical"]) << " | "
@@ -158,11 +164,11 @@ void work_precision_table(std::ostringstream& os, const json& c, const json* t) 
         const bool has_err = m.contains("error");
         const json* tm = timing(i);
         const bool timed = tm != nullptr;
-        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " | "
+        os << "| " << md_cell(r["method"].get<std::string>()) << " | " << num(r["dt"]) << " | "
            << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
-           << (timed ? num((*tm)["wall_seconds_min"], 3) : r["status"].get<std::string>()) << " | "
-           << (timed ? num((*tm)["ns_per_step"], 3) : "—") << " | "
+           << (timed ? num((*tm)["wall_seconds_min"], 3) : md_cell(r["status"].get<std::string>()))
+           << " | " << (timed ? num((*tm)["ns_per_step"], 3) : "—") << " | "
            << (timed ? num((*tm)["repetitions"]) : "—") << " |\n";
     }
 }
@@ -180,8 +186,8 @@ void runs_table(std::ostringstream& os, const json& c, const json* t) {
         if (r.contains("failed_at_step")) status += " at step " + r["failed_at_step"].dump();
         const std::string mark =
             r.contains("coefficients_refuted") ? " ⚠ coefficients refuted" : "";
-        os << "| " << r["method"].get<std::string>() << mark << " | " << num(r["dt"]) << " | "
-           << status << " | " << num(r["steps"]) << " | "
+        os << "| " << md_cell(r["method"].get<std::string>() + mark) << " | " << num(r["dt"])
+           << " | " << md_cell(status) << " | " << num(r["steps"]) << " | "
            << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
            << (has_err ? num(m["error"]["max_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
@@ -209,12 +215,12 @@ void metrics_table(std::ostringstream& os, const json& c) {
             }
     if (used.empty()) return;
     os << "\n| method | dt |";
-    for (auto* col : used) os << " " << col->column.label << " |";
+    for (auto* col : used) os << " " << md_cell(col->column.label) << " |";
     os << "\n|---|---|";
     for (std::size_t i = 0; i < used.size(); ++i) os << "---|";
     os << "\n";
     for (const auto& r : c["runs"]) {
-        os << "| " << r["method"].get<std::string>() << " | " << num(r["dt"]) << " |";
+        os << "| " << md_cell(r["method"].get<std::string>()) << " | " << num(r["dt"]) << " |";
         for (auto* col : used) {
             const json& m = r["metrics"];
             std::string cell = "—";
@@ -236,7 +242,7 @@ void metrics_table(std::ostringstream& os, const json& c) {
                     cell = num(d[rc.key], 4);
                 }
             }
-            os << " " << cell << " |";
+            os << " " << md_cell(cell) << " |";
         }
         os << "\n";
     }

@@ -12,6 +12,8 @@ using json = nlohmann::json;
 
 std::string num(const json& v, int digits = 4);
 bool case_passed(const json& c);
+// What a check expects: "≤ 1e-12", "2 ± 0.05", "|x| ≤ 0.3".
+std::string expected_text(const json& ck);
 std::string check_line(const json& ck, const char* result = nullptr);
 void measures_table(std::ostringstream& os, const json& c);
 // diag: "order" (global error at t_end) or "local-order" (one-step error, slope p + 1).

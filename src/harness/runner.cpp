@@ -8,6 +8,8 @@
 
 #include <atomic>
 #include <exception>
+#include <memory>
+#include <mutex>
 #include <thread>
 #include <utility>
 
@@ -225,99 +227,141 @@ json assemble_report(json out_cases, const RunOptions& options, double wall_seco
 
 } // namespace
 
-json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
-               const ProgressCallback& progress) {
-    const auto start = Clock::now();
-    std::vector<std::unique_ptr<detail::CaseJob>> jobs;
-    for (const CaseSpec& c : cases) {
-        std::unique_ptr<detail::CaseJob> job;
-        job = make_case(c, std::make_integer_sequence<int, kShards>{});
-        job->set_time_budget(options.time_budget);
-        job->guard().set_timeout(case_timeout(c, options.case_timeout)); // issue 17 (limits.hpp)
-        // figures hook (issue 14): a case with "figures": false keeps no series (case_figures.hpp)
-        job->set_figures(static_cast<bool>(options.series_sink) && !case_figures_off(c));
-        jobs.push_back(std::move(job));
+namespace {
+
+// One run of a selection: the cases' jobs, their tasks on --jobs threads, and the records.
+// issue 17: an exception in one task is recorded for its case (which then fails its completion
+// check, limits.hpp) and the other tasks and cases go on. A case's record is made as soon as its
+// last task ends (in that worker thread), so that its line can be printed while other cases run;
+// from its own results only, so it is the same for any --jobs.
+class SelectionRun {
+public:
+    SelectionRun(const std::vector<CaseSpec>& cases, const RunOptions& options,
+                 const ProgressCallback& progress)
+        : cases_(cases), options_(options), progress_(progress), task_errors_(cases.size()),
+          prepared_(cases.size(), 1), records_(cases.size()), remaining_(cases.size(), 1) {
+        for (const CaseSpec& c : cases) {
+            auto job = make_case(c, std::make_integer_sequence<int, kShards>{});
+            job->set_time_budget(options.time_budget);
+            job->guard().set_timeout(case_timeout(c, options.case_timeout)); // limits.hpp
+            // figures hook: a case with "figures": false keeps no series (case_figures.hpp)
+            job->set_figures(static_cast<bool>(options.series_sink) && !case_figures_off(c));
+            jobs_.push_back(std::move(job));
+        }
+        state_.cases_total = state_.tasks_total = cases.size();
     }
-    // issue 17: an exception in one task is recorded for its case (which then fails its
-    // completion check, limits.hpp) and the other tasks and cases go on.
-    std::vector<std::vector<std::string>> task_errors(cases.size());
-    std::vector<char> prepared(cases.size(), 1);
-    std::mutex errors_mutex;
-    auto isolated = [&](std::size_t i, const std::function<void()>& f) {
+
+    json run() {
+        std::vector<std::function<void()>> tasks;
+        for (std::size_t i = 0; i < jobs_.size(); ++i)
+            tasks.emplace_back([this, i] {
+                // the case's reference counts in its time budget; the clock is paused while
+                // the case waits for its runs' turn (limits.hpp)
+                jobs_[i]->guard().start();
+                if (!isolated(i, [&] { jobs_[i]->prepare(); })) prepared_[i] = 0;
+                jobs_[i]->guard().pause();
+                task_done(i);
+            });
+        run_parallel(tasks, options_.jobs);
+        std::vector<std::size_t> without_tasks; // failed to prepare, or nothing to run
+        std::vector<std::function<void()>> planned = plan(without_tasks);
+        for (const std::size_t i : without_tasks) finish_case(i);
+        run_parallel(planned, options_.jobs);
+        json out_cases = json::array();
+        for (auto& record : records_) out_cases.push_back(std::move(record));
+        if (options_.series_sink) // figures hook
+            for (std::size_t i = 0; i < jobs_.size(); ++i)
+                if (prepared_[i]) options_.series_sink(jobs_[i]->series());
+        return out_cases;
+    }
+
+private:
+    bool isolated(std::size_t i, const std::function<void()>& f) {
         try {
             f();
             return true;
         } catch (const std::exception& e) {
-            std::lock_guard<std::mutex> lock(errors_mutex);
-            task_errors[i].emplace_back(e.what());
+            std::lock_guard<std::mutex> lock(errors_mutex_);
+            task_errors_[i].emplace_back(e.what());
         } catch (...) {
-            std::lock_guard<std::mutex> lock(errors_mutex);
-            task_errors[i].emplace_back("non-standard exception");
+            std::lock_guard<std::mutex> lock(errors_mutex_);
+            task_errors_[i].emplace_back("non-standard exception");
         }
         return false;
-    };
-    // Progress: every task is attributed to its case; a case is done when its last task is.
-    std::mutex progress_mutex;
-    RunProgress state;
-    state.cases_total = cases.size();
-    state.tasks_total = cases.size();
-    std::vector<std::size_t> remaining(cases.size(), 1);
-    auto report = [&](std::size_t case_index) {
-        if (!progress) return;
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        ++state.tasks_done;
-        if (--remaining[case_index] == 0 && state.planned) ++state.cases_done;
-        state.current = cases[case_index].id;
-        progress(state);
-    };
-    std::vector<std::function<void()>> tasks;
-    for (std::size_t i = 0; i < jobs.size(); ++i)
-        tasks.emplace_back([&, i] {
-            // issue 17: the case's reference counts in its time budget; the clock is paused
-            // while the case waits for its runs' turn (limits.hpp)
-            jobs[i]->guard().start();
-            if (!isolated(i, [&] { jobs[i]->prepare(); })) prepared[i] = 0;
-            jobs[i]->guard().pause();
-            report(i);
-        });
-    run_parallel(tasks, options.jobs);
-    tasks.clear();
-    std::vector<std::function<void()>> planned;
-    {
-        std::lock_guard<std::mutex> lock(progress_mutex);
-        state.cases_done = 0;
-        for (std::size_t i = 0; i < jobs.size(); ++i) {
+    }
+
+    // The runs' tasks of every prepared case; the cases without any in `without_tasks`.
+    std::vector<std::function<void()>> plan(std::vector<std::size_t>& without_tasks) {
+        std::vector<std::function<void()>> planned;
+        std::lock_guard<std::mutex> lock(progress_mutex_);
+        for (std::size_t i = 0; i < jobs_.size(); ++i) {
             std::vector<std::function<void()>> mine;
-            if (prepared[i]) jobs[i]->add_tasks(mine);
-            remaining[i] = mine.size();
-            if (mine.empty()) ++state.cases_done;
+            if (prepared_[i]) jobs_[i]->add_tasks(mine);
+            remaining_[i] = mine.size();
+            if (mine.empty()) without_tasks.push_back(i);
             for (auto& t : mine)
-                planned.emplace_back([&report, &isolated, i, task = std::move(t)] {
+                planned.emplace_back([this, i, task = std::move(t)] {
                     isolated(i, task);
-                    report(i);
+                    task_done(i);
                 });
         }
-        state.tasks_total += planned.size();
-        state.planned = true;
+        state_.tasks_total += planned.size();
+        state_.planned = true;
+        return planned;
     }
-    run_parallel(planned, options.jobs);
 
-    json out_cases = json::array();
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
+    // Progress: every task is attributed to its case; a case is done when its last task is.
+    void task_done(std::size_t i) {
+        bool last = false;
+        {
+            std::lock_guard<std::mutex> lock(progress_mutex_);
+            ++state_.tasks_done;
+            last = --remaining_[i] == 0 && state_.planned;
+            state_.current = cases_[i].id;
+            if (progress_) progress_(state_);
+        }
+        if (last) finish_case(i);
+    }
+
+    // The case's record (runs stopped by a timeout or a signal and failed tasks fail the case,
+    // limits.hpp), then the progress call that announces it.
+    void finish_case(std::size_t i) {
         json record;
-        if (prepared[i] && isolated(i, [&] { record = jobs[i]->finish(); })) {
-            // issue 17: runs stopped (timeout, interrupted), failed tasks: the case fails
-            json done = completion_check(record, task_errors[i]);
-            if (!task_errors[i].empty()) record["errors"] = task_errors[i];
+        if (prepared_[i] && isolated(i, [&] { record = jobs_[i]->finish(); })) {
+            json done = completion_check(record, task_errors_[i]);
+            if (!task_errors_[i].empty()) record["errors"] = task_errors_[i];
             if (!done.is_null()) record["checks"].push_back(std::move(done));
         } else {
-            record = failed_case_record(cases[i], task_errors[i]);
+            record = failed_case_record(cases_[i], task_errors_[i]);
         }
-        out_cases.push_back(std::move(record));
+        records_[i] = std::move(record);
+        std::lock_guard<std::mutex> lock(progress_mutex_);
+        ++state_.cases_done;
+        state_.current = cases_[i].id;
+        state_.finished = &records_[i];
+        state_.finished_index = i;
+        if (progress_) progress_(state_);
+        state_.finished = nullptr;
     }
-    if (options.series_sink) // figures hook (issue 14)
-        for (std::size_t i = 0; i < jobs.size(); ++i)
-            if (prepared[i]) options.series_sink(jobs[i]->series());
+
+    const std::vector<CaseSpec>& cases_;
+    const RunOptions& options_;
+    const ProgressCallback& progress_;
+    std::vector<std::unique_ptr<detail::CaseJob>> jobs_;
+    std::vector<std::vector<std::string>> task_errors_;
+    std::vector<char> prepared_;
+    std::vector<json> records_;
+    std::vector<std::size_t> remaining_;
+    std::mutex errors_mutex_, progress_mutex_;
+    RunProgress state_;
+};
+
+} // namespace
+
+json run_cases(const std::vector<CaseSpec>& cases, const RunOptions& options,
+               const ProgressCallback& progress) {
+    const auto start = Clock::now();
+    json out_cases = SelectionRun(cases, options, progress).run();
     return assemble_report(std::move(out_cases), options, seconds_since(start));
 }
 

@@ -846,7 +846,8 @@ def write_results(results: List[Result]) -> int:
     sio.write_atomic(os.path.join(OUT, "figures.md"), gallery(manifest).encode())
     n = sum(len(v) for v in manifest["cases"].values())
     failed = sum(1 for r in results if r[3])
-    print(f"plot.py: {n} figures ({','.join(FORMATS)}) in {os.path.join(OUT, 'figures')}"
+    print(f"plot.py: {n} figures, each as {' and '.join(FORMATS)}, in "
+          f"{os.path.join(OUT, 'figures')}"
           + (f", {failed} failed" if failed else ""))
     return status
 
