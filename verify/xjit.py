@@ -16,7 +16,7 @@ import os
 
 import numpy as np
 
-import xmethods as xm
+from . import xmethods as xm
 
 try:
     if os.environ.get("XC_NO_NUMBA"):
@@ -576,7 +576,7 @@ def integrate(method, prob, h, nsteps, t0, record, limit, out):
 def _integrate_glm(prob, code, P, m, h, nsteps, t0, record, limit, out):
     """BS's GLM on the rigid body: the starting method and each Newton inverse (refreshed every
     8 steps at (t_n, y_n[0]), as xscalar.GLMScalar) in Python, the 8 steps in between compiled."""
-    import xscalar
+    from . import xscalar
     N, f = xscalar.rigid_fields(prob)
     glm = xscalar.GLMScalar(f, lambda t, z: xm.jac_cs(prob.f, t, z), h, 3)
     z0 = [float(v) for v in prob.z0]

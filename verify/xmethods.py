@@ -492,6 +492,10 @@ IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3",
 NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
                    "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}
 NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
+# General linear methods (BS): a step maps r values y^[n] (here r = 2), not the state alone, so a
+# run from a mid-run state needs y^[n], the one-step map of the state has no Jacobian to test for
+# conformal symplecticity, and the Newton counts follow the GLM's own stages.
+MULTIVALUE = {"glm4"}
 # B's Burgers schemes (5.10), (5.12), (4.18), each on its own semi-discretisation (docs/pde.md)
 BURGERS_B = {"burgers-csv": "burgers", "burgers-box": "burgers-box", "burgers-nsfd": "burgers-upwind"}
 # B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) on the NLS family (docs/pde.md)

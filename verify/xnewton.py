@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-import xmethods as xm
+from . import xmethods as xm
 
 MAX_IT = 40
 EPS = np.finfo(float).eps

@@ -3,10 +3,10 @@ import math
 
 import numpy as np
 
-import refmath
-import xjit
-import xscalar
-import xmethods as xm
+from . import refmath
+from . import xjit
+from . import xscalar
+from . import xmethods as xm
 
 
 def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
@@ -18,7 +18,7 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     limit = math.inf if blowup is None else blowup * max(1.0, float(np.max(np.abs(z))))
     out = dict(status="ok", steps=0, z=z, traj=None, newton=0, newton_max=0, message="")
     try:
-        if method == "glm4":
+        if method in xm.MULTIVALUE:
             glm = xm.GLM(prob, h)
             stepf = None
         else:
@@ -93,7 +93,7 @@ def step_jacobian(method, prob, h, t, z):
 def linear_ok(method, prob):
     """The oscillator with constant gamma is linear and autonomous: every method's step is
     z -> M z with M our own one-step matrix (complex step of our own step map)."""
-    return type(prob).__name__ == "Oscillator" and method != "glm4"
+    return type(prob).__name__ == "Oscillator" and method not in xm.MULTIVALUE
 
 
 def integrate_linear(method, prob, h, nsteps, t0, record, limit, out):

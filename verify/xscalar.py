@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-import xmethods as xm
+from . import xmethods as xm
 
 
 def kepler_fields():

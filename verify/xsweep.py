@@ -36,9 +36,9 @@ import math
 
 import numpy as np
 
-import refmath
-import xmethods as xm
-import xproblems as xp
+from . import refmath
+from . import xmethods as xm
+from . import xproblems as xp
 
 EPS = np.finfo(float).eps
 FORMULA = {"cimp": "cimp", "csv1": "csv1", "csv1-perk": "csv1", "csv2": "csv2", "csv2-perk": "csv2"}

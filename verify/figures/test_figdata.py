@@ -10,9 +10,7 @@ import random
 import sys
 import unittest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
-                                "figures"))
-import figdata as fd  # noqa: E402
+from tools.figures import figdata as fd
 
 
 class Decimation(unittest.TestCase):

@@ -15,8 +15,7 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "figures"))
-import figdata as fd  # noqa: E402
+from tools.figures import figdata as fd
 
 RTOL = 1e-12
 problems = []

@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Checks the claims register docs/claims.md against a default-suite report.json.
 
-    test_claims.py REGISTER REPORT [REPORT...]             exit 0 when the register agrees
-    test_claims.py --negative REGISTER REPORT [REPORT...]  exit 0 when every planted defect is
-                                                           detected
+    python3 -m pytest verify/tests/test_claims.py::test_register --register REGISTER \
+        --report REPORT [--report REPORT...]       passes when the register agrees
+    ... ::test_negative ...                          passes when every planted defect is detected
+    python3 -m verify.tests.test_claims [--negative] REGISTER REPORT [REPORT...]   (exit 0/1/2)
 
 The first REPORT is the default suite's; further ones hold the cases of the register that are
 too heavy for it (B Fig 5.10's chaotic attractor, run by the ctest claims.pde-report); a case is
@@ -29,6 +30,7 @@ import copy
 import json
 import re
 import sys
+from typing import List
 
 # Every figure and table of the experiment chapters named in docs/claims.md (paper key, location).
 REQUIRED = (
@@ -267,6 +269,16 @@ def main(argv):
     print("%d register rows: %s; %d errors" % (
         len(rows), ", ".join("%d %s" % (counts[v], v) for v in VERDICTS), len(errors)))
     return 1 if errors else 0
+
+
+def test_register(register_path: str, reports: List[str]) -> None:
+    """Every row of the register follows from the reports."""
+    assert main([register_path] + reports) == 0
+
+
+def test_negative(register_path: str, reports: List[str]) -> None:
+    """Every planted defect (renamed case or check, changed verdict, ...) is detected."""
+    assert main(["--negative", register_path] + reports) == 0
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Tests of dampsym's reports as CI tools read them (ctest label "reports").
 
-    /usr/bin/python3 verify/test_reports.py MODE --bin DAMPSYM [options]
+    /usr/bin/python3 -m pytest verify/tests/test_reports.py::test_MODE --bin DAMPSYM [options]
+    /usr/bin/python3 -m verify.tests.test_reports MODE --bin DAMPSYM [options]
 
 MODE schema  --report DIR... : every report.json validates against schema/report.schema.json;
              every case file in verify/cases and tests/data/cases validates against
@@ -33,9 +34,12 @@ import os
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
+from typing import List, Optional
+
+import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+ROOT = os.path.dirname(os.path.dirname(HERE))
 failures = []
 
 
@@ -421,6 +425,19 @@ def main():
         print("%d failures" % len(failures))
         sys.exit(1)
     print("ok")
+
+
+def _mode(mode: str, dampsym_bin: str, reports: List[str], workdir: str, ctest_build: Optional[str]) -> None:
+    failures.clear()
+    globals()["mode_" + mode](argparse.Namespace(bin=dampsym_bin, report=reports, work=workdir,
+                                                 ctest_build=ctest_build))
+    assert failures == []
+
+
+@pytest.mark.parametrize("mode", ["schema", "junit", "shards", "compare"])
+def test_reports(mode: str, dampsym_bin: str, reports: List[str], workdir: str, ctest_build: Optional[str]) -> None:
+    """The mode's checks (the module docstring) on the given reports."""
+    _mode(mode, dampsym_bin, reports, workdir, ctest_build)
 
 
 if __name__ == "__main__":
