@@ -384,7 +384,7 @@ def checks_records(case: Dict[str, Any], spec: Dict[str, Any], ours: Ours, unc: 
     return out
 
 
-def _in_range(v, rng):
+def _in_range(v: Any, rng: Any) -> Any:
     """rng = [ours, lo, hi] of a first-failure step (None = no failure = beyond the grid)."""
     big = math.inf
     val = big if v is None else float(v)
@@ -392,7 +392,7 @@ def _in_range(v, rng):
     return min(lo, hi) * (1 - 1e-12) <= val <= max(lo, hi) * (1 + 1e-12) or val == rng[0]
 
 
-def compare_sweep(ours, theirs, comps, mine, unc):
+def compare_sweep(ours: Any, theirs: Any, comps: Any, mine: Any, unc: Any) -> None:
     """Sweep metrics (verify/xsweep.py): counts agree within the number of round-off ties, first
     failure steps within the range ties allow, F's formula boundary exactly, the half-trace
     error rel 1e-9 + 1e-13 (M's entries carry a few eps of rounding), the grid exactly."""
@@ -439,7 +439,7 @@ def compare_sweep(ours, theirs, comps, mine, unc):
             comps.append(comp("stability-sweep." + k, "not computed", v, False, "metric unknown to us"))
 
 
-def compare_trace_taylor(method, prob, spec, theirs, comps, mine, unc):
+def compare_trace_taylor(method: str, prob: Any, spec: Dict[str, Any], theirs: Any, comps: Any, mine: Any, unc: Any) -> None:
     """h^4 coefficient (verify/xsweep.trace_taylor, at h = the case's first step size): ours is
     extrapolated to ~1e-6; the report's estimate may carry the truncation of any estimator at
     step sizes <= h, which the band bounds.  Expected: docs/conventions.md §5's magnitudes."""

@@ -37,7 +37,9 @@ issue 32 (a cross-check that cannot be talked into agreeing):
   scale3e6 : (a measurement, not a ctest) every metric x (1 + 3e-6): comparisons still agreeing,
              by family
 """
+import contextlib
 import copy
+import io
 import json
 import os
 import subprocess
@@ -45,6 +47,8 @@ import sys
 from typing import Any, Callable, Dict, List, Tuple
 
 import pytest
+
+from verify import crosscheck
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PY = "/usr/bin/python3"
@@ -57,10 +61,13 @@ def run_crosscheck(report: Rep, workdir: str, tag: str, jobs: int = 1) -> Tuple[
     path = os.path.join(d, "report.json")
     with open(path, "w") as fh:
         json.dump(report, fh)
-    proc = subprocess.run([PY, "-m", "verify.crosscheck", path, "--out", d, "--jobs", str(jobs)],
-                          capture_output=True, text=True, cwd=ROOT)
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("DISAGREE")]
-    return proc.returncode, lines, proc.stdout + proc.stderr
+    # in this process (the cross-check keeps no state between reports but its case-file index):
+    # a fresh interpreter per report would cost ~1.6 CPU s of imports and loop loading each time
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        rc = crosscheck.main([path, "--out", d, "--jobs", str(jobs)])
+    lines = [ln for ln in out.getvalue().splitlines() if ln.startswith("DISAGREE")]
+    return rc, lines, out.getvalue() + err.getvalue()
 
 
 def result_of(workdir: str, tag: str) -> Rep:
