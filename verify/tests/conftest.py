@@ -3,7 +3,7 @@ A test whose input is not given is skipped, so `python3 -m pytest verify` runs t
 from __future__ import annotations
 
 import os
-from typing import List, Optional
+from typing import Any, Generator, List, Optional
 
 import pytest
 
@@ -15,6 +15,17 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     g.addoption("--bin", help="the dampsym binary")
     g.addoption("--register", help="docs/claims.md")
     g.addoption("--ctest-build", help="the build directory (ctest --output-junit)")
+    g.addoption("--no-skips", action="store_true",
+                help="a skipped test fails (the ctests: an input they forgot to pass is an error)")
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Generator[None, Any, None]:
+    outcome = yield
+    rep = outcome.get_result()
+    if rep.skipped and item.config.getoption("no_skips"):
+        rep.outcome = "failed"
+        rep.longrepr = "skipped under --no-skips: %s" % (rep.longrepr,)
 
 
 def _opt(config: pytest.Config, name: str) -> Optional[str]:
