@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libgsl-dev nlohmann-json3-dev catch2 libcli11-dev libboost-dev libbenchmark-dev
   python3 python3-numpy python3-scipy python3-mpmath python3-jsonschema python3-junitparser
   python3-matplotlib
+  python3-pytest python3-mypy # verify/tests (pytest) and the type check of verify/ (ci/test.sh)
   clang-format
   cmark-gfm # tests/markdown/check_gfm.py: report.md, figures.md as GitHub renders them
   clang-14 libfuzzer-14-dev # ci/fuzz.sh: the libFuzzer targets of tests/fuzz/

@@ -12,6 +12,6 @@ status=0
 ./build/dampsym run --out reports --jobs "$jobs" --figures || status=$?
 if [ "$status" -ge 2 ]; then exit "$status"; fi
 if [ -f verify/crosscheck.py ]; then
-  /usr/bin/python3 verify/crosscheck.py reports/report.json --out reports || status=1
+  /usr/bin/python3 -m verify.crosscheck reports/report.json --out reports || status=1
 fi
 exit "$status"

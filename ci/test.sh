@@ -4,6 +4,8 @@
 #     method x property matrix (docs/matrix.md), the Python cross-check and the report tests
 #     (schemas, JUnit, shards + merge, compare) on the suites' reports (ctest labels suite,
 #     crosscheck and reports; the per-case tests, label "case", would only repeat the suites);
+#   - the type check of the Python side (mypy on the package verify, verify/mypy.ini; ~16 CPU s
+#     on a cold cache, 1 s warm), in the background beside the builds;
 #   - the ASan/UBSan build: every unit test (Catch2, including the CLI tests) and the smaller
 #     'sanitize' suite. The unit tests run once, under the sanitizers; building them a second
 #     time in Release would only repeat them (ci/suite.sh builds them there for local use).
@@ -28,6 +30,12 @@ nice -n 10 bash ci/build.sh asan >"$asan_log" 2>&1 &
 asan_pid=$!
 asan_status=0
 
+echo "== mypy (verify) in the background (${SECONDS} s)"
+mypy_log="$(mktemp)"
+trap 'rm -f "$asan_log" "$mypy_log"' EXIT
+/usr/bin/python3 -m mypy --config-file verify/mypy.ini -p verify >"$mypy_log" 2>&1 &
+mypy_pid=$!
+
 echo "== Release build: suites and cross-check (${SECONDS} s)"
 release_status=0
 bash ci/build.sh release dampsym || release_status=$?
@@ -35,6 +43,12 @@ if [ "$release_status" -eq 0 ]; then
   echo "== Release ctest (${SECONDS} s)"
   (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports') || release_status=$?
 fi
+
+echo "== mypy: waiting for it (${SECONDS} s)"
+mypy_status=0
+wait "$mypy_pid" || mypy_status=$?
+cat "$mypy_log"
+if [ "$mypy_status" -ne 0 ] && [ "$release_status" -eq 0 ]; then release_status=$mypy_status; fi
 
 echo "== ASan/UBSan build: waiting for it (${SECONDS} s)"
 wait "$asan_pid" || asan_status=$?

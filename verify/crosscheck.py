@@ -125,18 +125,16 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import xcase  # noqa: E402
-import xcaserec  # noqa: E402
-import xjit  # noqa: E402
-import xmethods as xm  # noqa: E402
-import xmetrics as xmt  # noqa: E402
-import xproblems as xp  # noqa: E402
-import xrunrec  # noqa: E402
-import xsweep  # noqa: E402
-from xmetrics import BadInput  # noqa: E402
-from xours import RunCtx  # noqa: E402
-from xtol import num  # noqa: E402
+from . import diagnostics
+from . import xcase
+from . import xcaserec
+from . import xjit
+from . import xmethods as xm
+from . import xmetrics as xmt
+from . import xrunrec
+from .xmetrics import BadInput
+from .xours import RunCtx
+from .xtol import num
 
 VERDICTS = ("agree", "disagree", "not comparable", "not reproduced")
 Rec = Dict[str, Any]
@@ -160,7 +158,7 @@ def not_reproduced_case(case: Rec, why: str) -> Rec:
                  verdict="not reproduced", reason=why, comparisons=[], notes=[]) for c in case.get("checks") or []]
     orders = [dict(case=cid, method="%s (%s)" % (m, d), verdict="not reproduced", reason=why, comparisons=[], notes=[])
               for m, mmd in sorted((case.get("method_metrics") or {}).items())
-              for d in ("order", "local-order", "stability-sweep", "trace-taylor") if (mmd or {}).get(d) is not None]
+              for d in (m.name for m in diagnostics.method_level()) if (mmd or {}).get(d) is not None]
     return dict(runs=recs, orders=orders, checks=chks, structure=[], case=cid, seconds=0.0, cpu_seconds=0.0,
                 problem=(case.get("problem") or {}).get("id"))
 
@@ -188,62 +186,18 @@ def run_contexts(case: Rec, spec: Rec, prob: Any) -> Tuple[List[Rec], List[RunCt
     return recs, ctxs
 
 
-def order_records(case: Rec, spec: Rec, prob: Any, ctxs: List[RunCtx], ours: Any) -> List[Rec]:
-    """Order and local-order fits from OUR errors; sweeps and trace-taylor from our matrices."""
+def method_records(case: Rec, spec: Rec, prob: Any, ctxs: List[RunCtx], ours: Any) -> List[Rec]:
+    """Each method's method-level records (order fits, sweeps, ...: verify/diagnostics) from our
+    runs of the case, for every one the report holds."""
     out = []
-    errs: Dict[str, Dict[float, Tuple[float, float, float]]] = {}
-    local: Dict[str, Dict[float, Tuple[float, float, float]]] = {}
-    ref_norm = 1.0
-    for cx in ctxs:
-        if "error.final_abs" in cx.mm and not isinstance(cx.mm["error.final_abs"], xmt.Undef):
-            errs.setdefault(cx.method, {})[cx.dt] = (cx.mm["error.final_abs"], cx.priv["error.est"],
-                                                     cx.state_bound + cx.priv["error.est"])
-            ref_norm = cx.priv["error.ref_norm"]
-        if "local-error.abs" in cx.mm:
-            local.setdefault(cx.method, {})[cx.dt] = (cx.mm["local-error.abs"], 0.0, cx.priv["local-error.floor"])
-    ladder = xcase.step_sizes(spec)
-    z0n = float(np.linalg.norm(prob.z0))
     for method, mmd in sorted((case.get("method_metrics") or {}).items()):
-        for kind, e, rn in (("order", errs, ref_norm), ("local-order", local, z0n)):
-            theirs = (mmd or {}).get(kind)
-            if theirs is None:
+        for d in diagnostics.method_level():
+            theirs = (mmd or {}).get(d.name)
+            if theirs is None or d.method is None:
                 continue
-            rec = xcaserec.order_fit(case["id"], method, theirs, e.get(method, {}), ladder, rn, kind)
-            xcaserec.order_known(rec, theirs, kind)
-            fit = rec.pop("fit", None) or {}
-            mine = ours.setdefault((method, None), {})
-            mine[kind + ".slope"] = fit.get("slope") if fit.get("ok") else xmt.Undef("no fit")
-            mine[kind + ".r2"] = fit.get("r2") if fit.get("ok") else xmt.Undef("no fit")
-            # our slope's band: how far our errors' bands can move the fit
-            ours.setdefault(("__unc__", method), {}).update({kind + ".slope": fit.get("band_slope", 1e-4),
-                                                             kind + ".r2": fit.get("band_r2", 1e-5)})
-            out.append(rec)
-        out += method_level(case, spec, prob, method, mmd or {}, ours)
-    return out
-
-
-def method_level(case: Rec, spec: Rec, prob: Any, method: str, mmd: Rec, ours: Any) -> List[Rec]:
-    out = []
-    for diag in ("stability-sweep", "trace-taylor"):
-        theirs = mmd.get(diag)
-        if theirs is None:
-            continue
-        rec = dict(case=case["id"], method=method + " (%s)" % diag, comparisons=[], notes=[])
-        out.append(rec)
-        mine_ = ours.setdefault((method, None), {})
-        unc_ = ours.setdefault(("__unc__", method), {})
-        if not isinstance(prob, xp.Oscillator) or method not in xm.METHODS:
-            rec.update(verdict="not reproduced", reason="%s needs the oscillator and a known method" % diag)
-            continue
-        if diag == "stability-sweep":
-            if not spec.get("stability_sweep"):
-                rec.update(verdict="not reproduced", reason="the case file has no `stability_sweep`")
-                continue
-            xcaserec.compare_sweep(xsweep.sweep(method, spec["stability_sweep"]), theirs, rec["comparisons"],
-                                   mine_, unc_)
-        else:
-            xcaserec.compare_trace_taylor(method, prob, spec, theirs, rec["comparisons"], mine_, unc_)
-        rec["verdict"] = "agree" if all(c["agree"] for c in rec["comparisons"]) else "disagree"
+            mc = diagnostics.MethodCtx(case, spec, prob, method, theirs, ctxs, ours.setdefault((method, None), {}),
+                                       ours.setdefault(("__unc__", method), {}))
+            out.append(d.method(mc))
     return out
 
 
@@ -261,7 +215,7 @@ def check_case(case: Rec, selection: Optional[List[str]]) -> Rec:
     ours: Dict[Any, Rec] = {(cx.method, cx.dt): cx.mm for cx in ctxs}
     unc: Dict[Any, Rec] = {(cx.method, cx.dt): cx.unc for cx in ctxs}
     status = {(cx.method, cx.dt): cx.mine.get("status", "ok") for cx in ctxs}
-    orders = order_records(case, spec, prob, ctxs, ours)
+    orders = method_records(case, spec, prob, ctxs, ours)
     for k in [k for k in ours if k[0] == "__unc__"]:
         unc[(k[1], None)] = ours.pop(k)
     checks = xcaserec.checks_records(case, spec, ours, unc, status)
@@ -335,6 +289,63 @@ def _vec(x: Any) -> str:
     return fmt(x) if not isinstance(x, list) else "(vector)"
 
 
+def gfm_cell(x: Any) -> str:
+    """A table cell that GitHub/GitLab Markdown keeps as one cell: '|' escaped, one line."""
+    return str(x).replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+
+
+VERDICT_RANK = {"agree": 0, "not comparable": 1, "not reproduced": 2, "disagree": 3}
+
+
+def deviation(c: Rec) -> Optional[float]:
+    """|ours - theirs| / tolerance of a comparison with an absolute tolerance (xtol.cmp_abs)."""
+    tol = c.get("tol_abs")
+    if not isinstance(tol, float) or not tol > 0.0:
+        return None
+    try:
+        d = abs(float(c["ours"]) - float(c["theirs"]))
+    except (TypeError, ValueError):
+        return None
+    return d / tol if math.isfinite(d) else None
+
+
+def case_summary(case: str, recs: List[Rec]) -> Tuple[str, str, str, str, str]:
+    """One case's row: runs compared (not 'not reproduced'), runs agreeing, the largest
+    |ours - theirs| / tolerance of any comparison (and which), the case's worst verdict."""
+    runs = [r for r in recs if "dt" in r and r.get("check") is None and r["verdict"] != "not reproduced"]
+    agreeing = sum(1 for r in runs if r["verdict"] == "agree")
+    worst, worst_q = -1.0, ""
+    for r in recs:
+        for c in r["comparisons"]:
+            dv = deviation(c)
+            if dv is not None and dv > worst:
+                worst, worst_q = dv, c["quantity"]
+    verdict = max((r["verdict"] for r in recs), key=lambda v: VERDICT_RANK.get(v, 0), default="agree")
+    nc = sum(1 for r in recs if r["verdict"] == "not comparable")
+    if verdict == "not comparable" or (verdict == "agree" and nc):
+        verdict = "agree (%d not comparable)" % nc
+    return (case, str(len(runs)), "%d of %d" % (agreeing, len(runs)),
+            "%.2g (%s)" % (worst, worst_q) if worst >= 0 else "",
+            verdict if verdict != "disagree" else "**disagree**")
+
+
+def case_summary_table(result: Rec) -> List[str]:
+    """The per-case summary (GFM table, every cell escaped), cases in the report's order."""
+    by_case: Dict[str, List[Rec]] = {}
+    for g in ("structure", "runs", "orders", "checks"):
+        for r in result[g]:
+            by_case.setdefault(r["case"], []).append(r)
+    order = [t[0] for t in result["timing"]] + [c for c in by_case if c not in {t[0] for t in result["timing"]}]
+    L = ["", "## Per case", "",
+         "Runs compared: runs not 'not reproduced'; deviation / tolerance: the largest |ours - theirs| / "
+         "tolerance of the case's comparisons with an absolute tolerance (above 1: a disagreement); verdict: "
+         "the worst of its runs, fits, checks and structure (disagree, not reproduced, not comparable, agree).",
+         "", "| case | runs compared | agreeing | max deviation / tolerance | verdict |", "|---|---|---|---|---|"]
+    for cid in order:
+        L.append("| " + " | ".join(gfm_cell(x) for x in case_summary(cid, by_case[cid])) + " |")
+    return L
+
+
 def write_markdown(path: str, result: Rec) -> None:
     s = result["summary"]
     L = ["# dampsym independent cross-check", "", "Report: `%s`  " % result["report"],
@@ -345,6 +356,7 @@ def write_markdown(path: str, result: Rec) -> None:
     c = s["comparisons"]
     L += ["", "Comparisons: %d agree, %d disagree, %d not comparable (counted apart: each has its reason)."
           % (c["agree"], c["disagree"], c["not comparable"])]
+    L += case_summary_table(result)
     L += ["", "## Time per case (CPU seconds do not depend on the machine's load)", "",
           "| case | problem | wall s | CPU s |", "|---|---|---|---|"]
     L += ["| %s | %s | %.2f | %.2f |" % t for t in result["timing"]]

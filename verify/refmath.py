@@ -10,6 +10,7 @@ Equivalently z' = N(z) - gamma*z with N = J^{-1} grad H_gamma, H_gamma = T + V +
 implemented (oscillator, pendulum), so states are plain Python floats (q, p):
 this keeps the long step loops fast without numpy call overhead.
 """
+from typing import Any, Dict
 import math
 
 import numpy as np
@@ -34,13 +35,13 @@ class Oscillator:
     name = "oscillator"
     param_names = ("omega", "gamma", "q0", "p0")
 
-    def __init__(self, omega, gamma, q0, p0):
+    def __init__(self, omega: Any, gamma: Any, q0: Any, p0: Any) -> None:
         self.omega, self.gamma, self.q0, self.p0 = float(omega), float(gamma), float(q0), float(p0)
         w2 = self.omega ** 2
         self.dV = lambda q: w2 * q
         self.ddV = lambda q: w2
 
-    def exact(self, t):
+    def exact(self, t: Any) -> Any:
         """Exact state at time t after the initial one, valid in every regime.
 
         z' = A z with A = [[0, 1], [-w^2, -2g]].  With B = A + g I one has B^2 = -beta^2 I,
@@ -74,7 +75,7 @@ class Oscillator:
         # B z0 = (g q0 + p0, -w^2 q0 - g p0)
         return np.array([C * q0 + S * (g * q0 + p0), C * p0 + S * (-w * w * q0 - g * p0)])
 
-    def H_gamma(self, q, p):
+    def H_gamma(self, q: Any, p: Any) -> Any:
         """Conformal invariant H_gamma = (w^2 q^2 + p^2)/2 + g q p (B Ex. 1.2); works on arrays."""
         return 0.5 * (self.omega ** 2 * q * q + p * p) + self.gamma * q * p
 
@@ -84,13 +85,13 @@ class Pendulum:
     name = "pendulum"
     param_names = ("gamma", "q0", "p0")
 
-    def __init__(self, gamma, q0, p0):
+    def __init__(self, gamma: Any, q0: Any, p0: Any) -> None:
         self.gamma, self.q0, self.p0 = float(gamma), float(q0), float(p0)
         self.dV = math.sin
         self.ddV = math.cos
-        self._cache = {}
+        self._cache: Dict[float, Any] = {}
 
-    def reference(self, t):
+    def reference(self, t: Any) -> Any:
         """Numerical reference at time t after the initial one (conventions §4, certified).
 
         DOP853 with rtol 1e-13, atol 1e-15, recomputed with a ten times tighter tolerance;
@@ -102,12 +103,12 @@ class Pendulum:
         if t not in self._cache:
             g = self.gamma
 
-            def f(_t, z):
+            def f(_t: Any, z: Any) -> Any:
                 return [z[1], -math.sin(z[0]) - 2.0 * g * z[1]]
 
             z0 = [self.q0, self.p0]
             a = solve_ivp(f, (0.0, t), z0, method="DOP853", rtol=1e-13, atol=1e-15)
-            rtol2 = max(1e-14, 100 * EPS)
+            rtol2 = max(1e-14, 100 * float(EPS))
             b = solve_ivp(f, (0.0, t), z0, method="DOP853", rtol=rtol2, atol=1e-16)
             if not (a.success and b.success):
                 raise SolveFailed("reference solve failed: %s / %s" % (a.message, b.message))
@@ -127,38 +128,38 @@ PROBLEMS = {"oscillator": Oscillator, "pendulum": Pendulum}
 IMPLICIT = {"cimp"}
 
 
-def _full_field(prob):
+def _full_field(prob: Any) -> Any:
     """Full vector field f(q, p) = (p, -V'(q) - 2 gamma p) (conventions §1, F(1.1))."""
     dV, g2 = prob.dV, 2.0 * prob.gamma
     return lambda q, p: (p, -dV(q) - g2 * p)
 
 
-def _euler(prob, h):
+def _euler(prob: Any, h: Any) -> Any:
     """Explicit Euler, HLW(1.4)."""
     f = _full_field(prob)
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         kq, kp = f(q, p)
         return q + h * kq, p + h * kp
     return step
 
 
-def _heun(prob, h):
+def _heun(prob: Any, h: Any) -> Any:
     """Heun = explicit trapezoid, B(3.8): predictor z + h f(z), then average the slopes."""
     f = _full_field(prob)
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         k1q, k1p = f(q, p)
         k2q, k2p = f(q + h * k1q, p + h * k1p)
         return q + 0.5 * h * (k1q + k2q), p + 0.5 * h * (k1p + k2p)
     return step
 
 
-def _rk3(prob, h):
+def _rk3(prob: Any, h: Any) -> Any:
     """Kutta's third-order RK (F ch.4): c = (0, 1/2, 1), A = [[0], [1/2], [-1, 2]], b = (1/6, 2/3, 1/6)."""
     f = _full_field(prob)
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         k1q, k1p = f(q, p)
         k2q, k2p = f(q + 0.5 * h * k1q, p + 0.5 * h * k1p)
         k3q, k3p = f(q + h * (-k1q + 2.0 * k2q), p + h * (-k1p + 2.0 * k2p))
@@ -167,11 +168,11 @@ def _rk3(prob, h):
     return step
 
 
-def _rk4(prob, h):
+def _rk4(prob: Any, h: Any) -> Any:
     """Classical fourth-order Runge-Kutta on the full vector field."""
     f = _full_field(prob)
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         k1q, k1p = f(q, p)
         k2q, k2p = f(q + 0.5 * h * k1q, p + 0.5 * h * k1p)
         k3q, k3p = f(q + 0.5 * h * k2q, p + 0.5 * h * k2p)
@@ -181,21 +182,21 @@ def _rk4(prob, h):
     return step
 
 
-def _csv1(prob, h):
+def _csv1(prob: Any, h: Any) -> Any:
     """CSV1, F(2.12) (Modin-Soderlind), T = p^2/2:
          p_half = e^{-g h} p - (h/2) V'(q)
          q1     = q + h p_half
          p1     = e^{-g h} (p_half - (h/2) V'(q1))"""
     dV, e = prob.dV, math.exp(-prob.gamma * h)
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         ph = e * p - 0.5 * h * dV(q)
         q1 = q + h * ph
         return q1, e * (ph - 0.5 * h * dV(q1))
     return step
 
 
-def _csv2(prob, h):
+def _csv2(prob: Any, h: Any) -> Any:
     """CSV2, F(2.16) exactly as printed, T = p^2/2:
          (1 + g h/2) p_half = e^{-g h/2} p - (h/2) V'(q)
          (1 - g h/2) q1     = e^{-g h/2} [ (1 + g h/2) e^{-g h/2} q + h p_half ]
@@ -206,14 +207,14 @@ def _csv2(prob, h):
     if b <= 0.0:
         raise NotApplicable("csv2 needs gamma*h < 2 (gamma*h = %g)" % (g * h))
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         ph = (e * p - 0.5 * h * dV(q)) / a
         q1 = e * (a * e * q + h * ph) / b
         return q1, e * (b * ph - 0.5 * h * dV(q1))
     return step
 
 
-def _cimp(prob, h):
+def _cimp(prob: Any, h: Any) -> Any:
     """CIMP, F(2.3):  (e^{gh/2} z1 - e^{-gh/2} z0)/h = N((e^{gh/2} z1 + e^{-gh/2} z0)/2),
     N = J^{-1} grad H_gamma = (p + g q, -V'(q) - g p).
 
@@ -224,7 +225,7 @@ def _cimp(prob, h):
     em = math.exp(-0.5 * g * h)
     hh = 0.5 * h
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         aq, ap = em * q, em * p
         wq, wp = aq + h * (ap + g * aq), ap + h * (-dV(aq) - g * ap)   # Euler predictor
         last = math.inf
@@ -257,18 +258,18 @@ METHODS = {"euler": _euler, "heun": _heun, "rk3": _rk3, "rk4": _rk4,
            "csv1": _csv1, "csv2": _csv2, "cimp": _cimp}
 
 
-def make_step(method, prob, h):
+def make_step(method: str, prob: Any, h: Any) -> Any:
     return METHODS[method](prob, h)
 
 
-def one_step_matrix(method, prob, h):
+def one_step_matrix(method: str, prob: Any, h: Any) -> Any:
     """One-step matrix M of a method on a linear problem: columns = one step from e1 and e2."""
     step = make_step(method, prob, h)
     c1, c2 = step(1.0, 0.0), step(0.0, 1.0)
     return np.array([[c1[0], c2[0]], [c1[1], c2[1]]])
 
 
-def integrate(method, prob, h, nsteps, keep=False, blowup=None):
+def integrate(method: str, prob: Any, h: Any, nsteps: int, keep: Any = False, blowup: Any = None) -> Any:
     """Take nsteps steps of size h from (q0, p0).
 
     Returns dict(status, steps, q, p, traj, message) with status 'ok', 'diverged' (state
@@ -282,7 +283,8 @@ def integrate(method, prob, h, nsteps, keep=False, blowup=None):
         step = make_step(method, prob, h)
     except NotApplicable as exc:
         return dict(status="not-applicable", steps=0, q=q, p=p, traj=None, message=str(exc))
-    qs, ps = ([q], [p]) if keep else (None, None)
+    qs: Any = [q] if keep else None
+    ps: Any = [p] if keep else None
     status, msg, n = "ok", "", 0
     try:
         for n in range(1, nsteps + 1):
@@ -304,7 +306,7 @@ def integrate(method, prob, h, nsteps, keep=False, blowup=None):
 # ----------------------------------------------------------------------------------------
 # Order fit (conventions §5 "order") with the asymptotic-window rule.
 # ----------------------------------------------------------------------------------------
-def _window_at_finest(local):
+def _window_at_finest(local: Any) -> Any:
     """First index i of the longest window of local orders local[i:] (>= 2 of them) that ends at
     the finest step and agrees within max(0.1 |mean|, 0.05) with a mean >= 0.5, or None."""
     first = None
@@ -316,7 +318,7 @@ def _window_at_finest(local):
     return first
 
 
-def fit_order(dts, errors, floor, solution_scale=math.inf):
+def fit_order(dts: Any, errors: Any, floor: Any, solution_scale: Any = math.inf) -> Any:
     """Least-squares slope of log(error) against log(dt) over the asymptotic window
     (docs/conventions.md §5 "order").
 

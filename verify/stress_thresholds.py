@@ -17,8 +17,9 @@ expectations the analysis gives at both step sizes:
 tests/test_stress_thresholds.cpp recomputes every h* independently in C++ (bisection on the
 catalog's F_condition, the stability polynomial, or the closed form) and checks that the dt_ladder
 of each file is 0.99 and 1.01 times it, so the numbers cannot go stale silently. Run from the
-repository root:  /usr/bin/python3 verify/stress_thresholds.py
+repository root:  /usr/bin/python3 -m verify.stress_thresholds
 """
+from typing import Any, Dict
 
 import json
 import math
@@ -30,30 +31,30 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CASES = os.path.join(HERE, "cases")
 
 
-def r17(x):
+def r17(x: Any) -> float:
     """x rounded to 17 significant digits (what the JSON holds)."""
     return float("%.17g" % x)
 
 
 # ---- closed-form one-step matrices on the oscillator (columns: images of (1,0) and (0,1)) ----
 
-def m_csv1(w, g, h):
+def m_csv1(w: Any, g: Any, h: Any) -> Any:
     # F(2.12): p_half = e^{-gh} p - (h/2) w^2 q; q1 = q + h p_half; p1 = e^{-gh}(p_half - (h/2) w^2 q1)
     d = math.exp(-g * h)
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         ph = d * p - 0.5 * h * w * w * q
         q1 = q + h * ph
         return q1, d * (ph - 0.5 * h * w * w * q1)
     return np.array([step(1.0, 0.0), step(0.0, 1.0)]).T
 
 
-def m_csv2(w, g, h):
+def m_csv2(w: Any, g: Any, h: Any) -> Any:
     # F(2.16) in conventions §3's form
     e = math.exp(-0.5 * g * h)
     pl, mi = 1.0 + 0.5 * g * h, 1.0 - 0.5 * g * h
 
-    def step(q, p):
+    def step(q: Any, p: Any) -> Any:
         ph = (e * p - 0.5 * h * w * w * q) / pl
         q1 = e * (pl * e * q + h * ph) / mi
         return q1, e * (mi * ph - 0.5 * h * w * w * q1)
@@ -69,7 +70,7 @@ TABLEAUX = {  # explicit RK: (A, b)
 }
 
 
-def m_rk(name, w, g, h):
+def m_rk(name: Any, w: Any, g: Any, h: Any) -> Any:
     """M = R(hA) = sum_k (hA)^k b^T A_rk^{k-1} 1 for an explicit RK method (a polynomial)."""
     A_rk, b = (np.array(x, dtype=float) for x in TABLEAUX[name])
     s = len(b)
@@ -84,18 +85,18 @@ def m_rk(name, w, g, h):
     return M
 
 
-def m_stormer_verlet(w, g, h):
+def m_stormer_verlet(w: Any, g: Any, h: Any) -> Any:
     assert g == 0.0  # velocity Verlet (Lobatto IIIA-IIIB) on the undamped oscillator
     return m_csv1(w, 0.0, h)
 
 
-def m_symplectic_euler(w, g, h):
+def m_symplectic_euler(w: Any, g: Any, h: Any) -> Any:
     # q tableau explicit Euler, p tableau implicit Euler (HLW(1.8)): p1 = p - h w^2 q, q1 = q + h p1
     assert g == 0.0
     return np.array([[1.0 - h * h * w * w, h], [-h * w * w, 1.0]])
 
 
-def one_step(method, w, g, h):
+def one_step(method: str, w: Any, g: Any, h: Any) -> Any:
     if method == "csv1":
         return m_csv1(w, g, h)
     if method == "csv2":
@@ -107,17 +108,17 @@ def one_step(method, w, g, h):
     return m_rk(method, w, g, h)
 
 
-def spectral_radius(M):
+def spectral_radius(M: Any) -> float:
     return float(max(abs(np.linalg.eigvals(M))))
 
 
-def f_condition(M, g, h):
+def f_condition(M: Any, g: Any, h: Any) -> bool:
     return abs(0.5 * np.trace(M)) < math.exp(-g * h)
 
 
 # ---- the thresholds (each solved case-independently from its formula) ----
 
-def bisect(f, a, b, iters=200):
+def bisect(f: Any, a: Any, b: Any, iters: Any = 200) -> Any:
     """Root of f in [a, b] (f(a), f(b) of opposite sign), to the last bit."""
     fa = f(a)
     assert fa * f(b) < 0, (a, b, fa, f(b))
@@ -132,30 +133,31 @@ def bisect(f, a, b, iters=200):
     return 0.5 * (a + b)
 
 
-def h_csv1_upper(w, g):  # F(3.17): h^2 w^2 / 2 = 1 + sech(g h)
+def h_csv1_upper(w: Any, g: Any) -> Any:  # F(3.17): h^2 w^2 / 2 = 1 + sech(g h)
     return bisect(lambda h: 0.5 * h * h * w * w - 1.0 - 1.0 / math.cosh(g * h), 1e-6, 10.0 / w)
 
 
-def h_csv1_lower(w, g):  # F(3.17): h^2 w^2 / 2 = 1 - sech(g h) (exists for w < g)
+def h_csv1_lower(w: Any, g: Any) -> Any:  # F(3.17): h^2 w^2 / 2 = 1 - sech(g h) (exists for w < g)
     return bisect(lambda h: 0.5 * h * h * w * w - 1.0 + 1.0 / math.cosh(g * h), 1e-3, 10.0 / w)
 
 
-def h_csv2_upper(w, g):  # F(3.22): w^2 = 4 sech(g h / 2) / h^2 (g h < 2)
+def h_csv2_upper(w: Any, g: Any) -> Any:  # F(3.22): w^2 = 4 sech(g h / 2) / h^2 (g h < 2)
     return bisect(lambda h: w * w * h * h - 4.0 / math.cosh(0.5 * g * h), 1e-6, 2.0 / g if g else 10.0 / w)
 
 
-def h_csv2_lower(w, g):  # F(3.22): w^2 = g^2 sech(g h / 2)  ->  h = (2/g) arccosh(g^2/w^2)
+def h_csv2_lower(w: Any, g: Any) -> Any:  # F(3.22): w^2 = g^2 sech(g h / 2)  ->  h = (2/g) arccosh(g^2/w^2)
     return 2.0 / g * math.acosh(g * g / (w * w))
 
 
-def h_rk_power(name, w, g):
+def h_rk_power(name: Any, w: Any, g: Any) -> Any:
     """First h where max |R(h lambda)| = 1, lambda = -g +- sqrt(g^2 - w^2) (closed forms at g = 0:
     euler, heun never stable; rk3 h w = sqrt 3; rk4 h w = 2 sqrt 2; euler at g < w: h = 2g/w^2)."""
     A_rk, b = (np.array(x, dtype=float) for x in TABLEAUX[name])
     lam = -g + np.sqrt(complex(g * g - w * w))
 
-    def R(z):
-        v, out, zk = np.ones(len(b)), 1.0 + 0j, 1.0 + 0j
+    def R(z: Any) -> Any:
+        v, zk = np.ones(len(b)), 1.0 + 0j
+        out: Any = 1.0 + 0j
         for _ in range(len(b)):
             zk = zk * z
             out += (b @ v) * zk
@@ -166,7 +168,7 @@ def h_rk_power(name, w, g):
 
 # ---- predictions by iterating the closed-form M ----
 
-def exact(w, g, q0, p0, t):
+def exact(w: Any, g: Any, q0: Any, p0: Any, t: Any) -> Any:
     b2 = (w - g) * (w + g)
     if b2 > 0:
         b = math.sqrt(b2)
@@ -180,13 +182,13 @@ def exact(w, g, q0, p0, t):
     return np.array([e * (q0 * C + (p0 + g * q0) * S), e * (p0 * C - (g * p0 + w * w * q0) * S)])
 
 
-def iterate(M, w, g, h, n, every, z0=(1.0, 0.0)):
+def iterate(M: Any, w: Any, g: Any, h: Any, n: Any, every: Any, z0: Any = (1.0, 0.0)) -> Any:
     """Runs z <- M z for n steps like src/core/integrate.hpp. Returns the diverged step (or None),
     the max error against the exact solution on the output grid (every `every` steps) and the max
     of |e^{2 g t} H_gamma(z_k)/H_gamma(z_0) - 1| over all steps."""
     z = np.array(z0, dtype=float)
 
-    def hg(v):
+    def hg(v: Any) -> Any:
         return 0.5 * (w * w * v[0] ** 2 + v[1] ** 2) + g * v[0] * v[1]
     h0 = hg(z)
     max_err, max_inv = 0.0, 0.0
@@ -243,11 +245,70 @@ THRESHOLDS = [
 CONFORMAL = {"csv1", "csv2"}
 
 
-def g17(x):
+def g17(x: Any) -> float:
     return float("%.17g" % x)
 
 
-def make_case(suffix, method, w, g, solve, how, m, side):
+def fmt(x: Any) -> str:
+    return "%.6g" % x
+
+
+def expect_bounded(ex: Dict[str, Any], method: str, dt: Any, label: str, p: Dict[str, Any], conformal: bool) -> None:
+    """The checks of a run predicted bounded at `label` h* (p: the prediction from M)."""
+    ex["bounded run at %s h*: completes every step" % label] = {
+        "metric": "run.ok", "methods": [method], "dt": dt, "ge": 1,
+        "note": "%d steps, rho(M) = %s <= 1" % (p["n"], fmt(p["rho"]))}
+    ex["bounded run at %s h*: power-bounded M" % label] = {
+        "metric": "stability.power_bounded", "methods": [method], "dt": dt, "ge": 1}
+    bound = g17(1.01 * p["err"] + 1e-300)
+    ex["bounded run at %s h*: error over the output grid as predicted" % label] = {
+        "metric": "error.max_abs", "methods": [method], "dt": dt, "le": bound,
+        "note": "iterating the closed-form M over the %d steps gives max error %s on the output "
+                "grid against the exact solution; 1%% margin (a growing mode, e.g. rho = 1 + 1e-4, "
+                "would exceed it)" % (p["n"], fmt(p["err"]))}
+    if conformal and p["F"]:
+        ex["bounded run at %s h*: e^{2 gamma t} H_gamma stays bounded" % label] = {
+            "metric": "invariants.H_gamma.max_global_ratio_dev", "methods": [method], "dt": dt,
+            "le": g17(1.01 * p["inv"]),
+            "note": "inside F's region both eigenvalues have modulus e^{-gamma h}: the conformal "
+                    "energy oscillates on the modified ellipse, max |e^{2 gamma t}H_gamma/H_gamma(0) - 1| "
+                    "= %s by iterating M (1%% margin)" % fmt(p["inv"])}
+    elif conformal:
+        ex["bounded run at %s h*, outside F's region: e^{2 gamma t} H_gamma grows" % label] = {
+            "metric": "invariants.H_gamma.max_global_ratio_dev", "methods": [method], "dt": dt,
+            "ge": 1e6, "negative_control": True,
+            "note": "outside F's region the eigenvalues are real, one of modulus > e^{-gamma h}: the "
+                    "run stays bounded (rho(M) = %s < 1) but e^{2 gamma t} H_gamma grows; iterating M "
+                    "gives max %s" % (fmt(p["rho"]), fmt(p["inv"]))}
+
+
+def expect_unbounded(ex: Dict[str, Any], method: str, dt: Any, label: str, p: Dict[str, Any], suffix: Any) -> None:
+    """The checks of a run predicted unbounded at `label` h*: diverged at the predicted step."""
+    if p["F"]:
+        ex["unbounded at %s h* although F's condition holds" % label] = {
+            "metric": "stability.F_condition", "methods": [method], "dt": dt, "ge": 1,
+            "note": "|tr M/2| < e^{-gamma h} but det M = %s != e^{-2 gamma h}: for a method that is "
+                    "not conformal symplectic F's condition is not boundedness (conventions §6)"
+                    % fmt(np.linalg.det(p["M"]))}
+    ex["unbounded at %s h*: M not power-bounded" % label] = {
+        "metric": "stability.power_bounded", "methods": [method], "dt": dt, "le": 0,
+        "negative_control": True,
+        "note": "rho(M) = %s > 1" % fmt(p["rho"])}
+    assert p["div"] is not None, (suffix, label, "predicted no divergence within the run")
+    ex["unbounded at %s h*: the run is reported diverged" % label] = {
+        "metric": "run.diverged", "methods": [method], "dt": dt, "ge": 1,
+        "negative_control": True,
+        "note": "status 'diverged' is a reported result, not a crash"}
+    tol = max(2, math.ceil(0.002 * p["div"]))
+    ex["unbounded at %s h*: diverges at the predicted step" % label] = {
+        "metric": "run.failed_at_step", "methods": [method], "dt": dt,
+        "near": p["div"], "tol": tol,
+        "note": "iterating the closed-form M from (1, 0), |z_i| first exceeds 1e100 at step %d "
+                "(~ ln(1e100)/ln(rho) = %d); tolerance %d steps" % (
+                    p["div"], round(math.log(1e100) / math.log(p["rho"])), tol)}
+
+
+def make_case(suffix: Any, method: str, w: Any, g: Any, solve: Any, how: Any, m: Any, side: Any) -> Any:
     hstar = solve(w, g)
     if method == "euler":  # cross-check the closed form with the stability polynomial
         assert abs(hstar - h_rk_power("euler", w, g)) < 1e-12 * hstar
@@ -268,12 +329,7 @@ def make_case(suffix, method, w, g, solve, how, m, side):
         pred[dt] = dict(M=M, n=n, rho=spectral_radius(M), F=f_condition(M, g, dt),
                         pb=spectral_radius(M) <= 1.0 + 1e-12, div=div, err=err, inv=inv)
     conformal = method in CONFORMAL
-    ex = {}
-
-    def fmt(x):
-        return "%.6g" % x
-
-    pin, pout = pred[inside], pred[outside]
+    ex: Dict[str, Any] = {}
     which = "0.99" if inside == dts[0] else "1.01"
     other = "1.01" if which == "0.99" else "0.99"
     # F's condition: the statement of F(3.17)/(3.22) for csv1/csv2; for the others it is reported
@@ -294,54 +350,9 @@ def make_case(suffix, method, w, g, solve, how, m, side):
             "note": "rho(M) = %s from the closed-form one-step matrix (verify/stress_thresholds.py); "
                     "h* = %.17g: %s" % (fmt(p["rho"]), hstar, how)}
         if p["pb"]:
-            ex["bounded run at %s h*: completes every step" % label] = {
-                "metric": "run.ok", "methods": [method], "dt": dt, "ge": 1,
-                "note": "%d steps, rho(M) = %s <= 1" % (p["n"], fmt(p["rho"]))}
-            ex["bounded run at %s h*: power-bounded M" % label] = {
-                "metric": "stability.power_bounded", "methods": [method], "dt": dt, "ge": 1}
-            bound = g17(1.01 * p["err"] + 1e-300)
-            ex["bounded run at %s h*: error over the output grid as predicted" % label] = {
-                "metric": "error.max_abs", "methods": [method], "dt": dt, "le": bound,
-                "note": "iterating the closed-form M over the %d steps gives max error %s on the output "
-                        "grid against the exact solution; 1%% margin (a growing mode, e.g. rho = 1 + 1e-4, "
-                        "would exceed it)" % (p["n"], fmt(p["err"]))}
-            if conformal and p["F"]:
-                ex["bounded run at %s h*: e^{2 gamma t} H_gamma stays bounded" % label] = {
-                    "metric": "invariants.H_gamma.max_global_ratio_dev", "methods": [method], "dt": dt,
-                    "le": g17(1.01 * p["inv"]),
-                    "note": "inside F's region both eigenvalues have modulus e^{-gamma h}: the conformal "
-                            "energy oscillates on the modified ellipse, max |e^{2 gamma t}H_gamma/H_gamma(0) - 1| "
-                            "= %s by iterating M (1%% margin)" % fmt(p["inv"])}
-            elif conformal:
-                ex["bounded run at %s h*, outside F's region: e^{2 gamma t} H_gamma grows" % label] = {
-                    "metric": "invariants.H_gamma.max_global_ratio_dev", "methods": [method], "dt": dt,
-                    "ge": 1e6, "negative_control": True,
-                    "note": "outside F's region the eigenvalues are real, one of modulus > e^{-gamma h}: the "
-                            "run stays bounded (rho(M) = %s < 1) but e^{2 gamma t} H_gamma grows; iterating M "
-                            "gives max %s" % (fmt(p["rho"]), fmt(p["inv"]))}
+            expect_bounded(ex, method, dt, label, p, conformal)
         else:
-            if p["F"]:
-                ex["unbounded at %s h* although F's condition holds" % label] = {
-                    "metric": "stability.F_condition", "methods": [method], "dt": dt, "ge": 1,
-                    "note": "|tr M/2| < e^{-gamma h} but det M = %s != e^{-2 gamma h}: for a method that is "
-                            "not conformal symplectic F's condition is not boundedness (conventions §6)"
-                            % fmt(np.linalg.det(p["M"]))}
-            ex["unbounded at %s h*: M not power-bounded" % label] = {
-                "metric": "stability.power_bounded", "methods": [method], "dt": dt, "le": 0,
-                "negative_control": True,
-                "note": "rho(M) = %s > 1" % fmt(p["rho"])}
-            assert p["div"] is not None, (suffix, label, "predicted no divergence within the run")
-            ex["unbounded at %s h*: the run is reported diverged" % label] = {
-                "metric": "run.diverged", "methods": [method], "dt": dt, "ge": 1,
-                "negative_control": True,
-                "note": "status 'diverged' is a reported result, not a crash"}
-            tol = max(2, math.ceil(0.002 * p["div"]))
-            ex["unbounded at %s h*: diverges at the predicted step" % label] = {
-                "metric": "run.failed_at_step", "methods": [method], "dt": dt,
-                "near": p["div"], "tol": tol,
-                "note": "iterating the closed-form M from (1, 0), |z_i| first exceeds 1e100 at step %d "
-                        "(~ ln(1e100)/ln(rho) = %d); tolerance %d steps" % (
-                            p["div"], round(math.log(1e100) / math.log(p["rho"])), tol)}
+            expect_unbounded(ex, method, dt, label, p, suffix)
     region = "F's region" if conformal else "its absolute-stability region"
     case = {
         "id": "stress-threshold-" + suffix,
@@ -366,7 +377,7 @@ def make_case(suffix, method, w, g, solve, how, m, side):
     return case, hstar, summary
 
 
-def main():
+def main() -> None:
     for row in THRESHOLDS:
         case, hstar, summary = make_case(*row)
         path = os.path.join(CASES, case["id"] + ".json")

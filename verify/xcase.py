@@ -252,14 +252,10 @@ def grid_stride(spec: Json, dt: float) -> int:
 
 
 def diagnostics(spec: Json) -> List[str]:
-    """Requested diagnostics with the ones they imply (`order` adds `error`, `local-order`
-    adds `local-error`; default ["error"])."""
-    d = list(spec.get("diagnostics") or ["error"])
-    if "order" in d and "error" not in d:
-        d.append("error")
-    if "local-order" in d and "local-error" not in d:
-        d.append("local-error")
-    return d
+    """Requested diagnostics with the ones they imply (verify/diagnostics: `order` adds `error`,
+    `local-order` adds `local-error`; default ["error"])."""
+    from . import diagnostics as registry     # the registry's modules import this one
+    return registry.with_implied(list(spec.get("diagnostics") or ["error"]))
 
 
 def spec_from_report(case: Json) -> Json:

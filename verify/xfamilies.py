@@ -10,9 +10,9 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from xmetrics import EPS, TINY, Undef
-from xours import RunCtx
-from xtol import Comp, cmp_abs, cmp_equal, cmp_list, comp, in_range, num
+from .xmetrics import EPS, TINY, Undef
+from .xrunctx import RunCtx
+from .xtol import Comp, cmp_abs, cmp_equal, cmp_list, comp, in_range, num
 
 REL = 1e-6            # smooth functions of two trajectories that agree to <= 1e-10
 RES_FLOOR = 64 * EPS  # a residual's round-off on its scale: a few sums of products, 64 eps
@@ -23,7 +23,7 @@ IMP_FLOOR = 256 * EPS  # implicit methods: Newton stops with its update at round
 
 def res_floor(cx: RunCtx) -> float:
     """The residual floor of this run's method and path."""
-    import xmethods as xm
+    from . import xmethods as xm
     return RES_FLOOR + (LIN_FLOOR if cx.mine.get("linear_path") else 0.0) + (
         IMP_FLOOR if cx.method in xm.IMPLICIT else 0.0)
 

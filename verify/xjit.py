@@ -11,12 +11,13 @@ einsum may group them differently: round-off only).  Coefficients come from veri
 Without python3-numba (or with XC_NO_NUMBA=1) integrate() returns None and verify/xrun.py uses
 its plain-Python loops: same results, only slower.  Compiled code is cached beside this module
 (__pycache__) or, where that directory is read-only, in numba's per-user cache directory."""
+from typing import Any
 import math
 import os
 
 import numpy as np
 
-import xmethods as xm
+from . import xmethods as xm
 
 try:
     if os.environ.get("XC_NO_NUMBA"):
@@ -34,14 +35,14 @@ KEPLER, RIGID, DRIVEN, NBODY_GRAV, NBODY_LJ, DRIVEN_N = 0, 1, 2, 3, 4, 5
 ERK, SEULER, SEULER_ADJ, VERLET, CSV1, CSV2 = 0, 1, 2, 3, 4, 5
 
 if HAVE_NUMBA:
-    def jit(fn):
+    def jit(fn: Any) -> Any:
         try:               # cached machine code: __pycache__ here, else numba's user cache dir
             return numba.njit(cache=True, nogil=True)(fn)
         except RuntimeError:       # no writable cache location at all: compile in memory
             return numba.njit(nogil=True)(fn)
 
     @jit
-    def _force(code, t, q, P, out):
+    def _force(code: Any, t: Any, q: Any, P: Any, out: Any) -> None:
         """-grad V(q, t) of the separable problems (xproblems / xscalar formulas)."""
         if code == KEPLER:                       # HLW (2.1)
             x, y = q[0], q[1]
@@ -73,7 +74,7 @@ if HAVE_NUMBA:
                         out[j * dim + d] += wd
 
     @jit
-    def _field(code, t, z, P, m, g, out):
+    def _field(code: Any, t: Any, z: Any, P: Any, m: Any, g: Any, out: Any) -> None:
         """f(t, z): separable problems [p / m, force - 2 gamma p]; the rigid body B (1.7)."""
         d = z.shape[0]
         if code == DRIVEN_N:                     # conformal field N = f + gamma z (xscalar)
@@ -97,7 +98,76 @@ if HAVE_NUMBA:
             out[k] = p / m[k]
 
     @jit
-    def _run(code, meth, P, m, g, z0, t0, h, nsteps, A, b, c, record, limit):
+    def _explicit_step(code: Any, meth: Any, P: Any, m: Any, g: Any, t: Any, h: Any, z: Any, A: Any, b: Any,
+                       c: Any, K: Any, zi: Any, fq: Any, fq1: Any) -> None:
+        """One step of method `meth` from (t, z), in place (K, zi, fq, fq1: scratch)."""
+        d = z.shape[0]
+        nq = d // 2
+        s = b.shape[0]
+        if meth == ERK:                      # xscalar._erk, same order of operations
+            for i in range(s):
+                for k in range(d):
+                    zi[k] = z[k]
+                for j in range(i):
+                    if A[i, j] != 0.0:
+                        hA = h * A[i, j]
+                        for k in range(d):
+                            zi[k] = zi[k] + hA * K[j, k]
+                _field(code, t + c[i] * h, zi, P, m, g, K[i])
+            for k in range(d):
+                acc = b[0] * K[0, k]
+                for i in range(1, s):
+                    acc = acc + b[i] * K[i, k]
+                z[k] = z[k] + h * acc
+        elif meth == SEULER:                 # HLW (1.8), p implicit (linear, closed form)
+            _force(code, t, z[:nq], P, fq)
+            den = 1 + 2 * g * h
+            for k in range(nq):
+                p1 = (z[nq + k] + h * fq[k]) / den
+                z[nq + k] = p1
+                z[k] = z[k] + h * (p1 / m[k])
+        elif meth == SEULER_ADJ:
+            for k in range(nq):
+                z[k] = z[k] + h * (z[nq + k] / m[k])
+            _force(code, t + h, z[:nq], P, fq)
+            for k in range(nq):
+                p = z[nq + k]
+                z[nq + k] = p + h * (fq[k] - 2 * g * p)
+        elif meth == VERLET:                 # HLW (3.7) with the damping term
+            _force(code, t, z[:nq], P, fq)
+            den = 1 + g * h
+            for k in range(nq):
+                z[nq + k] = (z[nq + k] + 0.5 * h * fq[k]) / den
+                z[k] = z[k] + h * (z[nq + k] / m[k])
+            _force(code, t + h, z[:nq], P, fq)
+            for k in range(nq):
+                ph = z[nq + k]
+                z[nq + k] = ph + 0.5 * h * (fq[k] - 2 * g * ph)
+        elif meth == CSV1:                   # F (2.12), constant gamma (xscalar._csv_scalar)
+            e1 = math.exp(-2.0 * (g * (0.5 * h)))
+            e2 = e1
+            _force(code, t, z[:nq], P, fq)
+            for k in range(nq):
+                ph = e1 * z[nq + k] + 0.5 * h * fq[k]
+                z[nq + k] = ph
+                z[k] = z[k] + h * ph
+            _force(code, t + h, z[:nq], P, fq1)
+            for k in range(nq):
+                z[nq + k] = e2 * (z[nq + k] + 0.5 * h * fq1[k])
+        else:                                # CSV2, F (2.16), constant gamma, x < 2
+            x = g * h
+            a, bb, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
+            _force(code, t, z[:nq], P, fq)
+            for k in range(nq):
+                ph = (e * z[nq + k] + 0.5 * h * fq[k]) / a
+                z[nq + k] = ph
+                z[k] = e * (a * e * z[k] + h * ph) / bb
+            _force(code, t + h, z[:nq], P, fq1)
+            for k in range(nq):
+                z[nq + k] = e * (bb * z[nq + k] + 0.5 * h * fq1[k])
+
+    @jit
+    def _run(code: Any, meth: int, P: Any, m: Any, g: Any, z0: Any, t0: Any, h: Any, nsteps: int, A: Any, b: Any, c: Any, record: bool, limit: Any) -> Any:
         """nsteps steps of method `meth`; returns (steps done, status 0 ok / 1 diverged,
         final state, trajectory (nsteps + 1 rows when record, else 1))."""
         d = z0.shape[0]
@@ -114,67 +184,7 @@ if HAVE_NUMBA:
         status = 0
         for n in range(1, nsteps + 1):
             t = t0 + (n - 1) * h
-            if meth == ERK:                      # xscalar._erk, same order of operations
-                for i in range(s):
-                    for k in range(d):
-                        zi[k] = z[k]
-                    for j in range(i):
-                        if A[i, j] != 0.0:
-                            hA = h * A[i, j]
-                            for k in range(d):
-                                zi[k] = zi[k] + hA * K[j, k]
-                    _field(code, t + c[i] * h, zi, P, m, g, K[i])
-                for k in range(d):
-                    acc = b[0] * K[0, k]
-                    for i in range(1, s):
-                        acc = acc + b[i] * K[i, k]
-                    z[k] = z[k] + h * acc
-            elif meth == SEULER:                 # HLW (1.8), p implicit (linear, closed form)
-                _force(code, t, z[:nq], P, fq)
-                den = 1 + 2 * g * h
-                for k in range(nq):
-                    p1 = (z[nq + k] + h * fq[k]) / den
-                    z[nq + k] = p1
-                    z[k] = z[k] + h * (p1 / m[k])
-            elif meth == SEULER_ADJ:
-                for k in range(nq):
-                    z[k] = z[k] + h * (z[nq + k] / m[k])
-                _force(code, t + h, z[:nq], P, fq)
-                for k in range(nq):
-                    p = z[nq + k]
-                    z[nq + k] = p + h * (fq[k] - 2 * g * p)
-            elif meth == VERLET:                 # HLW (3.7) with the damping term
-                _force(code, t, z[:nq], P, fq)
-                den = 1 + g * h
-                for k in range(nq):
-                    z[nq + k] = (z[nq + k] + 0.5 * h * fq[k]) / den
-                    z[k] = z[k] + h * (z[nq + k] / m[k])
-                _force(code, t + h, z[:nq], P, fq)
-                for k in range(nq):
-                    ph = z[nq + k]
-                    z[nq + k] = ph + 0.5 * h * (fq[k] - 2 * g * ph)
-            elif meth == CSV1:                   # F (2.12), constant gamma (xscalar._csv_scalar)
-                e1 = math.exp(-2.0 * (g * (0.5 * h)))
-                e2 = e1
-                _force(code, t, z[:nq], P, fq)
-                for k in range(nq):
-                    ph = e1 * z[nq + k] + 0.5 * h * fq[k]
-                    z[nq + k] = ph
-                    z[k] = z[k] + h * ph
-                _force(code, t + h, z[:nq], P, fq1)
-                for k in range(nq):
-                    z[nq + k] = e2 * (z[nq + k] + 0.5 * h * fq1[k])
-            else:                                # CSV2, F (2.16), constant gamma, x < 2
-                x = g * h
-                a, bb, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
-                _force(code, t, z[:nq], P, fq)
-                for k in range(nq):
-                    ph = (e * z[nq + k] + 0.5 * h * fq[k]) / a
-                    z[nq + k] = ph
-                    z[k] = e * (a * e * z[k] + h * ph) / bb
-                _force(code, t + h, z[:nq], P, fq1)
-                for k in range(nq):
-                    z[nq + k] = e * (bb * z[nq + k] + 0.5 * h * fq1[k])
+            _explicit_step(code, meth, P, m, g, t, h, z, A, b, c, K, zi, fq, fq1)
             if record:
                 traj[n] = z
             bad = False
@@ -189,7 +199,7 @@ if HAVE_NUMBA:
         return n, status, z, traj
 
     @jit
-    def _glm_solve(code, P, m, t, h, a, base, Mi, y, fy):
+    def _glm_solve(code: Any, P: Any, m: Any, t: Any, h: Any, a: Any, base: Any, Mi: Any, y: Any, fy: Any) -> Any:
         """One diagonally implicit GLM stage, Y = base + h a f(t, Y), simplified Newton with the
         given inverse, to round-off (xscalar.GLMScalar._solve, same operations)."""
         d = base.shape[0]
@@ -226,7 +236,7 @@ if HAVE_NUMBA:
                 return -1
 
     @jit
-    def _glm_chunk(code, P, m, t0, h, n0, nsteps, yv, Mi0, Mi1, A, U, B, V, traj, limit):
+    def _glm_chunk(code: Any, P: Any, m: Any, t0: Any, h: Any, n0: Any, nsteps: int, yv: Any, Mi0: Any, Mi1: Any, A: Any, U: Any, B: Any, V: Any, traj: Any, limit: Any) -> Any:
         """Steps n0+1 .. n0+nsteps of BS's GLM with fixed Newton inverses (xscalar.GLMScalar.step);
         returns (last step done, status 0 ok / 1 diverged / 2 solve failed, Newton its, max its)."""
         d = yv.shape[1]
@@ -271,7 +281,7 @@ if HAVE_NUMBA:
 
 if HAVE_NUMBA:
     @jit
-    def _impl_chunk(code, P, m, g, t0, h, n0, nmax, z, Phi, A, b, phi0, c, Mi, traj, limit):
+    def _impl_chunk(code: Any, P: Any, m: Any, g: Any, t0: Any, h: Any, n0: Any, nmax: int, z: Any, Phi: Any, A: Any, b: Any, phi0: Any, c: Any, Mi: Any, traj: Any, limit: Any) -> Any:
         """Steps n0+1 .. of an implicit RK-family method with a fixed simplified-Newton inverse
         (xscalar._implicit, same operations): at most 8 steps, stopping after a slow solve (more
         than 6 iterations), when the caller refreshes the inverse.  Returns (last step done,
@@ -342,7 +352,7 @@ if HAVE_NUMBA:
         return n, 0, tot, mx, False
 
 
-def _integrate_implicit(method, prob, code, P, m, g, h, nsteps, t0, record, limit, out):
+def _integrate_implicit(method: str, prob: Any, code: Any, P: Any, m: Any, g: Any, h: Any, nsteps: int, t0: Any, record: bool, limit: Any, out: Any) -> Any:
     """Gauss / implicit midpoint (plain tableaux) and cimp / glifrk (B (2.5) with constant
     gamma, so constant coefficients) as xscalar._implicit: each Newton inverse, refreshed every 8
     steps and after a slow solve, in Python; the steps in between compiled.  On the N-body
@@ -389,15 +399,15 @@ SCALAR_METHODS = {"euler": S_EULER, "heun": S_HEUN, "rk3": S_RK3, "rk4": S_RK4, 
 
 if HAVE_NUMBA:
     @jit
-    def _dv(pend, w2, q):          # V'(q): sin q (pendulum) or omega^2 q
+    def _dv(pend: Any, w2: Any, q: Any) -> Any:   # V'(q): sin q (pendulum) or omega^2 q
         return math.sin(q) if pend else w2 * q
 
     @jit
-    def _ddv(pend, w2, q):
+    def _ddv(pend: Any, w2: Any, q: Any) -> Any:
         return math.cos(q) if pend else w2
 
     @jit
-    def _scalar_run(meth, pend, w2, g, h, q, p, nsteps, record, limit):
+    def _scalar_run(meth: str, pend: Any, w2: Any, g: Any, h: Any, q: Any, p: Any, nsteps: int, record: bool, limit: Any) -> Any:
         """verify/refmath.py's one-degree-of-freedom steppers (the second, scalar implementation
         of xrun.scalar_stepper), same operations: returns (steps, status 0 ok / 1 diverged /
         2 solve failed, q, p, trajectory)."""
@@ -478,7 +488,7 @@ if HAVE_NUMBA:
         return n, 0, q, p, traj
 
 
-def integrate_scalar(method, prob, h, nsteps, record, limit, out):
+def integrate_scalar(method: str, prob: Any, h: Any, nsteps: int, record: bool, limit: Any, out: Any) -> Any:
     """xrun.integrate_scalar (refmath's steppers on the oscillator and the pendulum) compiled, or
     None."""
     if not HAVE_NUMBA or method not in SCALAR_METHODS:
@@ -505,7 +515,7 @@ def integrate_scalar(method, prob, h, nsteps, record, limit, out):
     return out
 
 
-def _setup(prob):
+def _setup(prob: Any) -> Any:
     """(problem code, parameter vector, mass vector, gamma) or None."""
     kind = type(prob).__name__
     d = prob.d
@@ -526,7 +536,7 @@ def _setup(prob):
     return None
 
 
-def _method(method, prob):
+def _method(method: str, prob: Any) -> Any:
     if method in xm.EXPLICIT_RK:
         A, b, c = xm.EXPLICIT_RK[method]
         return ERK, np.array(A, float), np.array(b, float), np.array(c, float)
@@ -541,7 +551,7 @@ def _method(method, prob):
     return (table[method],) + none
 
 
-def integrate(method, prob, h, nsteps, t0, record, limit, out):
+def integrate(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool, limit: Any, out: Any) -> Any:
     """A compiled run for xrun.integrate (same result dictionary), or None when this
     method/problem has no compiled loop (or numba is not available)."""
     if not HAVE_NUMBA:
@@ -573,10 +583,10 @@ def integrate(method, prob, h, nsteps, t0, record, limit, out):
     return out
 
 
-def _integrate_glm(prob, code, P, m, h, nsteps, t0, record, limit, out):
+def _integrate_glm(prob: Any, code: Any, P: Any, m: Any, h: Any, nsteps: int, t0: Any, record: bool, limit: Any, out: Any) -> Any:
     """BS's GLM on the rigid body: the starting method and each Newton inverse (refreshed every
     8 steps at (t_n, y_n[0]), as xscalar.GLMScalar) in Python, the 8 steps in between compiled."""
-    import xscalar
+    from . import xscalar
     N, f = xscalar.rigid_fields(prob)
     glm = xscalar.GLMScalar(f, lambda t, z: xm.jac_cs(prob.f, t, z), h, 3)
     z0 = [float(v) for v in prob.z0]
@@ -607,7 +617,7 @@ def _integrate_glm(prob, code, P, m, h, nsteps, t0, record, limit, out):
     return out
 
 
-def warm():
+def warm() -> Any:
     """Compile (or load from the cache) every kernel once, in the parent process before the
     worker pool forks, so that the workers inherit the machine code instead of each compiling
     it again.  Returns the seconds spent."""
@@ -629,7 +639,7 @@ def warm():
 # compiled, with a radix-2 FFT of our own (numba has no numpy.fft): M a power of two only.
 if HAVE_NUMBA:
     @jit
-    def _fft2(a, w, inverse):
+    def _fft2(a: Any, w: Any, inverse: bool) -> None:
         """In-place iterative radix-2 FFT of a (length M = 2^k), twiddles w[k] = e^{-2 pi i k/M},
         k < M/2; the inverse conjugates the twiddles and divides by M."""
         M = a.size
@@ -661,8 +671,8 @@ if HAVE_NUMBA:
                 a[i] = a[i] / M
 
     @jit
-    def _nls_loop(psi0, w, sym, c2, ey, back, lam, cubic, G, w0, al, t0, h, nsteps, record,
-                  limit):
+    def _nls_loop(psi0: Any, w: Any, sym: Any, c2: Any, ey: Any, back: Any, lam: Any, cubic: bool, G: Any, w0: Any, al: Any, t0: Any, h: Any, nsteps: int, record: bool,
+                  limit: Any) -> Any:
         M = psi0.size
         psi = psi0.copy()
         traj = np.empty((nsteps + 1 if record else 1, 2 * M))
@@ -722,7 +732,7 @@ if HAVE_NUMBA:
         return nsteps, 0, psi, traj, its_total, its_max
 
 
-def _integrate_nls(method, prob, h, nsteps, t0, record, limit, out):
+def _integrate_nls(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool, limit: Any, out: Any) -> Any:
     """xmethods.nls_b_step's scheme (same equations, same iteration and stopping rule), compiled;
     None (the numpy loop) unless M is a power of two."""
     M = prob.M

@@ -7,6 +7,7 @@ leading batch axes and may be complex (the complex step of the step map gives it
 Jacobian; implicit stages are then iterated until both the real and the imaginary parts have
 converged, i.e. the implicit-function-theorem derivative).
 """
+from typing import Any, Dict
 import math
 from fractions import Fraction
 
@@ -28,7 +29,7 @@ class SolveFailed(Exception):
 # ----------------------------------------------------------------------------------------
 # Gauss-Legendre collocation tableaux from the roots of the Legendre polynomial (30 digits)
 # ----------------------------------------------------------------------------------------
-def gauss_tableau(s):
+def gauss_tableau(s: Any) -> Any:
     """c_i = (1 + x_i)/2 with x_i the roots of P_s; A_ij = int_0^{c_i} l_j (collocation
     condition sum_j A_ij c_j^{k-1} = c_i^k / k, k = 1..s); b_j = int_0^1 l_j.  Solved in 30-digit
     mpmath and rounded once (BS; B Example 2.1)."""
@@ -101,13 +102,13 @@ COEFFICIENT_SOURCES = {
 # ----------------------------------------------------------------------------------------
 # complex-step Jacobian of a vector field
 # ----------------------------------------------------------------------------------------
-def jac_cs(F, t, z):
+def jac_cs(F: Any, t: Any, z: Any) -> Any:
     d = z.shape[-1]
     zz = np.asarray(z, float)[None, :] + 1e-30j * np.eye(d)
     return (np.imag(F(t, zz)) / 1e-30).T
 
 
-def _converged(dZ, Z, last, it):
+def _converged(dZ: Any, Z: Any, last: Any, it: Any) -> Any:
     """Round-off convergence of an implicit iteration, separately for the real and imaginary
     parts: returns (done, measure)."""
     dr, zr = np.max(np.abs(dZ.real)), np.max(np.abs(Z.real))
@@ -127,10 +128,10 @@ def _converged(dZ, Z, last, it):
 # Generic exponential / integrating-factor / plain RK kernel on a field G (N or f):
 #   Z_i = Phi_i z + h sum_j A_ij G(t + c_j h, Z_j);  z1 = phi0 z + h sum_i b_i G(t + c_i h, Z_i)
 # ----------------------------------------------------------------------------------------
-def rk_family_step(G, coef, h, implicit):
-    cache = {}
+def rk_family_step(G: Any, coef: Any, h: Any, implicit: bool) -> Any:
+    cache: Dict[Any, Any] = {}
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         Phi, A, b, phi0, c = coef(t)
         s = len(b)
         tt = (t + c * h)[:, None]
@@ -176,16 +177,16 @@ def rk_family_step(G, coef, h, implicit):
     return step
 
 
-def plain_coef(A, b, c):
+def plain_coef(A: Any, b: Any, c: Any) -> Any:
     A, b, c = np.array(A, float), np.array(b, float), np.array(c, float)
     one = np.ones(len(b))
     return lambda t: (one, A, b, 1.0, c)
 
 
-def ifrk_coef(prob, alpha, beta, c, h):
+def ifrk_coef(prob: Any, alpha: Any, beta: Any, c: Any, h: Any) -> Any:
     """B (2.5): Phi_i = e^{-x(c_i h)}, A_ij = alpha_ij e^{x(c_j h) - x(c_i h)},
     b_i = beta_i e^{x(c_i h) - x(h)}, phi0 = e^{-x(h)}, x(tau) = Gamma(t+tau) - Gamma(t)."""
-    def coef(t):
+    def coef(t: Any) -> Any:
         xc = np.array([dGamma(prob, t, ci * h) for ci in c])
         xh = dGamma(prob, t, h)
         return (np.exp(-xc), alpha * np.exp(xc[None, :] - xc[:, None]),
@@ -193,7 +194,7 @@ def ifrk_coef(prob, alpha, beta, c, h):
     return coef
 
 
-def dGamma(prob, t, tau):
+def dGamma(prob: Any, t: Any, tau: Any) -> Any:
     """Gamma(t + tau) - Gamma(t) without cancellation: gamma tau for constant gamma; for
     gamma = eps cos(2t)/2, (eps/4)(sin 2(t+tau) - sin 2t) = (eps/2) cos(2t + tau) sin(tau)."""
     if getattr(prob, "t_dependent_gamma", False):
@@ -201,11 +202,11 @@ def dGamma(prob, t, tau):
     return prob.g * tau
 
 
-def _sinhc(x):      # sinh(x/2)/x  -> 1/2
+def _sinhc(x: Any) -> Any:      # sinh(x/2)/x  -> 1/2
     return 0.5 if x == 0 else math.sinh(0.5 * x) / x
 
 
-def _phi1(x):       # (1 - e^{-x})/x -> 1
+def _phi1(x: Any) -> Any:       # (1 - e^{-x})/x -> 1
     return 1.0 if x == 0 else -math.expm1(-x) / x
 
 
@@ -214,10 +215,10 @@ def _phi1(x):       # (1 - e^{-x})/x -> 1
 # explicit tableau pairs evaluated by repeated sweeps (the dependency graph is acyclic, so
 # 2s+1 sweeps give exactly the direct evaluation).
 # ----------------------------------------------------------------------------------------
-def perk_step(prob, coef, h, chat):
+def perk_step(prob: Any, coef: Any, h: Any, chat: Any) -> Any:
     nq = prob.nq
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         ph, Ah, bh, ph0, pt, At, bt, pt0 = coef(t)
         s = len(bh)
         q, p = z[..., :nq], z[..., nq:]
@@ -237,9 +238,9 @@ def perk_step(prob, coef, h, chat):
     return step
 
 
-def csv1_perk_coef(prob, h):
+def csv1_perk_coef(prob: Any, h: Any) -> Any:
     """B (2.20) with B's gamma h = 2x (x = our Gamma increment over the step)."""
-    def coef(t):
+    def coef(t: Any) -> Any:
         x = dGamma(prob, t, h)
         e = math.exp(-x)           # e^{-gamma_B h / 2}
         Ah = np.array([[0, 0], [0.5, 0.5]])
@@ -249,10 +250,10 @@ def csv1_perk_coef(prob, h):
     return coef
 
 
-def csv2_perk_coef(prob, h):
+def csv2_perk_coef(prob: Any, h: Any) -> Any:
     """B (2.21) with B's gamma h = 2x and A^_21 = A^_22 = b^_1 = b^_2 = 2 e^{-gB h/4}/(4 - gB h)
     (the factor docs/conventions.md §6 restores)."""
-    def coef(t):
+    def coef(t: Any) -> Any:
         X = 2.0 * dGamma(prob, t, h)            # B's gamma h
         e4, e2 = math.exp(-X / 4), math.exp(-X / 2)
         a = 2.0 / (4.0 - X) * e4
@@ -265,9 +266,9 @@ def csv2_perk_coef(prob, h):
     return coef
 
 
-def etdprk2_coef(prob, h):
+def etdprk2_coef(prob: Any, h: Any) -> Any:
     """B (2.22) with B's gamma h = 2x: q by Lobatto IIIA, p by the ETD tableau."""
-    def coef(t):
+    def coef(t: Any) -> Any:
         X = 2.0 * dGamma(prob, t, h)
         e2 = math.exp(-X / 2)
         a = 0.5 if X == 0 else -math.expm1(-X / 2) / X
@@ -281,12 +282,12 @@ def etdprk2_coef(prob, h):
 # ----------------------------------------------------------------------------------------
 # hand-written schemes
 # ----------------------------------------------------------------------------------------
-def csv1_step(prob, h):
+def csv1_step(prob: Any, h: Any) -> Any:
     """F (2.12): p_half = e^{-x} p - (h/2) grad V(q); q1 = q + h grad T(p_half);
     p1 = e^{-x} (p_half - (h/2) grad V(q1)); x = gamma h (Gamma increment for time-dependent gamma)."""
     nq = prob.nq
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         # Strang splitting: damping flow over each half step, e^{-2 (Gamma(t+h/2) - Gamma(t))}
         # before and e^{-2 (Gamma(t+h) - Gamma(t+h/2))} after (= e^{-gamma h} for constant gamma)
         e1 = math.exp(-2.0 * dGamma(prob, t, 0.5 * h))
@@ -299,13 +300,13 @@ def csv1_step(prob, h):
     return step
 
 
-def csv2_step(prob, h, beyond=False):
+def csv2_step(prob: Any, h: Any, beyond: bool = False) -> Any:
     """F (2.16): (1 + x/2) p_half = e^{-x/2} p - (h/2) grad V(q);
     (1 - x/2) q1 = e^{-x/2} [ (1 + x/2) e^{-x/2} q + h grad T(p_half) ];
     p1 = e^{-x/2} [ (1 - x/2) p_half - (h/2) grad V(q1) ];  needs x < 2."""
     nq = prob.nq
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         x = dGamma(prob, t, h)
         a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
         if b == 0 or (b < 0 and not beyond):
@@ -320,12 +321,12 @@ def csv2_step(prob, h, beyond=False):
     return step
 
 
-def cse_step(prob, h, etd):
+def cse_step(prob: Any, h: Any, etd: bool) -> Any:
     """B (2.18) (IF) / (2.19) (ETD) with B's gamma h = 2x:
     p1 = e^{-2x} p - h c grad V(q), c = 1 (IF) or -expm1(-2x)/(2x) (ETD); q1 = q + h grad T(p1)."""
     nq = prob.nq
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         X = 2.0 * dGamma(prob, t, h)
         c = (1.0 if X == 0 else -math.expm1(-X) / X) if etd else 1.0
         q, p = z[..., :nq], z[..., nq:]
@@ -335,14 +336,14 @@ def cse_step(prob, h, etd):
     return step
 
 
-def symplectic_euler_step(prob, h, adjoint):
+def symplectic_euler_step(prob: Any, h: Any, adjoint: bool) -> Any:
     """HLW (1.8) with u = p (implicit Euler), v = q (explicit Euler) on q' = dT(p),
     p' = force(t, q) - 2 gamma p: p1 = p + h (force(q) - 2 gamma p1) (linear in p1, solved in
     closed form), q1 = q + h dT(p1).  The adjoint swaps the roles:
     q1 = q + h dT(p), p1 = p + h (force(q1) - 2 gamma p)."""
     nq = prob.nq
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         q, p = z[..., :nq], z[..., nq:]
         g = prob.gamma(t)
         if not adjoint:
@@ -356,14 +357,14 @@ def symplectic_euler_step(prob, h, adjoint):
     return step
 
 
-def symplectic_euler_partitioned_step(prob, h):
+def symplectic_euler_partitioned_step(prob: Any, h: Any) -> Any:
     """HLW (1.8) on a partitioned system (1.7) z = (u, v) (the halves of the state) in the plain
     form: u1 = u + h a(t + h, u1, v) by Newton with the complex-step Jacobian of a in u, then
     v1 = v + h b(t + h, u1, v)."""
     if not getattr(prob, "partitioned_halves", False):
         raise NotApplicable("symplectic-euler-partitioned needs a problem declared as halves (u, v)")
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         z = np.asarray(z, float)
         m = z.shape[-1] // 2
         u, v = z[:m], z[m:]
@@ -383,13 +384,13 @@ def symplectic_euler_partitioned_step(prob, h):
     return step
 
 
-def stormer_verlet_step(prob, h):
+def stormer_verlet_step(prob: Any, h: Any) -> Any:
     """HLW (3.7): Psi^{ie}_{h/2} o Psi^{ei}_{h/2} on the full field b(q, p) = force - 2 gamma p:
     p_half = p + h/2 b(q, p_half) (linear in p_half), q1 = q + h dT(p_half),
     p1 = p_half + h/2 b(q1, p_half)."""
     nq = prob.nq
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         q, p = z[..., :nq], z[..., nq:]
         g = prob.gamma(t)
         ph = (p + 0.5 * h * prob.force(t, q)) / (1 + g * h)
@@ -413,17 +414,17 @@ GLM_S = np.array([(R3 - 1) / 8, (1 - R3) / 8])
 class GLM:
     """State is the pair of values y^[n] (2, d); start() applies the starting method."""
 
-    def __init__(self, prob, h):
+    def __init__(self, prob: Any, h: Any) -> None:
         self.prob, self.h = prob, h
         self.main = self._stages(GLM_A)
         self.start0 = self._stages(GLM_A0)
 
-    def _stages(self, A):
+    def _stages(self, A: Any) -> Any:
         prob, h = self.prob, self.h
-        cache = {"age": 99}
+        cache: Dict[str, Any] = {"age": 99}
         c = A.sum(axis=1)   # stage abscissae c = A e (U's first column is e: BS)
 
-        def solve(t, Yp):   # Y = Yp + h A f(t + c h, Y), diagonally implicit, stage by stage
+        def solve(t: Any, Yp: Any) -> Any:   # Y = Yp + h A f(t + c h, Y), diagonally implicit, stage by stage
             d = Yp.shape[-1]
             Y = np.array(Yp)
             K = np.zeros_like(Yp)
@@ -467,12 +468,12 @@ class GLM:
             return Y, K, its
         return solve
 
-    def start(self, t, y0):
+    def start(self, t: Any, y0: Any) -> Any:
         Y, K, _ = self.start0(t, np.stack([y0, y0], axis=-2))
         y2 = self.h * np.einsum("i,...id->...d", GLM_S, K)
         return np.stack([y0, y2], axis=-2)
 
-    def step(self, t, yv):
+    def step(self, t: Any, yv: Any) -> Any:
         Yp = np.einsum("ij,...jd->...id", GLM_U, yv)
         Y, K, its = self.main(t, Yp)
         return (self.h * np.einsum("ij,...jd->...id", GLM_B, K)
@@ -492,6 +493,10 @@ IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3",
 NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
                    "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}
 NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
+# General linear methods (BS): a step maps r values y^[n] (here r = 2), not the state alone, so a
+# run from a mid-run state needs y^[n], the one-step map of the state has no Jacobian to test for
+# conformal symplecticity, and the Newton counts follow the GLM's own stages.
+MULTIVALUE = {"glm4"}
 # B's Burgers schemes (5.10), (5.12), (4.18), each on its own semi-discretisation (docs/pde.md)
 BURGERS_B = {"burgers-csv": "burgers", "burgers-box": "burgers-box", "burgers-nsfd": "burgers-upwind"}
 # B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) on the NLS family (docs/pde.md)
@@ -500,7 +505,7 @@ NLS_FAMILY = {"schrodinger", "nls", "nls-driven"}
 METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE | set(BURGERS_B) | NLS_B
 
 
-def nls_b_step(method, prob, h):
+def nls_b_step(method: str, prob: Any, h: Any) -> Any:
     """B's NLS schemes written from B (4.15), (5.27), (5.28) (gamma = B's gamma = prob.gB), with
     X = e^{g h} psi^{i+1}, Y = e^{-g h} psi^i (IMP: X = psi^{i+1}, Y = psi^i), Phi = (X + Y)/2:
         IF  (4.15): i (X - Y)/h + d2 Phi + V'(|Phi|^2) Phi = F(t + h/2)
@@ -521,7 +526,7 @@ def nls_b_step(method, prob, h):
     sym = c2 + (2j * g if imp else 0.0) + d2
     driven = prob.pid == "nls-driven"
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         z = np.asarray(z, float)
         Y = ey * (z[..., :M] + 1j * z[..., M:])
         F = prob.G * np.exp(1j * (prob.w0 * (t + 0.5 * h) + prob.al)) if driven else 0.0
@@ -540,7 +545,7 @@ def nls_b_step(method, prob, h):
     return step
 
 
-def burgers_b_step(method, prob, h):
+def burgers_b_step(method: str, prob: Any, h: Any) -> Any:
     """B's Burgers schemes written from B (5.10), (5.12), (4.18) (gamma = B's gamma = prob.gB):
     (5.10) on the even/odd split (v = even, w = odd grid points, flux = delta_x(u^2/2)):
         w^{i+1/2} = e^{-g h} w^i - (h/2) f_w(u),  v^{i+1} = e^{-g h}(e^{-g h} v^i - h f_v(u)),
@@ -557,28 +562,28 @@ def burgers_b_step(method, prob, h):
     if method == "burgers-csv":
         ev, od = np.arange(0, M, 2), np.arange(1, M, 2)
 
-        def flux(u):
+        def flux(u: Any) -> Any:
             return (np.roll(u, -1, axis=-1) ** 2 - np.roll(u, 1, axis=-1) ** 2) / (4.0 * dx)
 
-        def step(t, z):
+        def step_csv(t: Any, z: Any) -> Any:
             u = np.array(z)                       # batch axes and complex steps allowed
             u[..., od] = e * u[..., od] - 0.5 * h * flux(u)[..., od]
             u[..., ev] = e * (e * u[..., ev] - h * flux(u)[..., ev])
             u[..., od] = e * (u[..., od] - 0.5 * h * flux(u)[..., od])
             return u, 0
-        return step
+        return step_csv
     if method == "burgers-nsfd":
         phi = -math.expm1(-2.0 * g * h) / (2.0 * g) if g != 0.0 else h
         back = np.roll(np.eye(M), -1, axis=1)    # row n picks X_{n-1}
 
-        def step(t, z):
+        def step_nsfd(t: Any, z: Any) -> Any:
             u = np.asarray(z, float)
             A = np.diag(1.0 / phi + u / dx) - np.diag(u / dx) @ back
             return np.linalg.solve(A, u * (1.0 / phi - 2.0 * g)), 1
-        return step
+        return step_nsfd
     S = np.roll(np.eye(M), 1, axis=1)              # (S x)_n = x_{n+1}
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         Y = e * np.asarray(z, float)
         X = Y.copy()
         last = np.inf
@@ -595,7 +600,7 @@ def burgers_b_step(method, prob, h):
     return step
 
 
-def make_stepper(method, prob, h):
+def make_stepper(method: str, prob: Any, h: Any) -> Any:
     if method in BURGERS_B:
         return burgers_b_step(method, prob, h)
     if method in NLS_B:
@@ -614,7 +619,7 @@ def make_stepper(method, prob, h):
         A, b, c = GAUSS[1 if method == "cimp" else int(method[-1])]
         return rk_family_step(prob.N, ifrk_coef(prob, A, b, c, h), h, implicit=True)
     if method == "etdrk2":
-        def coef(t):
+        def coef(t: Any) -> Any:
             x = dGamma(prob, t, h)
             return (np.array([math.exp(-0.5 * x)]), np.array([[_sinhc(x)]]),
                     np.array([_phi1(x)]), math.exp(-x), np.array([0.5]))

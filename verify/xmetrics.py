@@ -7,9 +7,9 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-import xmethods as xm
-import xproblems as xp
-import xrun
+from . import xmethods as xm
+from . import xproblems as xp
+from . import xrun
 
 EPS = float(np.finfo(float).eps)
 TINY = 1e-300

@@ -26,17 +26,18 @@ iteration (rhs in [s lo, s (hi + 1)]: with or without a final evaluation of the 
 Jacobians per step in [s (one per stage, frozen), s hi (one per stage per iteration)].
 All steps of the run are solved at once (numpy batch over steps), never a subsample.
 """
+from typing import Any
 import math
 
 import numpy as np
 
-import xmethods as xm
+from . import xmethods as xm
 
 MAX_IT = 40
 EPS = np.finfo(float).eps
 
 
-def _coef(method, prob, h):
+def _coef(method: str, prob: Any, h: Any) -> Any:
     if method == "implicit-euler":
         return prob.f, xm.plain_coef([[1.0]], [1.0], [1.0])
     if method in ("implicit-midpoint", "gauss1", "gauss2", "gauss3"):
@@ -46,7 +47,7 @@ def _coef(method, prob, h):
         A, b, c = xm.GAUSS[1 if method == "cimp" else int(method[-1])]
         return prob.N, xm.ifrk_coef(prob, A, b, c, h)
     if method == "etdrk2":
-        def coef(t):
+        def coef(t: Any) -> Any:
             x = xm.dGamma(prob, t, h)
             return (np.array([math.exp(-0.5 * x)]), np.array([[xm._sinhc(x)]]),
                     np.array([xm._phi1(x)]), math.exp(-x), np.array([0.5]))
@@ -58,11 +59,11 @@ SUPPORTED = {"glm4", "implicit-euler", "implicit-midpoint", "gauss1", "gauss2", 
              "glifrk2", "glifrk3", "etdrk2"}
 
 
-def supported(method):
+def supported(method: str) -> bool:
     return method in SUPPORTED
 
 
-def _jac_batch(G, tt, Z):
+def _jac_batch(G: Any, tt: Any, Z: Any) -> Any:
     """Stage Jacobians dG/dz at (tt[n], Z[n]) for a batch, by the complex step: (N, d, d)."""
     N, d = Z.shape
     J = np.empty((N, d, d))
@@ -73,7 +74,7 @@ def _jac_batch(G, tt, Z):
     return J
 
 
-def iteration_updates(method, prob, h, t0, traj, full=True):
+def iteration_updates(method: str, prob: Any, h: Any, t0: Any, traj: Any, full: bool = True) -> Any:
     """For every step n (from our own z_n), the relative update |dZ|/|Z| of Newton iterations
     1..MAX_IT: array (MAX_IT, steps)."""
     G, coef = _coef(method, prob, h)
@@ -115,7 +116,7 @@ def iteration_updates(method, prob, h, t0, traj, full=True):
     return U, s
 
 
-def _all_done(U, it):
+def _all_done(U: Any, it: Any) -> bool:
     """Every step has met the round-off test by iteration it (0-based): later rows are set to
     0 (no further update counts), which changes no count of the family."""
     if it < 2:
@@ -131,14 +132,14 @@ def _all_done(U, it):
     return False
 
 
-def _count(U, tau):
+def _count(U: Any, tau: Any) -> Any:
     ok = U <= tau
     cnt = np.argmax(ok, axis=0) + 1
     cnt[~ok.any(axis=0)] = MAX_IT
     return cnt
 
 
-def _count_roundoff(U):
+def _count_roundoff(U: Any) -> Any:
     """The tight end: xmethods' own round-off test (_converged): stop when the update is
     <= 2 eps, or from the third iteration on when it stagnates (>= half the previous one) at
     round-off (<= 1e-11)."""
@@ -155,7 +156,7 @@ def _count_roundoff(U):
     return cnt
 
 
-def cost_metrics(method, prob, h, t0, traj):
+def cost_metrics(method: str, prob: Any, h: Any, t0: Any, traj: Any) -> Any:
     """{metric: (ours, lo, hi)} for cost.* and run.* counts (see the module docstring)."""
     Uf, s = iteration_updates(method, prob, h, t0, traj, full=True)
     Us, _ = iteration_updates(method, prob, h, t0, traj, full=False)
@@ -175,7 +176,7 @@ def cost_metrics(method, prob, h, t0, traj):
     return out
 
 
-def linear_cost_metrics(method, s, n):
+def linear_cost_metrics(method: str, s: Any, n: Any) -> Any:
     """A linear problem (the oscillator): the stage equations are linear, so the first Newton
     iterate solves them (to round-off) and the second update is round-off: 2 iterations per step
     with any tau in [1e-15, 1e-8] when the first update is not itself below tau (z_n != 0) —
@@ -192,7 +193,7 @@ def linear_cost_metrics(method, s, n):
     }
 
 
-def _stage_updates(f, t, base, ha, full):
+def _stage_updates(f: Any, t: Any, base: Any, ha: Any, full: bool) -> Any:
     """Newton on y = base + ha f(t, y) for a batch of steps (N, d) from the predictor y = base:
     (relative updates (MAX_IT, N), converged y, f(y))."""
     N, d = base.shape
@@ -213,7 +214,7 @@ def _stage_updates(f, t, base, ha, full):
     return U, y, f(t, y)
 
 
-def glm_cost_metrics(prob, h, t0, Y):
+def glm_cost_metrics(prob: Any, h: Any, t0: Any, Y: Any) -> Any:
     """Butcher's GLM (BS; xmethods.GLM): two diagonally implicit stages solved one after the
     other, each by the same family of Newton solvers as above; Y = OUR y^[n] (steps + 1, 2, d).
     Stage 2's equation uses stage 1's converged slope.  Counts are the sums over both stages

@@ -23,6 +23,7 @@ Independently of the report it checks:
     Frobenius defect <= 1e-13; heun's defect >= 1e-8 (negative control).
 Exit 0 if everything agrees, 1 otherwise (the failures are printed).
 """
+from typing import Any, Dict
 import json
 import math
 import os
@@ -34,7 +35,7 @@ from scipy.integrate import solve_ivp
 FAIL = []
 
 
-def check(ok, what):
+def check(ok: bool, what: Any) -> None:
     print(("ok   " if ok else "FAIL ") + what)
     if not ok:
         FAIL.append(what)
@@ -42,27 +43,27 @@ def check(ok, what):
 
 # ---------------------------------------------------------------- Klein-Gordon (B 5.1)
 class KG:
-    def __init__(self, M, c, gamma, K):
+    def __init__(self, M: Any, c: Any, gamma: Any, K: Any) -> None:
         self.M, self.c, self.g, self.K = M, c, gamma, K
         self.dx = 2 * math.pi / M
         self.x = -math.pi + self.dx * np.arange(M)
 
-    def d2(self, u):
+    def d2(self, u: Any) -> Any:
         return (np.roll(u, -1) - 2 * u + np.roll(u, 1)) / self.dx**2
 
-    def force(self, u):
+    def force(self, u: Any) -> Any:
         return self.d2(u) - self.c * u
 
-    def initial(self):
+    def initial(self) -> Any:
         W = math.sqrt(self.K**2 + self.c - self.g**2)
         ph = self.K * self.x
         return np.cos(ph), -self.g * np.cos(ph) + W * np.sin(ph)
 
-    def momentum(self, u, v):
+    def momentum(self, u: Any, v: Any) -> Any:
         du = (np.roll(u, -1) - np.roll(u, 1)) / (2 * self.dx)
         return self.dx * np.dot(v, du), self.dx * np.dot(np.abs(v), np.abs(du))
 
-    def step(self, name, h, u, v):
+    def step(self, name: Any, h: Any, u: Any, v: Any) -> Any:
         g = self.g
         if name == "csv1":  # B (5.3)
             vh = math.exp(-g * h) * v + 0.5 * h * self.force(u)
@@ -87,7 +88,7 @@ class KG:
             return u + 0.5 * h * (k1[0] + k2[0]), v + 0.5 * h * (k1[1] + k2[1])
         raise KeyError(name)
 
-    def exact_semidiscrete(self, u0, v0, t):
+    def exact_semidiscrete(self, u0: Any, v0: Any, t: Any) -> Any:
         U, V = np.fft.fft(u0), np.fft.fft(v0)
         j = np.arange(self.M)
         w2 = self.c + 4 * np.sin(math.pi * j / self.M) ** 2 / self.dx**2
@@ -100,7 +101,7 @@ class KG:
         return np.real(np.fft.ifft(Ut)), np.real(np.fft.ifft(Vt))
 
 
-def kg_case(case, report_case):
+def kg_case(case: Any, report_case: Dict[str, Any]) -> None:
     p = case["problem"]
     kg = KG(int(p["M"]), p["c"], p["gamma"], int(p["K"]))
     for run in report_case["runs"]:
@@ -139,7 +140,7 @@ def kg_case(case, report_case):
     check(d <= 1e-9, f"{case['id']}: semi-discrete exact solution vs scipy DOP853: {d:.1e}")
 
 
-def kg_pde_vs_fine_grid():
+def kg_pde_vs_fine_grid() -> None:
     # (5.1) against scipy on M = 512: predicted difference = space error of that grid,
     # |e^{-gt}(cos(Kx - Wt) - cos(Kx - W_d t))| <= e^{-gt} |W - W_d| t.
     kg = KG(512, 1.0, 0.375, 2)
@@ -158,13 +159,13 @@ def kg_pde_vs_fine_grid():
 
 
 # ---------------------------------------------------------------- Burgers (B 5.2)
-def burgers():
+def burgers() -> None:
     M, g, h = 128, 0.1, 0.01
     dx = 2 * math.pi / M
     x = -math.pi + dx * np.arange(M)
     u0 = np.exp(-0.5 * x * x) / math.sqrt(2 * math.pi)
 
-    def flux(u):
+    def flux(u: Any) -> Any:
         return (np.roll(u, -1) ** 2 - np.roll(u, 1) ** 2) / (4 * dx)
 
     e = math.exp(-g * h)
@@ -186,7 +187,7 @@ def burgers():
     C = u.sum()
     r = 0.0
     for _ in range(600):
-        A = np.diag(1 / phi + u / dx) - np.diag(u / dx) @ np.roll(np.eye(M), -1, axis=1)
+        A: np.ndarray = np.diag(1 / phi + u / dx) - np.diag(u / dx) @ np.roll(np.eye(M), -1, axis=1)
         u = np.linalg.solve(A, u * (1 / phi - 2 * g))
         C1 = u.sum()
         r = max(r, abs(math.log(C1 / C) + 2 * g * h))
@@ -194,7 +195,7 @@ def burgers():
     check(r >= 1e-6, f"burgers NSFD (4.18): Casimir residual {r:.2e} >= 1e-6 (negative control)")
 
 
-def burgers_conformal_poisson():
+def burgers_conformal_poisson() -> None:
     """E_n of docs/pde.md for the Burgers semi-discrete map (5.10) with B's singular D of (5.9).
     (5.9) is z' = D grad H - 2 gamma z, D = skew central difference (D_{j,j+1} = 1, D_{j,j-1} = -1,
     up to a constant), H = -sum u^3/6 (times that constant). With y = e^{2 gamma t} z the flow is
@@ -211,24 +212,24 @@ def burgers_conformal_poisson():
     e = math.exp(-g * h)
     odd, even = np.arange(1, M, 2), np.arange(0, M, 2)
 
-    def flux(u):
+    def flux(u: Any) -> Any:
         return (np.roll(u, -1, axis=-1) ** 2 - np.roll(u, 1, axis=-1) ** 2) / (4 * dx)
 
-    def csv(u):
+    def csv(u: Any) -> Any:
         u = np.array(u)
         u[..., odd] = e * u[..., odd] - 0.5 * h * flux(u)[..., odd]
         u[..., even] = e * (e * u[..., even] - h * flux(u)[..., even])
         u[..., odd] = e * (u[..., odd] - 0.5 * h * flux(u)[..., odd])
         return u
 
-    def heun(u):
+    def heun(u: Any) -> Any:
         f = lambda v: -flux(v) - 2 * g * v
         k1 = f(u)
         return u + 0.5 * h * (k1 + f(u + h * k1))
 
-    def defect(step):
+    def defect(step: Any) -> Any:
         u = np.exp(-0.5 * x * x) / math.sqrt(2 * math.pi) + 0.3 * np.sin(3 * x)
-        worst = 0.0
+        worst: Any = 0.0
         for _ in range(40):
             Z = u[None, :] + 1e-30j * np.eye(M)
             P = (np.imag(step(Z)) / 1e-30).T
@@ -244,14 +245,14 @@ def burgers_conformal_poisson():
 
 
 # ---------------------------------------------------------------- NLS (B 5.3)
-def nls():
+def nls() -> None:
     M, g, lam, h = 64, 0.1, 2.0, 0.01
     dx = 2 * math.pi / M
     x = -math.pi + dx * np.arange(M)
     psi0 = 0.6 * np.exp(1j * x) + 0.3 * np.exp(3j * x)
     sig = 4 * np.sin(math.pi * np.arange(M) / M) ** 2 / dx**2
 
-    def step(psi, imp):
+    def step(psi: Any, imp: Any) -> Any:
         Y = psi if imp else math.exp(-g * h) * psi
         Phi = Y.copy()
         for _ in range(100):
@@ -278,7 +279,7 @@ def nls():
             check(R <= 1e-13, f"nls IF (4.15): R_2 {R:.2e} <= 1e-13")
 
 
-def main():
+def main() -> Any:
     if len(sys.argv) < 2:
         print(__doc__)
         return 2

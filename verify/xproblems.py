@@ -6,6 +6,7 @@ conformal form z' = N(t, z) - gamma(t) z with N = f + gamma z.  Every function b
 arrays whose LAST axis is the state (any leading batch axes) and accepts complex input, so that
 Jacobians are obtained exactly (to round-off) by the complex step.
 """
+from typing import Any, Dict, Tuple
 import math
 
 import numpy as np
@@ -17,53 +18,61 @@ EPS = np.finfo(float).eps
 
 class Problem:
     """Base: separable q/p problem with mass vector `m` (T = sum p^2 / 2m)."""
+    pid: str
+    params: Tuple[str, ...]
+    g: Any                  # the damping's constant gamma (time-dependent: gamma(t))
+    m: Any                  # masses, one per component of q
+    nq: int                 # components of q
+    d: int                  # state dimension
+    z0: Any                 # initial state
+    V: Any                  # the potential V(q)
     separable = True
     canonical = True
     exact_available = False
-    forcing_period = None
+    forcing_period: Any = None
     t_dependent_gamma = False
 
-    def gamma(self, t):
+    def gamma(self, t: Any) -> Any:
         return self.g
 
-    def Gamma(self, t):          # Gamma(t) = int_0^t gamma(s) ds
+    def Gamma(self, t: Any) -> Any:          # Gamma(t) = int_0^t gamma(s) ds
         return self.g * t
 
-    def dT(self, p):
+    def dT(self, p: Any) -> Any:
         return p / self.m
 
-    def force(self, t, q):       # -grad V(q, t)
+    def force(self, t: Any, q: Any) -> Any:        # -grad V(q, t)
         raise NotImplementedError
 
-    def f(self, t, z):
+    def f(self, t: Any, z: Any) -> Any:
         q, p = z[..., :self.nq], z[..., self.nq:]
         return np.concatenate([self.dT(p), self.force(t, q) - 2.0 * self.gamma(t) * p], axis=-1)
 
-    def N(self, t, z):           # conformal form: f = N - gamma z
+    def N(self, t: Any, z: Any) -> Any:           # conformal form: f = N - gamma z
         q, p = z[..., :self.nq], z[..., self.nq:]
         g = self.gamma(t)
         return np.concatenate([self.dT(p) + g * q, self.force(t, q) - g * p], axis=-1)
 
-    def energy(self, z):
+    def energy(self, z: Any) -> Any:
         q, p = z[..., :self.nq], z[..., self.nq:]
         return 0.5 * np.sum(p * p / self.m, axis=-1) + self.V(q)
 
     # scale S_H of energy changes and errors (docs/conventions.md "Law residuals and their
     # scales"): T + |V| where H = T + V may cross zero; None where the docs define none
-    energy_scale = None
+    energy_scale: Any = None
 
-    def kinetic(self, z):
+    def kinetic(self, z: Any) -> Any:
         p = z[..., self.nq:]
         return 0.5 * np.sum(p * p / self.m, axis=-1)
 
-    def f_ref(self, t, z):
+    def f_ref(self, t: Any, z: Any) -> Any:
         """The field for the DOP853 reference (one state, no batch axes); problems with one
         degree of freedom override it with the same formula in plain floats (numpy's per-call
         overhead dominated the reference solves)."""
         return self.f(t, z)
 
     # numerical reference: DOP853 at scipy's tightest tolerance, certified by a second solve
-    def reference_grid(self, t0, times):
+    def reference_grid(self, t0: Any, times: Any) -> Any:
         key = (t0, tuple(np.asarray(times).tolist()))
         cache = self.__dict__.setdefault("_refcache", {})
         if key not in cache:
@@ -86,29 +95,29 @@ class Oscillator(Problem):
     params = ("omega", "gamma", "q0", "p0")
     exact_available = True
 
-    def __init__(self, omega, gamma, q0, p0):
+    def __init__(self, omega: Any, gamma: Any, q0: Any, p0: Any) -> None:
         self.w, self.g = float(omega), float(gamma)
         self.nq, self.d, self.m = 1, 2, 1.0
         self.z0 = np.array([q0, p0], float)
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         return -self.w ** 2 * q
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         return 0.5 * self.w ** 2 * q[..., 0] ** 2
 
-    def invariants(self):   # H_gamma = (w^2 q^2 + p^2)/2 + g q p (B Ex. 1.2), decays e^{-2Gamma}
+    def invariants(self) -> Any:   # H_gamma = (w^2 q^2 + p^2)/2 + g q p (B Ex. 1.2), decays e^{-2Gamma}
         return {"H_gamma": lambda z: 0.5 * (self.w ** 2 * z[..., 0] ** 2 + z[..., 1] ** 2)
                 + self.g * z[..., 0] * z[..., 1]}
 
-    def invariant_scales(self):   # |z|^T |A| |z|: the sum of the magnitudes of H_gamma's terms
+    def invariant_scales(self) -> Any:   # |z|^T |A| |z|: the sum of the magnitudes of H_gamma's terms
         return {"H_gamma": lambda z: 0.5 * (self.w ** 2 * z[..., 0] ** 2 + z[..., 1] ** 2)
                 + self.g * np.abs(z[..., 0] * z[..., 1])}
 
-    def energy_scale(self, z):    # definite energy: H itself
+    def energy_scale(self, z: Any) -> Any:    # definite energy: H itself
         return self.energy(z)
 
-    def exact(self, t0, t):
+    def exact(self, t0: Any, t: Any) -> Any:
         """Exact state at times t (array) in every regime; z' = A z, A + gI = B, B^2 = -beta^2 I."""
         t = np.atleast_1d(np.asarray(t, float)) - t0
         g, w = self.g, self.w
@@ -152,22 +161,22 @@ class Pendulum(Problem):
     pid = "pendulum"
     params = ("gamma", "q0", "p0")
 
-    def __init__(self, gamma, q0, p0):
+    def __init__(self, gamma: Any, q0: Any, p0: Any) -> None:
         self.g = float(gamma)
         self.nq, self.d, self.m = 1, 2, 1.0
         self.z0 = np.array([q0, p0], float)
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         return -np.sin(q)
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         return -np.cos(q[..., 0])
 
-    def f_ref(self, t, z):
+    def f_ref(self, t: Any, z: Any) -> Any:
         q, p = z
         return np.array([p, -math.sin(q) - 2.0 * self.g * p])
 
-    def energy_scale(self, z):    # T + 1: the amplitude of V = -cos q does not vanish
+    def energy_scale(self, z: Any) -> Any:    # T + 1: the amplitude of V = -cos q does not vanish
         return self.kinetic(z) + 1.0
 
 
@@ -177,18 +186,18 @@ class DrivenPendulum(Problem):
     params = ("f", "gamma", "lambda", "q0", "p0")
     forcing_period = 2.0 * math.pi
 
-    def __init__(self, f, gamma, q0, p0, **kw):
+    def __init__(self, f: Any, gamma: Any, q0: Any, p0: Any, **kw: Any) -> None:
         self.F, self.g, self.lam = float(f), float(gamma), float(kw["lambda"])
         self.nq, self.d, self.m = 1, 2, 1.0
         self.z0 = np.array([q0, p0], float)
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         return -self.lam ** 2 * np.sin(q) + self.F * np.sin(t)
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         return -self.lam ** 2 * np.cos(q[..., 0])
 
-    def f_ref(self, t, z):
+    def f_ref(self, t: Any, z: Any) -> Any:
         q, p = z
         return np.array([p, -self.lam ** 2 * math.sin(q) + self.F * math.sin(t) - 2.0 * self.g * p])
 
@@ -199,25 +208,25 @@ class Hill(Problem):
     params = ("epsilon", "kappa", "q0", "p0")
     t_dependent_gamma = True
 
-    def __init__(self, epsilon, kappa, q0, p0):
+    def __init__(self, epsilon: Any, kappa: Any, q0: Any, p0: Any) -> None:
         self.eps, self.k = float(epsilon), float(kappa)
         self.nq, self.d, self.m = 1, 2, 1.0
         self.z0 = np.array([q0, p0], float)
 
-    def gamma(self, t):
+    def gamma(self, t: Any) -> Any:
         return 0.5 * self.eps * np.cos(2.0 * t)
 
-    def Gamma(self, t):
+    def Gamma(self, t: Any) -> Any:
         return 0.25 * self.eps * np.sin(2.0 * t)
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         return -self.k ** 2 * q
 
-    def f_ref(self, t, z):
+    def f_ref(self, t: Any, z: Any) -> Any:
         q, p = z
         return np.array([p, -self.k ** 2 * q - self.eps * math.cos(2.0 * t) * p])
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         return 0.5 * self.k ** 2 * q[..., 0] ** 2
 
 
@@ -231,41 +240,41 @@ class RigidBody(Problem):
     t_dependent_gamma = True
     exact_available = True
 
-    def __init__(self, I1, I2, I3, epsilon, z1, z2, z3):
+    def __init__(self, I1: Any, I2: Any, I3: Any, epsilon: Any, z1: Any, z2: Any, z3: Any) -> None:
         self.I = np.array([I1, I2, I3], float)
         self.eps = float(epsilon)
         self.d = 3
         self.z0 = np.array([z1, z2, z3], float)
 
-    def gamma(self, t):
+    def gamma(self, t: Any) -> Any:
         return 0.5 * self.eps * np.cos(2.0 * t)
 
-    def Gamma(self, t):
+    def Gamma(self, t: Any) -> Any:
         return 0.25 * self.eps * np.sin(2.0 * t)
 
-    def N(self, t, z):
+    def N(self, t: Any, z: Any) -> Any:
         a1, a2, a3 = 1.0 / self.I
         z1, z2, z3 = z[..., 0], z[..., 1], z[..., 2]
         # rows of S(z) z from B(1.7)
         return np.stack([z3 * z2 * a3 - z2 * z3 * a2, -z3 * z1 * a3 + z1 * z3 * a1,
                          z2 * z1 * a2 - z1 * z2 * a1], axis=-1)
 
-    def f(self, t, z):
+    def f(self, t: Any, z: Any) -> Any:
         return self.N(t, z) - self.gamma(t) * z
 
-    def energy(self, z):
+    def energy(self, z: Any) -> Any:
         return 0.5 * np.sum(z * z / self.I, axis=-1)
 
-    def invariants(self):
+    def invariants(self) -> Any:
         return {"casimir": lambda z: np.sum(z * z, axis=-1), "energy": self.energy}
 
-    def invariant_scales(self):   # both definite: |I| itself
+    def invariant_scales(self) -> Any:   # both definite: |I| itself
         return {k: (lambda z, f=f: np.abs(f(z))) for k, f in self.invariants().items()}
 
-    def energy_scale(self, z):
+    def energy_scale(self, z: Any) -> Any:
         return self.energy(z)
 
-    def tau(self, t):
+    def tau(self, t: Any) -> Any:
         """tau(t) = int_0^t e^{-Gamma(s)} ds, Gamma = a sin 2s, a = eps/4, by the Jacobi-Anger
         series e^{-a sin th} = I0(a) + 2 sum_k I_k(a) cos(k (th + pi/2)) integrated termwise."""
         a = 0.25 * self.eps
@@ -278,7 +287,7 @@ class RigidBody(Problem):
             out = out + 2.0 * ck * (np.sin(k * (2.0 * t + 0.5 * math.pi)) - math.sin(k * 0.5 * math.pi)) / (2.0 * k)
         return out
 
-    def free_body(self, y0, taus):
+    def free_body(self, y0: Any, taus: Any) -> Any:
         """Closed form of the free rigid body y' = N(y) (Euler's equations; HLW ch. I, B(1.7)) by
         Jacobi elliptic functions, derived here (docs/conventions.md §2).  With a_i = 1/I_i the
         equations y_i' = (a_k - a_j) y_j y_k are invariant under cyclic relabelling, so the axis of
@@ -337,7 +346,7 @@ class RigidBody(Problem):
                                    * math.sqrt(C))
         return out
 
-    def exact(self, t0, t):
+    def exact(self, t0: Any, t: Any) -> Any:
         """N is homogeneous of degree 2, so z(t) = e^{-Gamma(t)} y(tau(t)) with y the free body
         (docs/conventions.md §2), y in closed form (free_body: Jacobi elliptic functions).  Where
         the closed form does not apply (separatrix, body on an axis) the free body is integrated
@@ -375,34 +384,34 @@ class Kepler(Problem):
     params = ("e",)
     exact_available = True
 
-    def __init__(self, e, gamma=0.0):
+    def __init__(self, e: Any, gamma: Any = 0.0) -> None:
         self.e, self.g = float(e), float(gamma)
         self.nq, self.d, self.m = 2, 4, 1.0
         self.z0 = np.array([1 - self.e, 0.0, 0.0, math.sqrt((1 + self.e) / (1 - self.e))])
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         r2 = np.sum(q * q, axis=-1, keepdims=True)
         return -q / (r2 * np.sqrt(r2))
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         return -1.0 / np.sqrt(np.sum(q * q, axis=-1))
 
-    def invariants(self):   # angular momentum L = q1 p2 - q2 p1 (HLW (2.4))
+    def invariants(self) -> Any:   # angular momentum L = q1 p2 - q2 p1 (HLW (2.4))
         return {"angular_momentum": lambda z: z[..., 0] * z[..., 3] - z[..., 1] * z[..., 2]}
 
-    def invariant_scales(self):   # |q1 p2| + |q2 p1|, the magnitudes of L's terms
+    def invariant_scales(self) -> Any:   # |q1 p2| + |q2 p1|, the magnitudes of L's terms
         return {"angular_momentum": lambda z: np.abs(z[..., 0] * z[..., 3]) + np.abs(z[..., 1] * z[..., 2])}
 
-    def energy_scale(self, z):    # T + |V| = |p|^2/2 + 1/|q|
+    def energy_scale(self, z: Any) -> Any:    # T + |V| = |p|^2/2 + 1/|q|
         return self.kinetic(z) + np.abs(self.V(z[..., :2]))
 
-    def runge_lenz(self, z):
+    def runge_lenz(self, z: Any) -> Any:
         """Laplace-Runge-Lenz vector A = (p2 L - q1/r, -p1 L - q2/r): the perihelion direction."""
         q1, q2, p1, p2 = z[..., 0], z[..., 1], z[..., 2], z[..., 3]
         L, r = q1 * p2 - q2 * p1, np.hypot(q1, q2)
         return np.stack([p2 * L - q1 / r, -p1 * L - q2 / r], axis=-1)
 
-    def exact(self, t0, t):
+    def exact(self, t0: Any, t: Any) -> Any:
         """Kepler's equation E - e sin E = t - t0 (period 2 pi, a = 1), solved by Newton."""
         e = self.e
         M = np.atleast_1d(np.asarray(t, float)) - t0
@@ -424,7 +433,7 @@ class NBodyBase(Problem):
     """N bodies in `dim` dimensions with pair potentials (HLW (2.10), (3.1)), damping -2 gamma p
     (F 2.1.2, B 3.3).  State [q_1..q_N, p_1..p_N], each block body-major."""
 
-    def setup(self, masses, q, p, dim, gamma):
+    def setup(self, masses: Any, q: Any, p: Any, dim: Any, gamma: Any) -> None:
         self.masses = np.asarray(masses, float)
         self.n, self.dim, self.g = len(self.masses), int(dim), float(gamma)
         self.nq = self.n * self.dim
@@ -437,10 +446,12 @@ class NBodyBase(Problem):
         self.inc[np.arange(len(self.pi)), self.pi] = 1.0
         self.inc[np.arange(len(self.pi)), self.pj] = -1.0
 
-    def pair_dphi_over_r(self, r2):      # phi'(r)/r as a function of r^2, per pair
-        raise NotImplementedError
+    # the pair potential phi(r) and phi'(r)/r as functions of r^2, per pair (a mixin below, or
+    # chosen per instance by NBody)
+    pair_phi: Any
+    pair_dphi_over_r: Any
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         X = q.reshape(q.shape[:-1] + (self.n, self.dim))
         D = X[..., self.pi, :] - X[..., self.pj, :]            # q_i - q_j
         r2 = np.sum(D * D, axis=-1)
@@ -448,28 +459,28 @@ class NBodyBase(Problem):
         Fo = -np.einsum("kn,...kd->...nd", self.inc, w)        # force on i is -w, on j +w
         return Fo.reshape(q.shape)
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         X = q.reshape(q.shape[:-1] + (self.n, self.dim))
         D = X[..., self.pi, :] - X[..., self.pj, :]
         return np.sum(self.pair_phi(np.sum(D * D, axis=-1)), axis=-1)
 
-    def linear_momentum(self, z):
+    def linear_momentum(self, z: Any) -> Any:
         P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
         return P.sum(axis=-2)
 
-    def energy_scale(self, z):    # T + |V|, V the total pair potential
+    def energy_scale(self, z: Any) -> Any:    # T + |V|, V the total pair potential
         return self.kinetic(z) + np.abs(self.V(z[..., :self.nq]))
 
-    def linear_momentum_scale(self, z):   # sum_i |p_i|_2
+    def linear_momentum_scale(self, z: Any) -> Any:   # sum_i |p_i|_2
         P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
         return np.sum(np.linalg.norm(P, axis=-1), axis=-1)
 
-    def angular_momentum_scale(self, z):  # sum_i |q_i|_2 |p_i|_2
+    def angular_momentum_scale(self, z: Any) -> Any:  # sum_i |q_i|_2 |p_i|_2
         X = z[..., :self.nq].reshape(z.shape[:-1] + (self.n, self.dim))
         P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
         return np.sum(np.linalg.norm(X, axis=-1) * np.linalg.norm(P, axis=-1), axis=-1)
 
-    def angular_momentum(self, z):
+    def angular_momentum(self, z: Any) -> Any:
         X = z[..., :self.nq].reshape(z.shape[:-1] + (self.n, self.dim))
         P = z[..., self.nq:].reshape(z.shape[:-1] + (self.n, self.dim))
         if self.dim == 2:
@@ -478,19 +489,25 @@ class NBodyBase(Problem):
 
 
 class Gravity:
-    def pair_phi(self, r2):
+    G: float
+    mm: Any         # m_i m_j per pair
+
+    def pair_phi(self, r2: Any) -> Any:
         return -self.G * self.mm / np.sqrt(r2)
 
-    def pair_dphi_over_r(self, r2):      # phi = -G mi mj / r  ->  phi'(r)/r = G mi mj / r^3
+    def pair_dphi_over_r(self, r2: Any) -> Any:      # phi = -G mi mj / r  ->  phi'(r)/r = G mi mj / r^3
         return self.G * self.mm / (r2 * np.sqrt(r2))
 
 
 class LennardJones:
-    def pair_phi(self, r2):             # HLW (3.2): 4 eps ((s/r)^12 - (s/r)^6)
+    sig: float
+    lje: float
+
+    def pair_phi(self, r2: Any) -> Any:             # HLW (3.2): 4 eps ((s/r)^12 - (s/r)^6)
         s6 = (self.sig ** 2 / r2) ** 3
         return 4.0 * self.lje * (s6 * s6 - s6)
 
-    def pair_dphi_over_r(self, r2):     # phi'(r)/r = 4 eps (-12 s^12 r^-14 + 6 s^6 r^-8)
+    def pair_dphi_over_r(self, r2: Any) -> Any:     # phi'(r)/r = 4 eps (-12 s^12 r^-14 + 6 s^6 r^-8)
         s6 = (self.sig ** 2 / r2) ** 3
         return 4.0 * self.lje * (-12.0 * s6 * s6 + 6.0 * s6) / r2
 
@@ -499,17 +516,18 @@ class NBody(NBodyBase):
     pid = "nbody"
     params = ("G", "dim", "gamma", "lj_epsilon", "lj_sigma", "masses", "p", "potential", "q")
 
-    def __init__(self, G, dim, gamma, lj_epsilon, lj_sigma, masses, p, potential, q):
+    def __init__(self, G: Any, dim: Any, gamma: Any, lj_epsilon: Any, lj_sigma: Any, masses: Any, p: Any, potential: Any, q: Any) -> None:
         self.setup(masses, q, p, dim, gamma)
         self.G, self.lje, self.sig = float(G), float(lj_epsilon), float(lj_sigma)
         self.kind = int(potential)      # 0 gravity, 1 Lennard-Jones (docs: nbody potential)
         self.mm = self.masses[self.pi] * self.masses[self.pj]
+        me: Any = self      # the mixins' pair functions on this instance's constants
         if self.kind == 0:
-            self.pair_phi = lambda r2: Gravity.pair_phi(self, r2)
-            self.pair_dphi_over_r = lambda r2: Gravity.pair_dphi_over_r(self, r2)
+            self.pair_phi = lambda r2: Gravity.pair_phi(me, r2)
+            self.pair_dphi_over_r = lambda r2: Gravity.pair_dphi_over_r(me, r2)
         else:
-            self.pair_phi = lambda r2: LennardJones.pair_phi(self, r2)
-            self.pair_dphi_over_r = lambda r2: LennardJones.pair_dphi_over_r(self, r2)
+            self.pair_phi = lambda r2: LennardJones.pair_phi(me, r2)
+            self.pair_dphi_over_r = lambda r2: LennardJones.pair_dphi_over_r(me, r2)
 
 
 class OuterSolarSystem(Gravity, NBodyBase):
@@ -517,7 +535,7 @@ class OuterSolarSystem(Gravity, NBodyBase):
     pid = "outer-solar-system"
     params = ("gamma",)
 
-    def __init__(self, gamma=0.0):
+    def __init__(self, gamma: Any = 0.0) -> None:
         masses = [1.00000597682, 0.000954786104043, 0.000285583733151, 0.0000437273164546,
                   0.0000517759138449, 1.0 / 1.3e8]
         pos = [0, 0, 0, -3.5023653, -3.8169847, -1.5507963, 9.0755314, -3.0458353, -1.6483708,
@@ -540,7 +558,7 @@ class Argon(LennardJones, NBodyBase):
     pid = "argon"
     params = ("gamma",)
 
-    def __init__(self, gamma=0.0):
+    def __init__(self, gamma: Any = 0.0) -> None:
         m = 66.34e-27
         x = [0.00, 0.02, 0.34, 0.36, -0.02, -0.35, -0.31]
         y = [0.00, 0.39, 0.17, -0.21, -0.40, -0.16, 0.21]
@@ -551,7 +569,7 @@ class Argon(LennardJones, NBodyBase):
         self.setup([m] * 7, pos, mom, 2, gamma)
         self.lje, self.sig = 119.8 * KB, 0.341
 
-    def temperature(self, z):   # HLW (3.8): T = sum m |v|^2 / (2 N k_B)
+    def temperature(self, z: Any) -> Any:   # HLW (3.8): T = sum m |v|^2 / (2 N k_B)
         p = z[..., self.nq:]
         return np.sum(p * p / self.m, axis=-1) / (2 * self.n * KB)
 
@@ -564,26 +582,26 @@ class LotkaVolterra(Problem):
     canonical = False
     partitioned_halves = True   # z = (u, v), HLW (1.7): HLW's symplectic Euler (1.8) applies
 
-    def __init__(self, u0, v0):
+    def __init__(self, u0: Any, v0: Any) -> None:
         self.d = 2
         self.z0 = np.array([u0, v0], float)
 
-    def gamma(self, t):
+    def gamma(self, t: Any) -> Any:
         return 0.0
 
-    def Gamma(self, t):
+    def Gamma(self, t: Any) -> Any:
         return 0.0 * t
 
-    def f(self, t, z):
+    def f(self, t: Any, z: Any) -> Any:
         u, v = z[..., 0], z[..., 1]
         return np.stack([u * (v - 2.0), v * (1.0 - u)], axis=-1)
 
     N = f
 
-    def invariants(self):
+    def invariants(self) -> Any:
         return {"I": lambda z: np.log(z[..., 0]) - z[..., 0] + 2 * np.log(z[..., 1]) - z[..., 1]}
 
-    def invariant_scales(self):   # I <= 2 ln 2 - 3 < 0 on the whole domain: |I| itself
+    def invariant_scales(self) -> Any:   # I <= 2 ln 2 - 3 < 0 on the whole domain: |I| itself
         return {"I": lambda z: np.abs(self.invariants()["I"](z))}
 
 
@@ -601,11 +619,11 @@ class KleinGordon(Problem):
     pid = "klein-gordon"
     params = ("M", "c", "gamma", "K", "exact_pde")
 
-    def field_size(self):   # the field u = q on the grid (field-drift, B (5.6))
+    def field_size(self) -> Any:   # the field u = q on the grid (field-drift, B (5.6))
         return self.M
     exact_available = True
 
-    def __init__(self, M, c, gamma, K, exact_pde=0.0):
+    def __init__(self, M: Any, c: Any, gamma: Any, K: Any, exact_pde: Any = 0.0) -> None:
         """exact_pde = 1: the exact solution is the PDE's (4.3) from the trigonometric
         interpolant of the state (each mode with k^2 instead of the grid's symbol; B (5.1))."""
         if M != int(M) or K != int(K) or M < 2:
@@ -626,24 +644,24 @@ class KleinGordon(Problem):
         if exact_pde:
             self.w2 = self.c + j.astype(float) ** 2
 
-    def force(self, t, q):
+    def force(self, t: Any, q: Any) -> Any:
         return (np.roll(q, 1, axis=-1) - 2.0 * q + np.roll(q, -1, axis=-1)) / self.dx ** 2 - self.c * q
 
-    def V(self, q):
+    def V(self, q: Any) -> Any:
         du = np.roll(q, -1, axis=-1) - q
         return np.sum(0.5 * du * du / self.dx ** 2 + 0.5 * self.c * q * q, axis=-1)
 
-    def _dxu(self, z):
+    def _dxu(self, z: Any) -> Any:
         u = z[..., :self.M]
         return (np.roll(u, -1, axis=-1) - np.roll(u, 1, axis=-1)) / (2.0 * self.dx)
 
-    def invariants(self):
+    def invariants(self) -> Any:
         return {"momentum": lambda z: self.dx * np.sum(z[..., self.M:] * self._dxu(z), axis=-1)}
 
-    def invariant_scales(self):
+    def invariant_scales(self) -> Any:
         return {"momentum": lambda z: self.dx * np.sum(np.abs(z[..., self.M:]) * np.abs(self._dxu(z)), axis=-1)}
 
-    def exact(self, t0, t):
+    def exact(self, t0: Any, t: Any) -> Any:
         """Exact solution of the semi-discrete system from (t0, z0): the real DFT diagonalises the
         circulant delta_x^2, each mode j is the damped oscillator a'' + 2 gamma a' + omega_j^2 a = 0:
             a(tau) = e^{-gamma tau} [a0 C + (b0 + gamma a0) S],  b(tau) = e^{-gamma tau} [b0 C - (gamma b0 + omega^2 a0) S],
@@ -704,7 +722,7 @@ class Burgers(Problem):
     separable = False
     canonical = False
 
-    def __init__(self, M, gamma):
+    def __init__(self, M: Any, gamma: Any) -> None:
         if M != int(M) or M < 2:
             raise TypeError("M must be a whole number >= 2")
         self.M = int(M)
@@ -716,19 +734,19 @@ class Burgers(Problem):
         self.z0 = np.exp(-0.5 * x * x) / math.sqrt(2.0 * math.pi)
         self.invariant_rates = {"casimir": 0.5}
 
-    def N(self, t, z):
+    def N(self, t: Any, z: Any) -> Any:
         return -(np.roll(z, -1, axis=-1) ** 2 - np.roll(z, 1, axis=-1) ** 2) / (4.0 * self.dx)
 
-    def f(self, t, z):
+    def f(self, t: Any, z: Any) -> Any:
         return self.N(t, z) - self.g * z
 
-    def invariants(self):
+    def invariants(self) -> Any:
         return {"casimir": lambda z: self.dx * np.sum(z, axis=-1)}
 
-    def invariant_scales(self):
+    def invariant_scales(self) -> Any:
         return {"casimir": lambda z: self.dx * np.sum(np.abs(z), axis=-1)}
 
-    def pde_solution(self, t0, t):
+    def pde_solution(self, t0: Any, t: Any) -> Any:
         """B (4.5)'s own solution from the Gaussian at time t (started at t0) on the grid, by
         characteristics: u = u0(xi) e^{-2 gB tau}, x = xi + u0(xi) s, s = (1 - e^{-2 gB tau})/(2 gB),
         xi by bisection (vectorised over the grid); None from the shock on (s >= 1/phi(1))."""
@@ -739,7 +757,7 @@ class Burgers(Problem):
         x = -math.pi + self.dx * np.arange(self.M)
         umax = 1.0 / math.sqrt(2.0 * math.pi)
 
-        def u0(xi):
+        def u0(xi: Any) -> Any:
             w = xi - 2.0 * math.pi * np.floor((xi + math.pi) / (2.0 * math.pi))
             return np.exp(-0.5 * w * w) / math.sqrt(2.0 * math.pi)
 
@@ -750,7 +768,7 @@ class Burgers(Problem):
             lo, hi = np.where(neg, mid, lo), np.where(neg, hi, mid)
         return u0(0.5 * (lo + hi)) * math.exp(-2.0 * self.gB * tau)
 
-    def structure(self):
+    def structure(self) -> Any:
         """B's structure matrix D of (5.9) (D[j, j+1] = 1, D[j, j-1] = -1; this problem only, not
         the box or upwind semi-discretisations): the E_n law is Psi D Psi^T = e^{-2 dGamma} D."""
         if self.pid != "burgers":
@@ -766,17 +784,17 @@ class BurgersBox(Burgers):
     to the real and imaginary parts separately so that the complex-step Jacobian stays exact."""
     pid = "burgers-box"
 
-    def __init__(self, M, gamma):
+    def __init__(self, M: Any, gamma: Any) -> None:
         super().__init__(M, gamma)
         if self.M % 2 == 0:
             raise TypeError("burgers-box needs an odd M")
         th = 2.0 * math.pi * np.arange(self.M) / self.M
         self.ax_symbol = 0.5 * (1.0 + np.exp(1j * th))
 
-    def _ainv(self, r):
+    def _ainv(self, r: Any) -> Any:
         return np.real(np.fft.ifft(np.fft.fft(r, axis=-1) / self.ax_symbol, axis=-1))
 
-    def N(self, t, z):
+    def N(self, t: Any, z: Any) -> Any:
         w = 0.5 * z * z
         r = -(np.roll(w, -1, axis=-1) - w) / self.dx
         if np.iscomplexobj(r):
@@ -790,7 +808,7 @@ class BurgersUpwind(Burgers):
     Casimir law is no law of this flow: it is kept for NSFD's negative control (docs/pde.md)."""
     pid = "burgers-upwind"
 
-    def N(self, t, z):
+    def N(self, t: Any, z: Any) -> Any:
         return -z * (z - np.roll(z, 1, axis=-1)) / self.dx
 
 
@@ -806,9 +824,10 @@ class SchrodingerBase(Problem):
     I3 = dx sum (-|Dx psi|^2 + V(|psi|^2))."""
     separable = False
     canonical = True
-    params = ("M", "L", "gamma", "lambda", "initial", "A", "k")
+    params: Tuple[str, ...] = ("M", "L", "gamma", "lambda", "initial", "A", "k")
+    Vp: Any         # V'(|psi|^2)
 
-    def __init__(self, M, L, gamma, A, k, initial, **kw):
+    def __init__(self, M: Any, L: Any, gamma: Any, A: Any, k: Any, initial: Any, **kw: Any) -> None:
         lam = kw.pop("lambda")
         if kw:
             raise TypeError("unknown parameters %s" % sorted(kw))
@@ -832,24 +851,24 @@ class SchrodingerBase(Problem):
             kk[self.M // 2] = 0.0
         self.kk = kk
 
-    def _d2(self, u):
+    def _d2(self, u: Any) -> Any:
         return (np.roll(u, 1, axis=-1) - 2.0 * u + np.roll(u, -1, axis=-1)) / self.dx ** 2
 
-    def N(self, t, z):
+    def N(self, t: Any, z: Any) -> Any:
         q, p = z[..., :self.M], z[..., self.M:]
         vp = self.Vp(q * q + p * p)
         return np.concatenate([-(self._d2(p) + vp * p), self._d2(q) + vp * q], axis=-1)
 
-    def f(self, t, z):
+    def f(self, t: Any, z: Any) -> Any:
         return self.N(t, z) - self.g * z
 
-    def _psi(self, z):
+    def _psi(self, z: Any) -> Any:
         return z[..., :self.M] + 1j * z[..., self.M:]
 
-    def _Dx(self, psi):
+    def _Dx(self, psi: Any) -> Any:
         return np.fft.ifft(1j * self.kk * np.fft.fft(psi, axis=-1), axis=-1)
 
-    def mass(self, z):
+    def mass(self, z: Any) -> Any:
         psi = self._psi(z)
         return self.dx * np.sum(np.abs(psi) ** 2, axis=-1)
 
@@ -859,33 +878,33 @@ class Schrodinger(SchrodingerBase):
     pid = "schrodinger"
     exact_available = True
 
-    def Vp(self, eta):
+    def Vp(self, eta: Any) -> Any:
         return self.lam + 0.0 * eta
 
-    def invariants(self):
-        def I1(z):
+    def invariants(self) -> Any:
+        def I1(z: Any) -> Any:
             psi = self._psi(z)
             return self.dx * np.sum(np.imag(np.conj(psi) * self._Dx(psi)), axis=-1)
 
-        def I3(z):
+        def I3(z: Any) -> Any:
             psi = self._psi(z)
             return self.dx * np.sum(-np.abs(self._Dx(psi)) ** 2 + self.lam * np.abs(psi) ** 2, axis=-1)
         return {"momentum": I1, "mass": self.mass, "energy": I3}
 
-    def invariant_scales(self):
+    def invariant_scales(self) -> Any:
         # docs/pde.md: (dx/M) sum |k_j| |psi_hat_j|^2, I2, (dx/M) sum (k_j^2 + |lambda|) |psi_hat_j|^2
-        def spec(z, w):
+        def spec(z: Any, w: Any) -> Any:
             ph = np.abs(np.fft.fft(self._psi(z), axis=-1)) ** 2
             return self.dx / self.M * np.sum(w * ph, axis=-1)
         return {"momentum": lambda z: spec(z, np.abs(self.kk)), "mass": self.mass,
                 "energy": lambda z: spec(z, self.kk ** 2 + abs(self.lam))}
 
-    def exact(self, t0, t):
+    def exact(self, t0: Any, t: Any) -> Any:
         """Each DFT mode j of the semi-discrete system: psi_hat' = (i (lambda - kd_j^2) - 2 gamma) psi_hat,
         kd_j^2 = 4 sin^2(pi j / M) / dx^2 (the symbol of d2).  Estimate: 8 eps (log2 M + 4) |z| plus the
         phase round-off eps |lambda - kd^2| tau of each mode."""
         tau = np.atleast_1d(np.asarray(t, float)) - t0
-        j = np.fft.fftfreq(self.M) * self.M
+        j = np.fft.fftfreq(self.M, 1.0) * self.M
         kd2 = (2.0 * np.sin(math.pi * j / self.M) / self.dx) ** 2
         c0 = np.fft.fft(self._psi(self.z0))
         lam = (1j * (self.lam - kd2))[None, :] * tau[:, None] - 2.0 * self.gB * tau[:, None]
@@ -904,18 +923,18 @@ class NLS(SchrodingerBase):
     |psi|^2 psi (B Fig 5.9's R1, docs/pde.md)."""
     pid = "nls"
 
-    def Vp(self, eta):
+    def Vp(self, eta: Any) -> Any:
         return self.lam * eta
 
-    def momentum(self, z):
+    def momentum(self, z: Any) -> Any:
         psi = self._psi(z)
         return self.dx * np.sum(np.imag(np.conj(psi) * self._Dx(psi)), axis=-1)
 
-    def invariants(self):
+    def invariants(self) -> Any:
         return {"momentum": self.momentum, "mass": self.mass}
 
-    def invariant_scales(self):
-        def s1(z):
+    def invariant_scales(self) -> Any:
+        def s1(z: Any) -> Any:
             ph = np.abs(np.fft.fft(self._psi(z), axis=-1)) ** 2
             return self.dx / self.M * np.sum(np.abs(self.kk) * ph, axis=-1)
         return {"momentum": s1, "mass": self.mass}
@@ -929,34 +948,35 @@ class NLSDriven(NLS):
     pid = "nls-driven"
     params = SchrodingerBase.params + ("Gamma", "omega0", "alpha")
 
-    def __init__(self, Gamma, omega0, alpha, **kw):
+    def __init__(self, Gamma: Any, omega0: Any, alpha: Any, **kw: Any) -> None:
         super().__init__(**kw)
         self.G, self.w0, self.al = float(Gamma), float(omega0), float(alpha)
 
-    def N(self, t, z):
+    def N(self, t: Any, z: Any) -> Any:
         out = super().N(t, z)
         th = self.w0 * t + self.al
         out[..., :self.M] += self.G * math.sin(th)
         out[..., self.M:] += -self.G * math.cos(th)
         return out
 
-    def invariants(self):
+    def invariants(self) -> Any:
         return {}
 
-    def invariant_scales(self):
+    def invariant_scales(self) -> Any:
         return {}
 
-    def probe(self, z):
+    def probe(self, z: Any) -> float:
         n = min(max(int(round(self.L / self.dx)), 0), self.M - 1)
         return float(math.hypot(z[n], z[self.M + n]))
 
 
-PROBLEMS = {c.pid: c for c in (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler,
-                               NBody, OuterSolarSystem, Argon, LotkaVolterra, KleinGordon,
-                               Burgers, BurgersBox, BurgersUpwind, Schrodinger, NLS, NLSDriven)}
+_CLASSES: Tuple[Any, ...] = (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler, NBody,
+                             OuterSolarSystem, Argon, LotkaVolterra, KleinGordon, Burgers, BurgersBox,
+                             BurgersUpwind, Schrodinger, NLS, NLSDriven)
+PROBLEMS: Dict[str, Any] = {c.pid: c for c in _CLASSES}
 
 
-def make_problem(pid, params):
+def make_problem(pid: str, params: Dict[str, Any]) -> Any:
     cls = PROBLEMS[pid]
     kw = {}
     for k, v in params.items():

@@ -1,15 +1,16 @@
 """Step loops of the independent cross-check (numpy; no dampsym code)."""
+from typing import Any
 import math
 
 import numpy as np
 
-import refmath
-import xjit
-import xscalar
-import xmethods as xm
+from . import refmath
+from . import xjit
+from . import xscalar
+from . import xmethods as xm
 
 
-def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
+def integrate(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool = False, blowup: Any = None) -> Any:
     """nsteps steps of size h from (t0, z0), time t0 + n h.  Returns dict(status, steps, z,
     traj (every state incl. z0, when record), newton (total iterations), newton_max, message).
     status: ok | diverged (non-finite, or |z| > blowup |z0| when blowup is given) |
@@ -18,7 +19,7 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     limit = math.inf if blowup is None else blowup * max(1.0, float(np.max(np.abs(z))))
     out = dict(status="ok", steps=0, z=z, traj=None, newton=0, newton_max=0, message="")
     try:
-        if method == "glm4":
+        if method in xm.MULTIVALUE:
             glm = xm.GLM(prob, h)
             stepf = None
         else:
@@ -43,7 +44,7 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     small = xscalar.make(method, prob, h)
     if small is not None:
         return integrate_small(small, prob, nsteps, t0, h, record, limit, out)
-    traj = np.empty((nsteps + 1, prob.d)) if record else None
+    traj: Any = np.empty((nsteps + 1, prob.d)) if record else None
     if record:
         traj[0] = z
     n = 0
@@ -80,7 +81,7 @@ def integrate(method, prob, h, nsteps, t0, record=False, blowup=None):
     return out
 
 
-def step_jacobian(method, prob, h, t, z):
+def step_jacobian(method: str, prob: Any, h: Any, t: Any, z: Any) -> Any:
     """Exact Jacobian of one step of the method at (t, z) by the complex step (all d directions
     in one batched step; implicit stages converged in real and imaginary parts)."""
     d = prob.d
@@ -90,13 +91,13 @@ def step_jacobian(method, prob, h, t, z):
     return (np.imag(Z1) / 1e-30).T
 
 
-def linear_ok(method, prob):
+def linear_ok(method: str, prob: Any) -> Any:
     """The oscillator with constant gamma is linear and autonomous: every method's step is
     z -> M z with M our own one-step matrix (complex step of our own step map)."""
-    return type(prob).__name__ == "Oscillator" and method != "glm4"
+    return type(prob).__name__ == "Oscillator" and method not in xm.MULTIVALUE
 
 
-def integrate_linear(method, prob, h, nsteps, t0, record, limit, out):
+def integrate_linear(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool, limit: Any, out: Any) -> Any:
     """z_n = M^n z0 with M our own one-step matrix (complex step of our own step map), in
     80-bit long double: block starts z_{kB} by the chain M^B (formed by B products), the states
     inside all blocks at once by B vectorised applications of M.  Same mathematics as stepping;
@@ -135,13 +136,14 @@ def integrate_linear(method, prob, h, nsteps, t0, record, limit, out):
     return out
 
 
-def scalar_stepper(method, prob, h):
+def scalar_stepper(method: str, prob: Any, h: Any) -> Any:
     """One-degree-of-freedom oscillator and pendulum with constant gamma: the second, scalar
     implementation of euler/heun/rk3/rk4/csv1/csv2/cimp in verify/refmath.py (plain floats,
     ~10x faster than numpy on 2-vectors; tests/ compare both implementations)."""
     kind = type(prob).__name__
     if kind not in ("Oscillator", "Pendulum") or method not in refmath.METHODS:
         return None
+    rp: Any
     if kind == "Oscillator":
         rp = refmath.Oscillator(prob.w, prob.g, prob.z0[0], prob.z0[1])
     else:
@@ -152,9 +154,10 @@ def scalar_stepper(method, prob, h):
         return None
 
 
-def integrate_scalar(step, prob, nsteps, record, limit, out):
+def integrate_scalar(step: Any, prob: Any, nsteps: int, record: bool, limit: Any, out: Any) -> Any:
     q, p = float(prob.z0[0]), float(prob.z0[1])
-    qs, ps = ([q], [p]) if record else (None, None)
+    qs: Any = [q] if record else None
+    ps: Any = [p] if record else None
     n = 0
     try:
         for n in range(1, nsteps + 1):
@@ -174,9 +177,10 @@ def integrate_scalar(step, prob, nsteps, record, limit, out):
     return out
 
 
-def integrate_small(stepper, prob, nsteps, t0, h, record, limit, out):
+def integrate_small(stepper: Any, prob: Any, nsteps: int, t0: Any, h: Any, record: bool, limit: Any, out: Any) -> Any:
     z = [float(v) for v in prob.z0]
-    traj = [list(z)] if record else None
+    traj: Any = [list(z)] if record else None
+    glm_y: Any = None
     glm = isinstance(stepper, xscalar.GLMScalar)
     n = 0
     try:

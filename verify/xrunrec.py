@@ -8,11 +8,12 @@ from typing import Any, Dict, List
 
 import numpy as np
 
-import xfamilies as xf
-import xmetrics as xmt
-import xours
-from xours import RunCtx
-from xtol import Comp, cmp_abs, cmp_equal, comp, in_range, num
+from . import diagnostics
+from . import xfamilies as xf
+from . import xmetrics as xmt
+from . import xours
+from .xrunctx import RunCtx
+from .xtol import Comp, cmp_abs, cmp_equal, comp, in_range, num
 
 # run-level fields: compared below, or not compared with the reason
 RUN_COMPARED = ("method", "dt", "steps_planned", "status", "steps", "failed_at_step", "final_time",
@@ -120,13 +121,8 @@ def compare_metrics(cx: RunCtx, rec: Dict[str, Any]) -> None:
         else:
             cx.comps.append(c)
     for diag in cx.diags:
-        if diag in PER_RUN and diag not in cx.metrics:
+        if diag in diagnostics.REGISTRY and diagnostics.REGISTRY[diag].per_run and diag not in cx.metrics:
             cx.comps.append(comp("metrics." + diag, "requested by the case file", "absent", False, "present"))
-
-
-PER_RUN = ("error", "invariants", "energy", "momentum", "temperature", "conformal-symplectic",
-           "dissipation-drift", "poincare", "precession", "field-drift", "pde-error", "attractor",
-           "energy-balance", "local-error", "stability", "cost")
 
 
 def run_fields(cx: RunCtx, rec: Dict[str, Any]) -> None:

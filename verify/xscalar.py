@@ -3,15 +3,16 @@ mathematics as verify/xmethods.py (same coefficient sources: the Gauss tableaux 
 B (2.5) factors, BS's GLM), written on Python lists because numpy's per-call overhead
 dominates 3- and 4-vectors.  tests: verify/test_crosscheck_negative.py and the agreement of
 both paths (xscalar_selftest below)."""
+from typing import Any, Dict, List
 import math
 
 import numpy as np
 
-import xmethods as xm
+from . import xmethods as xm
 
 
-def kepler_fields():
-    def force(t, q):
+def kepler_fields() -> Any:
+    def force(t: Any, q: Any) -> Any:
         x, y = q
         r2 = x * x + y * y
         r3 = r2 * math.sqrt(r2)
@@ -19,50 +20,50 @@ def kepler_fields():
     return force
 
 
-def rigid_fields(prob):
+def rigid_fields(prob: Any) -> Any:
     a1, a2, a3 = (1.0 / v for v in prob.I)
     eps = prob.eps
 
-    def N(t, z):
+    def N(t: Any, z: Any) -> Any:
         z1, z2, z3 = z
         return [z3 * z2 * a3 - z2 * z3 * a2, -z3 * z1 * a3 + z1 * z3 * a1, z2 * z1 * a2 - z1 * z2 * a1]
 
-    def f(t, z):
+    def f(t: Any, z: Any) -> Any:
         g = 0.5 * eps * math.cos(2.0 * t)
         n = N(t, z)
         return [n[i] - g * z[i] for i in range(3)]
     return N, f
 
 
-def driven_fields(prob):
+def driven_fields(prob: Any) -> Any:
     """B 3.2.2: q'' + 2 gamma q' + lambda^2 sin q = f sin t, as xproblems.DrivenPendulum."""
     lam2, F, g = prob.lam ** 2, prob.F, prob.g
 
-    def force(t, q):
+    def force(t: Any, q: Any) -> Any:
         return -lam2 * math.sin(q) + F * math.sin(t)
 
-    def f(t, z):
+    def f(t: Any, z: Any) -> Any:
         return [z[1], force(t, z[0]) - 2.0 * g * z[1]]
 
-    def N(t, z):
+    def N(t: Any, z: Any) -> Any:
         return [z[1] + g * z[0], force(t, z[0]) - g * z[1]]
     return force, f, N
 
 
-def _csv_scalar(prob, force, h, which):
+def _csv_scalar(prob: Any, force: Any, h: Any, which: Any) -> Any:
     """F (2.12) / F (2.16) on one degree of freedom (m = 1), the formulas of xmethods.csv1_step
     and csv2_step."""
     if which == "csv1":
-        def step(t, z):
+        def step_csv1(t: Any, z: Any) -> Any:
             e1 = math.exp(-2.0 * xm.dGamma(prob, t, 0.5 * h))
             e2 = math.exp(-2.0 * xm.dGamma(prob, t + 0.5 * h, 0.5 * h))
             q, p = z
             ph = e1 * p + 0.5 * h * force(t, q)
             q1 = q + h * ph
             return [q1, e2 * (ph + 0.5 * h * force(t + h, q1))], 0
-        return step
+        return step_csv1
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         x = xm.dGamma(prob, t, h)
         a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
         if b <= 0:
@@ -74,11 +75,11 @@ def _csv_scalar(prob, force, h, which):
     return step
 
 
-def _erk(f, A, b, c, h):
+def _erk(f: Any, A: Any, b: Any, c: Any, h: Any) -> Any:
     s = len(b)
 
-    def step(t, z):
-        K = []
+    def step(t: Any, z: Any) -> Any:
+        K: List[Any] = []
         for i in range(s):
             zi = list(z)
             for j in range(i):
@@ -89,13 +90,13 @@ def _erk(f, A, b, c, h):
     return step
 
 
-def _implicit(G, coef, h, d, jac):
+def _implicit(G: Any, coef: Any, h: Any, d: Any, jac: Any) -> Any:
     """Z_i = Phi_i z + h sum_j A_ij G(t + c_j h, Z_j); z1 = phi0 z + h sum b_i G(Z_i); simplified
     Newton with the matrix refreshed every 8 steps (or when the coefficients change), iterated
     to round-off exactly as xmethods.rk_family_step."""
-    cache = {"age": 99, "key": None}
+    cache: Dict[str, Any] = {"age": 99, "key": None}
 
-    def step(t, z):
+    def step(t: Any, z: Any) -> Any:
         Phi, A, b, phi0, c = coef(t)
         s = len(b)
         key = A.tobytes()
@@ -138,13 +139,13 @@ def _implicit(G, coef, h, d, jac):
 
 
 class GLMScalar:
-    def __init__(self, f, jac, h, d):
+    def __init__(self, f: Any, jac: Any, h: Any, d: Any) -> None:
         self.f, self.jac, self.h, self.d = f, jac, h, d
         self.age = 99
         self.A = xm.GLM_A.tolist()
         self.U, self.B, self.V = xm.GLM_U.tolist(), xm.GLM_B.tolist(), xm.GLM_V.tolist()
 
-    def _solve(self, t, base, a, Mi):
+    def _solve(self, t: Any, base: Any, a: Any, Mi: Any) -> Any:
         f, h, d = self.f, self.h, self.d
         y = list(base)
         last, it = math.inf, 0
@@ -162,11 +163,11 @@ class GLMScalar:
             if it > 100:
                 raise xm.SolveFailed("GLM stage did not converge")
 
-    def _inv(self, t, z, A):
+    def _inv(self, t: Any, z: Any, A: Any) -> Any:
         J = self.jac(t, np.array(z))
         return [np.linalg.inv(np.eye(self.d) - self.h * A[k][k] * J).tolist() for k in range(2)]
 
-    def start(self, t, y0):
+    def start(self, t: Any, y0: Any) -> Any:
         A0 = xm.GLM_A0.tolist()
         Mi = self._inv(t, y0, A0)
         h, d = self.h, self.d
@@ -176,7 +177,7 @@ class GLMScalar:
         S = xm.GLM_S
         return [list(y0), [h * (S[0] * K1[k] + S[1] * K2[k]) for k in range(d)]]
 
-    def step(self, t, yv):
+    def step(self, t: Any, yv: Any) -> Any:
         h, d, A, U, B, V = self.h, self.d, self.A, self.U, self.B, self.V
         if self.age >= 8:
             self.Mi = self._inv(t, yv[0], A)
@@ -190,13 +191,13 @@ class GLMScalar:
                  for k in range(d)] for i in range(2)], i1 + i2
 
 
-def make(method, prob, h):
+def make(method: str, prob: Any, h: Any) -> Any:
     """A plain-float stepper (step(t, z_list) -> (z1, its)) or a GLMScalar, or None."""
     kind = type(prob).__name__
     if kind == "Kepler":
         force = kepler_fields()
 
-        def f(t, z):
+        def f(t: Any, z: Any) -> Any:
             fq = force(t, z[:2])
             return [z[2], z[3], fq[0], fq[1]]
         if method in xm.EXPLICIT_RK:
@@ -204,13 +205,13 @@ def make(method, prob, h):
             st = _erk(f, A, b, c, h)
             return lambda t, z: (st(t, z), 0)
         if method == "symplectic-euler":      # gamma = 0 here
-            def step(t, z):
+            def step(t: Any, z: Any) -> Any:
                 fq = force(t, z[:2])
                 p = [z[2] + h * fq[0], z[3] + h * fq[1]]
                 return [z[0] + h * p[0], z[1] + h * p[1], p[0], p[1]], 0
             return step
         if method == "stormer-verlet":
-            def step(t, z):
+            def step(t: Any, z: Any) -> Any:
                 fq = force(t, z[:2])
                 ph = [z[2] + 0.5 * h * fq[0], z[3] + 0.5 * h * fq[1]]
                 q1 = [z[0] + h * ph[0], z[1] + h * ph[1]]

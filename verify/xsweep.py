@@ -32,25 +32,26 @@ lies within 16 eps of 1) is decided by the last bits of M, which differ between 
 implementations.  Each count is returned with the number of such tie points (a reported count
 agrees within it), each first-failure step with its range when ties are flipped either way.
 """
+from typing import Any, Dict, List, Tuple
 import math
 
 import numpy as np
 
-import refmath
-import xmethods as xm
-import xproblems as xp
+from . import refmath
+from . import xmethods as xm
+from . import xproblems as xp
 
 EPS = np.finfo(float).eps
 FORMULA = {"cimp": "cimp", "csv1": "csv1", "csv1-perk": "csv1", "csv2": "csv2", "csv2-perk": "csv2"}
 
 
-def axis(spec):
+def axis(spec: Dict[str, Any]) -> Any:
     a, b, s = (float(x) for x in spec)
     n = int(math.floor((b - a) / s * (1 + 1e-12) + 1e-9)) + 1
     return a + s * np.arange(n)
 
 
-def one_step_matrix(method, w, g, h):
+def one_step_matrix(method: str, w: Any, g: Any, h: Any) -> Any:
     if method in ("csv2", "csv2-perk") and g * h > 2:
         # F (2.16) beyond gamma h = 2 (F (3.22) "reversed"); runs stop at gamma h < 2
         prob = xp.make_problem("oscillator", {"omega": w, "gamma": g, "q0": 1.0, "p0": 0.0})
@@ -68,7 +69,7 @@ def one_step_matrix(method, w, g, h):
 PERK = {"csv1-perk": xm.csv1_perk_coef, "csv2-perk": xm.csv2_perk_coef, "etdprk2": xm.etdprk2_coef}
 
 
-def row_matrices(method, w, g, H):
+def row_matrices(method: str, w: Any, g: Any, H: Any) -> Any:
     """One-step matrices of a whole gamma row at once (nh, 2, 2), or None (then point by point):
     the symplectic Euler pair and Stormer-Verlet are xmethods' own steppers called with an array
     of step sizes (their formulas only multiply and divide by h); the partitioned exponential
@@ -83,7 +84,7 @@ def row_matrices(method, w, g, H):
                     xm.symplectic_euler_step(prob, hb, adjoint=method.endswith("adjoint")))
             return np.swapaxes(step(0.0, Z)[0], -1, -2)
         if method in PERK:
-            co = []
+            co: List[Any] = []
             for h in H:
                 if method == "csv2-perk" and abs(2 * g * h - 4.0) == 0.0:
                     co.append(None)
@@ -113,7 +114,7 @@ def row_matrices(method, w, g, H):
     return None
 
 
-def eig2(M):
+def eig2(M: Any) -> Any:
     """Eigenvalues of a batch of real 2x2 matrices (..., 2, 2): (..., 2) complex."""
     tr = M[..., 0, 0] + M[..., 1, 1]
     det = M[..., 0, 0] * M[..., 1, 1] - M[..., 0, 1] * M[..., 1, 0]
@@ -121,7 +122,7 @@ def eig2(M):
     return np.stack([0.5 * tr + disc, 0.5 * tr - disc], axis=-1)
 
 
-def f_formula(kind, w, g, h):
+def f_formula(kind: str, w: Any, g: Any, h: Any) -> Any:
     if kind == "cimp":
         return w > g
     if kind == "csv1":
@@ -139,13 +140,13 @@ def f_formula(kind, w, g, h):
     return None
 
 
-def _pb(ev):
+def _pb(ev: Any) -> Any:
     rho = float(np.max(np.abs(ev)))
     pb = rho < 1.0 - 8 * EPS or (rho <= 1.0 + 8 * EPS and abs(ev[0] - ev[-1]) > 1e-7)
     return pb, abs(rho - 1.0) <= 16 * EPS
 
 
-def stab_poly(method):
+def stab_poly(method: str) -> Any:
     A, b, _ = xm.EXPLICIT_RK[method]
     A, b = np.array(A, float), np.array(b, float)
     s = len(b)
@@ -157,14 +158,11 @@ def stab_poly(method):
     return coef       # R(z) = sum_k coef[k] z^k (A nilpotent: exact for explicit RK)
 
 
-def sweep(method, spec):
-    w = float(spec.get("omega", 1.0))
-    G, H = axis(spec["gamma"]), axis(spec["h"])
-    nh = len(H)
-    kind = FORMULA.get(method)
-    poly = stab_poly(method) if method in xm.EXPLICIT_RK else None
-    Ms = np.full((len(G), nh, 2, 2), np.nan)
-    na = np.zeros((len(G), nh), bool)
+def grid_matrices(method: str, w: float, G: np.ndarray, H: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """The one-step matrices over the (gamma, h) grid, and where none exists (not applicable
+    or not finite)."""
+    Ms = np.full((len(G), len(H), 2, 2), np.nan)
+    na = np.zeros((len(G), len(H)), bool)
     for i, g in enumerate(G):
         row = row_matrices(method, w, g, H)
         if row is not None:
@@ -176,6 +174,26 @@ def sweep(method, spec):
             except (xm.NotApplicable, refmath.NotApplicable):
                 na[i, j] = True
     na |= ~np.all(np.isfinite(Ms), axis=(-2, -1))
+    return Ms, na
+
+
+def power_bounded_by_r(poly: Any, w: float, Gg: np.ndarray, Hh: np.ndarray) -> np.ndarray:
+    """Power-boundedness from the stability function R(h lambda) of an explicit RK method at the
+    oscillator's eigenvalues lambda = -g +- sqrt(g^2 - w^2)."""
+    disc = np.sqrt(((Gg - w) * (Gg + w)).astype(complex))
+    lam = np.stack([-Gg + disc, -Gg - disc], axis=-1) * Hh[..., None]
+    R = sum(c * lam ** k for k, c in enumerate(poly))
+    rR = np.max(np.abs(R), axis=-1)
+    return (rR < 1.0 - 8 * EPS) | ((rR <= 1.0 + 8 * EPS) & (np.abs(R[..., 0] - R[..., 1]) > 1e-7))
+
+
+def sweep(method: str, spec: Dict[str, Any]) -> Any:
+    w = float(spec.get("omega", 1.0))
+    G, H = axis(spec["gamma"]), axis(spec["h"])
+    nh = len(H)
+    kind = FORMULA.get(method)
+    poly = stab_poly(method) if method in xm.EXPLICIT_RK else None
+    Ms, na = grid_matrices(method, w, G, H)
     Gg, Hh = G[:, None], H[None, :]
     e = np.exp(-Gg * Hh)
     ht = 0.5 * (Ms[..., 0, 0] + Ms[..., 1, 1])
@@ -192,30 +210,24 @@ def sweep(method, spec):
     dist = np.abs(ev[..., 0] - ev[..., 1])
     PB = (rho < 1.0 - 8 * EPS) | ((rho <= 1.0 + 8 * EPS) & (dist > 1e-7))
     PBtie = np.abs(rho - 1.0) <= 16 * EPS
-    PBR = np.zeros_like(PB)
-    if poly is not None:
-        disc = np.sqrt(((Gg - w) * (Gg + w)).astype(complex))       # lambda = -g +- sqrt(g^2 - w^2)
-        lam = np.stack([-Gg + disc, -Gg - disc], axis=-1) * Hh[..., None]
-        R = sum(c * lam ** k for k, c in enumerate(poly))
-        rR = np.max(np.abs(R), axis=-1)
-        PBR = (rR < 1.0 - 8 * EPS) | ((rR <= 1.0 + 8 * EPS) & (np.abs(R[..., 0] - R[..., 1]) > 1e-7))
+    PBR = np.zeros_like(PB) if poly is None else power_bounded_by_r(poly, w, Gg, Hh)
     b2 = (w - Gg) * (w + Gg)
     with np.errstate(invalid="ignore"):
         hx = e * np.where(b2 >= 0, np.cos(np.sqrt(np.abs(b2)) * Hh), np.cosh(np.sqrt(np.abs(b2)) * Hh))
     hterr = np.abs(ht - hx)
     ok = ~na
 
-    def cnt(mask, tie, where=ok):
+    def cnt(mask: Any, tie: Any, where: Any = ok) -> Any:
         return int(np.sum(mask & where)), int(np.sum(tie & ok))
 
-    def first(fail, tie):
+    def first(fail: bool, tie: Any) -> Any:
         """first failing index (nh if none), and its range with ties flipped"""
-        def f(m):
+        def f(m: Any) -> Any:
             idx = np.nonzero(m)[0]
             return int(idx[0]) if len(idx) else nh
         return f(fail), f(fail & ~tie), f(fail | tie)
 
-    def hval(j):
+    def hval(j: Any) -> Any:
         return None if j >= nh else float(H[j])
 
     allp = np.ones_like(ok)
@@ -252,7 +264,7 @@ def sweep(method, spec):
     return out
 
 
-def trace_taylor(method, w, g, h):
+def trace_taylor(method: str, w: Any, g: Any, h: Any) -> Any:
     """c of 1/2 tr M - e^{-gh} cos(beta h) = c h^4 + O(h^5), in magnitude, from OUR M: the
     estimator D(h)/h^4 at h, h/2, h/4 extrapolated with c + c1 h + c2 h^2 (Richardson).  Returns
     (c, band): band bounds how far any estimate from step sizes <= h can lie from c = the plain

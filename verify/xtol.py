@@ -56,7 +56,7 @@ def cmp_abs(name: str, ours: Any, theirs: Any, rel: float, floor: float, why: st
     ok = diff <= tol or (o == t)
     label = "rel %.3g + %.3g%s" % (rel, floor, " (" + why + ")" if why else "")
     st = outcome(ok, tol, o, t)
-    kw: Dict[str, Any] = dict(rel_diff=diff / abs(t) if t else diff)
+    kw: Dict[str, Any] = dict(rel_diff=diff / abs(t) if t else diff, tol_abs=tol)
     if st == "not comparable":
         kw["reason"] = why or "tolerance %.3g not small against the value" % tol
     return comp(name, o, t, st, label, **kw)

@@ -2,21 +2,19 @@
 """Unit tests of the figure helpers (tools/figures/figdata.py): min/max decimation keeps every
 extreme, the drawn convergence line has the fitted slope and passes through the window's points,
 the method styles are fixed, the paper-figure parser. No matplotlib; well under a second."""
+from typing import Any, Dict, Set
 
 import json
 import math
 import os
 import random
-import sys
 import unittest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
-                                "figures"))
-import figdata as fd  # noqa: E402
+from tools.figures import figdata as fd
 
 
 class Decimation(unittest.TestCase):
-    def test_extremes_kept(self):
+    def test_extremes_kept(self) -> None:
         rng = random.Random(1)
         t = [0.01 * i for i in range(100003)]
         y = [math.sin(x) + 1e-3 * rng.gauss(0, 1) for x in t]
@@ -34,11 +32,11 @@ class Decimation(unittest.TestCase):
             self.assertIn(min(y[s:s + per]), oy)
         self.assertEqual(ot, sorted(ot))
 
-    def test_nan_skipped_and_short(self):
+    def test_nan_skipped_and_short(self) -> None:
         ot, oy = fd.decimate_minmax([0, 1, 2], [1.0, float("nan"), 3.0], 10)
         self.assertEqual((ot, oy), ([0, 2], [1.0, 3.0]))
 
-    def test_fails_if_extremes_dropped(self):
+    def test_fails_if_extremes_dropped(self) -> None:
         # the check itself can fail: plain subsampling loses the spike
         y = [0.0] * 1000
         y[501] = 1.0
@@ -47,7 +45,7 @@ class Decimation(unittest.TestCase):
 
 
 class PixelColumns(unittest.TestCase):
-    def test_same_extent_per_column(self):
+    def test_same_extent_per_column(self) -> None:
         rng = random.Random(2)
         t = [i * 1e-3 for i in range(20001)]
         y = [math.sin(50 * x) + 0.1 * rng.gauss(0, 1) for x in t]
@@ -57,12 +55,12 @@ class PixelColumns(unittest.TestCase):
         self.assertEqual(ot, sorted(ot))
         self.assertEqual((ot[0], ot[-1]), (t[0], t[-1]))
         # in every pixel column the kept points span what the full series spans
-        cols = {}
+        cols: Dict[int, Any] = {}
         for a, b in zip(t, y):
             c = int((a - 0.0) * (700 / 20.0))  # as decimate_columns bins
             lo, hi = cols.get(c, (b, b))
             cols[c] = (min(lo, b), max(hi, b))
-        kept = {}
+        kept: Dict[int, Any] = {}
         for a, b in zip(ot, oy):
             c = int((a - 0.0) * (700 / 20.0))  # as decimate_columns bins
             lo, hi = kept.get(c, (b, b))
@@ -70,19 +68,19 @@ class PixelColumns(unittest.TestCase):
         self.assertEqual(cols, kept)
         self.assertIn(9.0, oy)
 
-    def test_negative_control(self):
+    def test_negative_control(self) -> None:
         # plain subsampling to the same size loses the spike: the check above can fail
         y = [0.0] * 20001
         y[12345] = 9.0
         self.assertNotIn(9.0, y[::14])
 
-    def test_short_series_unchanged(self):
+    def test_short_series_unchanged(self) -> None:
         self.assertEqual(fd.decimate_columns([0, 1, 2], [1.0, float("nan"), 3.0], 0, 2, 700),
                          ([0, 2], [1.0, 3.0]))
 
 
 class SlopeLine(unittest.TestCase):
-    def test_line_has_fitted_slope(self):
+    def test_line_has_fitted_slope(self) -> None:
         hs = [0.1, 0.05, 0.025, 0.0125]
         errs = {h: 3.0 * h ** 2 * (1 + 0.01 * i) for i, h in enumerate(hs)}
         xs, ys = fd.slope_line(hs, errs, 2.0)
@@ -93,21 +91,21 @@ class SlopeLine(unittest.TestCase):
         self.assertTrue(min(e / h ** 2 for h, e in errs.items()) <= c
                         <= max(e / h ** 2 for h, e in errs.items()))
 
-    def test_loglog_slope(self):
+    def test_loglog_slope(self) -> None:
         self.assertAlmostEqual(fd.loglog_slope([1, 2, 4], [3, 24, 192]), 3.0, places=12)
 
 
 class Styles(unittest.TestCase):
-    def test_fixed_and_distinct(self):
+    def test_fixed_and_distinct(self) -> None:
         self.assertEqual(fd.method_style("csv1"), fd.method_style("csv1"))
         self.assertNotEqual(fd.method_style("csv1")[0], fd.method_style("csv2")[0])
         self.assertEqual(fd.method_style("new-method"), fd.method_style("new-method"))
 
     @staticmethod
-    def pairs_run_together():
+    def pairs_run_together() -> Any:
         """Pairs of methods that some case of verify/cases runs together (they share figures)."""
         cases = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cases")
-        pairs = set()
+        pairs: Set[Any] = set()
         for name in os.listdir(cases):
             if name.endswith(".json"):
                 with open(os.path.join(cases, name)) as f:
@@ -115,7 +113,7 @@ class Styles(unittest.TestCase):
                 pairs.update((a, b) for i, a in enumerate(ms) for b in ms[i + 1:])
         return pairs
 
-    def test_methods_run_together_have_distinct_colours(self):
+    def test_methods_run_together_have_distinct_colours(self) -> None:
         # time series are solid lines: colour alone must tell the runs of a figure apart
         pairs = self.pairs_run_together()
         self.assertGreater(len(pairs), 100)
@@ -126,7 +124,7 @@ class Styles(unittest.TestCase):
         self.assertGreater(fd.lab_distance(fd.STYLES["glifrk2"][0], fd.STYLES["gauss3"][0]), 25)
         self.assertEqual(len({v for v in fd.STYLES.values()}), len(fd.STYLES))
 
-    def test_loaded_methods_get_distinct_colours_in_a_case(self):
+    def test_loaded_methods_get_distinct_colours_in_a_case(self) -> None:
         # methods loaded from files or plugins are not in STYLES: their hashed colour may be a
         # built-in's or another loaded method's; within one case they are moved apart
         loaded = ["rk4-file", "stormer-verlet-file", "plugin-csv1", "my-method", "other", "x1",
@@ -148,13 +146,13 @@ class Styles(unittest.TestCase):
         # the same case gives the same styles
         self.assertEqual(fd.case_styles(["csv1", "my-method"]), fd.case_styles(["csv1", "my-method"]))
 
-    def test_negative_control(self):
+    def test_negative_control(self) -> None:
         # the old palette's glifrk2 (#9467bd) and gauss3 (#756bb1), run together by the B Fig 3.3
         # cases, are 15 apart: the check above would catch them
         self.assertLess(fd.lab_distance("#9467bd", "#756bb1"), 25)
         self.assertLess(fd.lab_distance("#9467bd", "#9467be"), 1)
 
-    def test_paper_figure(self):
+    def test_paper_figure(self) -> None:
         self.assertEqual(fd.paper_figure({"source": "F Figs 4.6, 4.7, F(4.4)"}), "F Figs 4.6, 4.7")
         self.assertEqual(fd.paper_figure({"source": "HLW I.2, Fig 1.2 (pendulum)"}), "HLW Fig 1.2")
         self.assertEqual(fd.paper_figure({"source": "conventions §2"}), "")
@@ -163,14 +161,14 @@ class Styles(unittest.TestCase):
 class Png(unittest.TestCase):
     """figdata.encode_png, read back by Pillow (the reader matplotlib itself uses)."""
 
-    def decode(self, data):
+    def decode(self, data: Any) -> Any:
         import io
         from PIL import Image
         im = Image.open(io.BytesIO(data))
         im.load()
         return im
 
-    def test_round_trip(self):
+    def test_round_trip(self) -> None:
         rng = random.Random(7)
         for channels, mode in ((3, "RGB"), (4, "RGBA")):
             for w, h in ((1, 1), (5, 3), (64, 17)):
@@ -179,7 +177,7 @@ class Png(unittest.TestCase):
                 self.assertEqual((im.mode, im.size), (mode, (w, h)))
                 self.assertEqual(im.tobytes(), pixels)
 
-    def test_negative_control(self):
+    def test_negative_control(self) -> None:
         pixels = bytes(range(48))
         data = bytearray(fd.encode_png(pixels, 4, 4, 3))
         self.assertNotEqual(self.decode(fd.encode_png(bytes(48), 4, 4, 3)).tobytes(), pixels)

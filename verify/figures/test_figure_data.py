@@ -8,6 +8,7 @@ exists and that report.md embeds it. Exit 0 = all agree, 1 = a disagreement (eac
 
     /usr/bin/python3 verify/figures/test_figure_data.py REPORT_DIR
 """
+from typing import Any, Dict
 
 import json
 import math
@@ -15,26 +16,25 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "figures"))
-import figdata as fd  # noqa: E402
+from tools.figures import figdata as fd
 
 RTOL = 1e-12
 problems = []
 compared = 0
 
 
-def close(a, b, rtol=RTOL):
+def close(a: Any, b: Any, rtol: Any = RTOL) -> Any:
     return a == b or abs(a - b) <= rtol * max(abs(a), abs(b))
 
 
-def expect(what, got, want, rtol=RTOL):
+def expect(what: Any, got: Any, want: Any, rtol: Any = RTOL) -> None:
     global compared
     compared += 1
     if got is None or want is None or not close(got, want, rtol):
         problems.append(f"{what}: plotted {got!r}, report {want!r}")
 
 
-def get(d, dotted):
+def get(d: Any, dotted: Any) -> Any:
     for k in dotted.split("."):
         if not isinstance(d, dict) or k not in d:
             return None
@@ -42,9 +42,8 @@ def get(d, dotted):
     return d
 
 
-def check_run(cid, r, s):
-    m = r["metrics"]
-    tag = f"{cid} {r['method']} dt={r['dt']}"
+def check_pictures(tag: str, m: Any, s: Any) -> None:
+    """The snapshots (B Fig 5.4) and the portrait (B Fig 5.10) against the run's metrics."""
     sn = s.get("snapshots")
     pe = get(m, "pde-error")
     if sn and sn.get("t") and pe and pe.get("max_abs") is not None and \
@@ -64,6 +63,12 @@ def check_run(cid, r, s):
         elif win:
             expect(f"{tag} portrait: max |point| (at most the probe's max)",
                    min(max(win), at["max"]), max(win), 1e-6)
+
+
+def check_run(cid: str, r: Any, s: Any) -> None:
+    m = r["metrics"]
+    tag = f"{cid} {r['method']} dt={r['dt']}"
+    check_pictures(tag, m, s)
     for key, val in s.items():
         if not isinstance(val, dict) or "y" not in val or not val["y"]:
             continue
@@ -132,7 +137,7 @@ def check_run(cid, r, s):
                 expect(f"{tag} d(t) slope", a, d["slope"], 1e-9)
 
 
-def check_orders(c):
+def check_orders(c: Any) -> None:
     for m, d in fd.convergence_data(c).items():
         if "fit" not in d:
             continue
@@ -146,7 +151,7 @@ def check_orders(c):
                1e-9)
 
 
-def check_stability(c, ser):
+def check_stability(c: Any, ser: Any) -> None:
     for m, d in fd.stability_data(c, ser).items():
         if "map" not in d:
             problems.append(f"{c['id']} {m}: no stability map in the series file")
@@ -180,7 +185,7 @@ def check_stability(c, ser):
         del nh
 
 
-def check_figures(report_dir, report):
+def check_figures(report_dir: Any, report: Dict[str, Any]) -> None:
     global compared
     path = os.path.join(report_dir, "figures", "manifest.json")
     if not os.path.exists(path):
@@ -212,7 +217,7 @@ def check_figures(report_dir, report):
             problems.append(f"{c['id']}: has a ladder or a sweep but no figure")
 
 
-def main():
+def main() -> Any:
     report_dir = sys.argv[1]
     report, series = fd.load(report_dir)
     if not series:

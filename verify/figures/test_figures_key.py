@@ -13,6 +13,7 @@ docs/reports.md "Figures"), through the dampsym binary:
   them.
 
     test_figures_key.py DAMPSYM WORKDIR"""
+from typing import Any
 
 import json
 import os
@@ -24,7 +25,7 @@ DAMPSYM, WORK = sys.argv[1], sys.argv[2]
 problems = []
 
 
-def case(cid, **extra):
+def case(cid: str, **extra: Any) -> Any:
     c = {"id": cid, "title": "figures key test",
          "problem": {"id": "oscillator", "omega": 1.0, "gamma": 0.1, "q0": 1.0, "p0": 0.0},
          "methods": ["csv1", "cimp"], "t_end": 2.0, "dt_ladder": [0.02, 0.01],
@@ -35,7 +36,7 @@ def case(cid, **extra):
     return c
 
 
-def write(cid, c):
+def write(cid: str, c: Any) -> Any:
     d = os.path.join(WORK, "cases")
     os.makedirs(d, exist_ok=True)
     p = os.path.join(d, cid + ".json")
@@ -44,11 +45,11 @@ def write(cid, c):
     return p
 
 
-def run(*args):
+def run(*args: Any) -> Any:
     return subprocess.run([DAMPSYM, *args], capture_output=True, text=True)
 
 
-def expect(what, ok, detail=""):
+def expect(what: Any, ok: bool, detail: Any = "") -> None:
     if not ok:
         problems.append(f"{what}: {detail}")
 

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Tests of dampsym's reports as CI tools read them (ctest label "reports").
 
-    /usr/bin/python3 verify/test_reports.py MODE --bin DAMPSYM [options]
+    /usr/bin/python3 -m pytest verify/tests/test_reports.py::test_MODE --bin DAMPSYM [options]
+    /usr/bin/python3 -m verify.tests.test_reports MODE --bin DAMPSYM [options]
 
 MODE schema  --report DIR... : every report.json validates against schema/report.schema.json;
              every case file in verify/cases and tests/data/cases validates against
@@ -33,20 +34,23 @@ import os
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
+from typing import Any, Dict, List, Optional
+
+import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+ROOT = os.path.dirname(os.path.dirname(HERE))
 failures = []
 
 
-def check(cond, msg):
+def check(cond: Any, msg: str) -> Any:
     if not cond:
         failures.append(msg)
         print("FAIL: " + msg)
     return cond
 
 
-def run(cmd, env=None, **kw):
+def run(cmd: Any, env: Any = None, **kw: Any) -> Any:
     e = dict(os.environ)
     for k in ("TEST_TOTAL_SHARDS", "TEST_SHARD_INDEX", "CI_NODE_TOTAL", "CI_NODE_INDEX",
               "SLURM_ARRAY_TASK_COUNT", "SLURM_ARRAY_TASK_ID", "SLURM_ARRAY_TASK_MIN",
@@ -56,7 +60,7 @@ def run(cmd, env=None, **kw):
     return subprocess.run(cmd, capture_output=True, text=True, env=e, **kw)
 
 
-def stable_part(path):
+def stable_part(path: str) -> Any:
     """report.json's text before the "provenance" section (written last but for timings)."""
     with open(path, "rb") as fh:
         text = fh.read()
@@ -67,7 +71,7 @@ def stable_part(path):
 
 # --- schema -------------------------------------------------------------------------------
 
-def mode_schema(a):
+def mode_schema(a: Any) -> None:
     import jsonschema
     with open(os.path.join(ROOT, "schema", "report.schema.json")) as fh:
         rschema = json.load(fh)
@@ -124,7 +128,7 @@ def mode_schema(a):
 
 # The structure Jenkins (xunit junit-10) and GitLab read: elements, their allowed children and
 # attributes, required attributes, and times without exponent.
-STRUCTURE = {
+STRUCTURE: Dict[str, Any] = {
     "testsuites": ({"testsuite"}, {"name", "time", "tests", "failures", "errors", "disabled"},
                    set()),
     "testsuite": ({"testsuite", "properties", "testcase", "system-out", "system-err"},
@@ -144,7 +148,7 @@ STRUCTURE = {
 }
 
 
-def validate_junit(path, strict=True):
+def validate_junit(path: str, strict: Any = True) -> Any:
     """strict=False for CTest's own JUnit (CTest 3.25 writes no errors= attribute, which the
     Jenkins schema requires but Jenkins' junit plugin and GitLab do not)."""
     import re
@@ -153,7 +157,7 @@ def validate_junit(path, strict=True):
     root = tree.getroot()
     ok = check(root.tag in ("testsuites", "testsuite"), "%s: root <%s>" % (path, root.tag))
 
-    def walk(el):
+    def walk(el: Any) -> None:
         nonlocal ok
         kids, attrs, required = STRUCTURE.get(el.tag, (None, None, None))
         if kids is None:
@@ -179,9 +183,9 @@ def validate_junit(path, strict=True):
             continue
         nf = sum(1 for c in cases if c.find("failure") is not None)
         ne = sum(1 for c in cases if c.find("error") is not None)
-        ok = check(int(ts.get("tests")) == len(cases), "%s: %s tests=%s, %d testcases" % (
+        ok = check(int(str(ts.get("tests"))) == len(cases), "%s: %s tests=%s, %d testcases" % (
             path, ts.get("name"), ts.get("tests"), len(cases))) and ok
-        ok = check(int(ts.get("failures")) == nf and int(ts.get("errors", "0")) == ne,
+        ok = check(int(str(ts.get("failures"))) == nf and int(ts.get("errors", "0")) == ne,
                    "%s: %s failure/error counts" % (path, ts.get("name"))) and ok
     # and junitparser, as GitLab-like consumers read it
     xml = junitparser.JUnitXml.fromfile(path)
@@ -194,7 +198,7 @@ def validate_junit(path, strict=True):
     return root
 
 
-def mode_junit(a):
+def mode_junit(a: Any) -> None:
     root = validate_junit(os.path.join(a.report[0], "junit.xml"))
     with open(os.path.join(a.report[0], "report.json")) as fh:
         rep = json.load(fh)
@@ -249,9 +253,11 @@ def mode_junit(a):
 
 # --- shards -------------------------------------------------------------------------------
 
-def mode_shards(a):
+def mode_shards(a: Any) -> None:
     base = os.path.join(a.report[0], "report.json")
-    procs, dirs = [], []
+    p: Any
+    procs: List[Any] = []
+    dirs: List[str] = []
     for k in (1, 2, 3):
         d = os.path.join(a.work, "shard%d" % k)
         dirs.append(d)
@@ -330,12 +336,12 @@ def mode_shards(a):
 
 # --- compare ------------------------------------------------------------------------------
 
-def mode_compare(a):
+def mode_compare(a: Any) -> None:
     base = os.path.join(a.report[0], "report.json")
     with open(base) as fh:
         rep = json.load(fh)
 
-    def cmp(doc, name, extra=()):
+    def cmp(doc: Any, name: Any, extra: Any = ()) -> Any:
         path = os.path.join(a.work, name + ".json")
         with open(path, "w") as fh:
             json.dump(doc, fh, indent=1)
@@ -395,7 +401,7 @@ def mode_compare(a):
     check(p.returncode == 2, "missing report: exit %d" % p.returncode)
 
 
-def mode_stable(a):
+def mode_stable(a: Any) -> None:
     with open(os.path.join(a.report[0], "report.json")) as fh:
         rep = json.load(fh)
     ids = [c["id"] for c in rep["cases"]]
@@ -407,7 +413,7 @@ def mode_stable(a):
           "two runs differ before \"provenance\"")
 
 
-def main():
+def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", choices=["schema", "junit", "shards", "compare", "stable"])
     ap.add_argument("--bin", required=True)
@@ -421,6 +427,19 @@ def main():
         print("%d failures" % len(failures))
         sys.exit(1)
     print("ok")
+
+
+def _mode(mode: str, dampsym_bin: str, reports: List[str], workdir: str, ctest_build: Optional[str]) -> None:
+    failures.clear()
+    globals()["mode_" + mode](argparse.Namespace(bin=dampsym_bin, report=reports, work=workdir,
+                                                 ctest_build=ctest_build))
+    assert failures == []
+
+
+@pytest.mark.parametrize("mode", ["schema", "junit", "shards", "compare"])
+def test_reports(mode: str, dampsym_bin: str, reports: List[str], workdir: str, ctest_build: Optional[str]) -> None:
+    """The mode's checks (the module docstring) on the given reports."""
+    _mode(mode, dampsym_bin, reports, workdir, ctest_build)
 
 
 if __name__ == "__main__":

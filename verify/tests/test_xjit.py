@@ -6,18 +6,19 @@ pendulum and the outer solar system; on argon (Lennard-Jones powers: numpy's vec
 against libm's) within 1e-12 relative over 500 steps.  Negative control: a compiled run with
 h one ulp larger must be reported as different.
 
-    /usr/bin/python3 verify/test_xjit.py        exit 0 pass, 1 fail, 77 numba not installed
+    /usr/bin/python3 -m pytest verify/tests/test_xjit.py      (skipped without numba)
 """
+from __future__ import annotations
+
 import math
-import os
-import sys
+from typing import Any, Dict, List, Tuple
 
 import numpy as np
+import pytest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import xjit  # noqa: E402
-import xproblems as xp  # noqa: E402
-import xrun  # noqa: E402
+from verify import xjit
+from verify import xproblems as xp
+from verify import xrun
 
 CASES = [   # problem, parameters, methods, h, steps, t0
     ("kepler", {"e": 0.6}, ["euler", "rk4", "symplectic-euler", "stormer-verlet", "implicit-midpoint",
@@ -40,7 +41,10 @@ CASES = [   # problem, parameters, methods, h, steps, t0
 KEYS = ("steps", "status", "message", "newton", "newton_max")
 
 
-def run(method, prob, h, n, t0, compiled):
+Out = Dict[str, Any]
+
+
+def run(method: str, prob: Any, h: float, n: int, t0: float, compiled: bool) -> Out:
     xjit.HAVE_NUMBA = compiled
     try:
         return xrun.integrate(method, prob, h, n, t0, record=True)
@@ -48,7 +52,7 @@ def run(method, prob, h, n, t0, compiled):
         xjit.HAVE_NUMBA = True
 
 
-def differs(a, b, rel):
+def differs(a: Out, b: Out, rel: float) -> str:
     """'' when a and b agree (bit for bit when rel is 0), else what differs."""
     if not a.get("compiled"):
         return "the compiled loop was not used"
@@ -74,28 +78,25 @@ def differs(a, b, rel):
     return ""
 
 
-def main():
-    if not xjit.HAVE_NUMBA:
-        print("test_xjit: python3-numba not available, skipped")
-        return 77
-    fails = 0
-    for pid, par, methods, h, n, t0 in CASES:
-        prob = xp.make_problem(pid, par)
-        rel = 1e-12 if pid == "argon" else 0.0
-        for m in methods:
-            why = differs(run(m, prob, h, n, t0, True), run(m, prob, h, n, t0, False), rel)
-            print("%-6s %s %s %s" % ("FAIL" if why else "ok", pid, m, why))
-            fails += bool(why)
-    # negative control: one ulp in h must be seen
+needs_numba = pytest.mark.skipif(not xjit.HAVE_NUMBA, reason="python3-numba not available")
+RUNS: List[Tuple[str, Dict[str, float], str, float, int, float]] = [
+    (pid, par, m, h, n, t0) for pid, par, methods, h, n, t0 in CASES for m in methods]
+
+
+@needs_numba
+@pytest.mark.parametrize("pid,par,method,h,n,t0", RUNS, ids=["%s-%s-%d" % (r[0], r[2], i) for i, r in enumerate(RUNS)])
+def test_compiled_equals_plain(pid: str, par: Dict[str, float], method: str, h: float, n: int, t0: float) -> None:
+    """Bit for bit (argon: 1e-12 relative, numpy's vectorised pow against libm's)."""
+    prob = xp.make_problem(pid, par)
+    rel = 1e-12 if pid == "argon" else 0.0
+    why = differs(run(method, prob, h, n, t0, True), run(method, prob, h, n, t0, False), rel)
+    assert why == ""
+
+
+@needs_numba
+def test_one_ulp_is_seen() -> None:
+    """Negative control: a compiled run with h one ulp larger differs from the plain one."""
     prob = xp.make_problem("kepler", {"e": 0.6})
     a = run("stormer-verlet", prob, math.nextafter(0.01, 1.0), 2000, 0.0, True)
     b = run("stormer-verlet", prob, 0.01, 2000, 0.0, False)
-    caught = differs(a, b, 0.0)
-    print("%-6s negative control (h + 1 ulp): %s" % ("ok" if caught else "FAIL", caught or "not detected"))
-    fails += not caught
-    print("test_xjit: %d failure(s)" % fails)
-    return 1 if fails else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+    assert differs(a, b, 0.0) != ""

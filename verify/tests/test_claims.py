@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Checks the claims register docs/claims.md against a default-suite report.json.
 
-    test_claims.py REGISTER REPORT [REPORT...]             exit 0 when the register agrees
-    test_claims.py --negative REGISTER REPORT [REPORT...]  exit 0 when every planted defect is
-                                                           detected
+    python3 -m pytest verify/tests/test_claims.py::test_register --register REGISTER \
+        --report REPORT [--report REPORT...]       passes when the register agrees
+    ... ::test_negative ...                          passes when every planted defect is detected
+    python3 -m verify.tests.test_claims [--negative] REGISTER REPORT [REPORT...]   (exit 0/1/2)
 
 The first REPORT is the default suite's; further ones hold the cases of the register that are
 too heavy for it (B Fig 5.10's chaotic attractor, run by the ctest claims.pde-report); a case is
@@ -29,6 +30,7 @@ import copy
 import json
 import re
 import sys
+from typing import Any, Dict, List, Tuple
 
 # Every figure and table of the experiment chapters named in docs/claims.md (paper key, location).
 REQUIRED = (
@@ -48,7 +50,7 @@ class BadInput(Exception):
     pass
 
 
-def split_row(line):
+def split_row(line: Any) -> Any:
     """Cells of a Markdown table row; "\\|" is a literal "|" inside a cell."""
     body = line.strip()
     body = body[1:] if body.startswith("|") else body
@@ -56,10 +58,11 @@ def split_row(line):
     return [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", body)]
 
 
-def parse_register(text):
+def parse_register(text: str) -> Any:
     """Rows of the register table as dicts (line number included)."""
     lines = text.splitlines()
-    rows, header = [], None
+    rows: List[Dict[str, Any]] = []
+    header = None
     for no, line in enumerate(lines, 1):
         if not line.lstrip().startswith("|"):
             if header is not None and rows:
@@ -82,7 +85,7 @@ def parse_register(text):
     return rows
 
 
-def verdict_of(text):
+def verdict_of(text: str) -> Any:
     low = text.lower().lstrip("*_ ")
     for v in ("not reproduced", "not checkable", "reproduced"):
         if low.startswith(v):
@@ -90,7 +93,7 @@ def verdict_of(text):
     return None
 
 
-def check_register(rows, report, extra=()):
+def check_register(rows: Any, report: Dict[str, Any], extra: Any = ()) -> Any:
     """List of error strings (empty: the register agrees with the reports) and warnings."""
     errors, warnings = [], []
     cases = {c["id"]: c for c in report.get("cases", [])}
@@ -154,12 +157,12 @@ def check_register(rows, report, extra=()):
     return errors, warnings
 
 
-def run(register_text, report, extra=()):
+def run(register_text: str, report: Dict[str, Any], extra: Any = ()) -> Any:
     rows = parse_register(register_text)
     return check_register(rows, report, extra)
 
 
-def negative(register_text, report, extra=()):
+def negative(register_text: str, report: Dict[str, Any], extra: Any = ()) -> Any:
     """Plants one defect at a time; each must be reported. Returns the list of undetected ones."""
     rows = parse_register(register_text)
     base_errors, _ = check_register(rows, report, extra)
@@ -173,13 +176,13 @@ def negative(register_text, report, extra=()):
     target = reproduced[0]
     lines = register_text.splitlines()
 
-    def replaced(line_no, old, new):
+    def replaced(line_no: Any, old: Any, new: Any) -> Any:
         out = list(lines)
         assert old in out[line_no - 1], (old, out[line_no - 1])
         out[line_no - 1] = out[line_no - 1].replace(old, new, 1)
         return "\n".join(out)
 
-    mutations = [
+    mutations: List[Tuple[Any, ...]] = [
         ("case id renamed", replaced(target["line"], "`%s`" % target["case_ids"][0],
                                      "`%s-renamed`" % target["case_ids"][0]), report),
         ("check renamed", replaced(target["line"], "`%s`" % target["checks"][0],
@@ -235,7 +238,7 @@ def negative(register_text, report, extra=()):
     return missed
 
 
-def main(argv):
+def main(argv: Any) -> Any:
     neg = "--negative" in argv
     args = [a for a in argv if a != "--negative"]
     if len(args) < 2:
@@ -255,18 +258,28 @@ def main(argv):
                 print("NOT DETECTED: " + m)
             return 1 if missed else 0
         errors, warnings = run(register_text, report, extra)
-    except (OSError, ValueError, BadInput) as e:
-        print("test_claims.py: bad input: %s" % e, file=sys.stderr)
+    except (OSError, ValueError, BadInput) as exc:
+        print("test_claims.py: bad input: %s" % exc, file=sys.stderr)
         return 2
     for w in warnings:
         print("warning: " + w)
-    for e in errors:
-        print("ERROR: " + e)
+    for err in errors:
+        print("ERROR: " + err)
     rows = parse_register(register_text)
     counts = {v: sum(1 for r in rows if verdict_of(r["verdict"]) == v) for v in VERDICTS}
     print("%d register rows: %s; %d errors" % (
         len(rows), ", ".join("%d %s" % (counts[v], v) for v in VERDICTS), len(errors)))
     return 1 if errors else 0
+
+
+def test_register(register_path: str, reports: List[str]) -> None:
+    """Every row of the register follows from the reports."""
+    assert main([register_path] + reports) == 0
+
+
+def test_negative(register_path: str, reports: List[str]) -> None:
+    """Every planted defect (renamed case or check, changed verdict, ...) is detected."""
+    assert main(["--negative", register_path] + reports) == 0
 
 
 if __name__ == "__main__":

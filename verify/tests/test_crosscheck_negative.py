@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Negative tests for verify/crosscheck.py: a corrupted report must be caught and named.
 
-    /usr/bin/python3 verify/test_crosscheck_negative.py MODE REPORT.json WORKDIR
+    /usr/bin/python3 -m pytest verify/tests/test_crosscheck_negative.py::test_negative[MODE] \
+        --report REPORT.json --workdir WORKDIR          (ctest crosscheck.MODE, from the source root)
+    /usr/bin/python3 -m verify.tests.test_crosscheck_negative scale3e6 REPORT.json WORKDIR
 
 Each mode cross-checks a small slice of the report (the cases it corrupts), usually once
 unmodified and once corrupted; the corrupted one must exit 1 and add DISAGREE lines that name the
@@ -35,14 +37,20 @@ issue 32 (a cross-check that cannot be talked into agreeing):
   scale3e6 : (a measurement, not a ctest) every metric x (1 + 3e-6): comparisons still agreeing,
              by family
 """
+import contextlib
 import copy
+import io
 import json
 import os
 import subprocess
 import sys
 from typing import Any, Callable, Dict, List, Tuple
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+import pytest
+
+from verify import crosscheck
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PY = "/usr/bin/python3"
 Rep = Dict[str, Any]
 
@@ -53,10 +61,13 @@ def run_crosscheck(report: Rep, workdir: str, tag: str, jobs: int = 1) -> Tuple[
     path = os.path.join(d, "report.json")
     with open(path, "w") as fh:
         json.dump(report, fh)
-    proc = subprocess.run([PY, os.path.join(HERE, "crosscheck.py"), path, "--out", d, "--jobs", str(jobs)],
-                          capture_output=True, text=True)
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("DISAGREE")]
-    return proc.returncode, lines, proc.stdout + proc.stderr
+    # in this process (the cross-check keeps no state between reports but its case-file index):
+    # a fresh interpreter per report would cost ~1.6 CPU s of imports and loop loading each time
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        rc = crosscheck.main([path, "--out", d, "--jobs", str(jobs)])
+    lines = [ln for ln in out.getvalue().splitlines() if ln.startswith("DISAGREE")]
+    return rc, lines, out.getvalue() + err.getvalue()
 
 
 def result_of(workdir: str, tag: str) -> Rep:
@@ -65,8 +76,7 @@ def result_of(workdir: str, tag: str) -> Rep:
 
 
 def fail(msg: str) -> None:
-    print("FAIL: " + msg)
-    sys.exit(1)
+    pytest.fail(msg, pytrace=False)
 
 
 def compare(base_report: Rep, bad_report: Rep, workdir: str, must_name: List[str],
@@ -114,12 +124,12 @@ def rname(cid: str, r: Rep) -> str:
 
 def our_state(case: Rep, method: str, dt: float, steps: int, env: Dict[str, str]) -> List[float]:
     """Our own kernel's state after `steps` steps (verify/xrun.py)."""
-    code = ("import sys, json; sys.path.insert(0, %r); import xproblems as xp, xrun; "
+    code = ("import sys, json; from verify import xproblems as xp, xrun; "
             "c = json.loads(sys.stdin.read()); p = xp.make_problem(c['problem']['id'], c['problem']['params']); "
             "o = xrun.integrate(%r, p, %r, %d, c['t0']); print(json.dumps(o['z'].tolist()))"
-            % (HERE, method, dt, steps))
+            % (method, dt, steps))
     proc = subprocess.run([PY, "-c", code], input=json.dumps(case), capture_output=True, text=True,
-                          env=dict(os.environ, **env))
+                          env=dict(os.environ, **env), cwd=ROOT)
     if proc.returncode:
         fail(proc.stderr)
     return json.loads(proc.stdout)
@@ -417,7 +427,18 @@ MODES: Dict[str, Callable[[Rep, str], None]] = {
 }
 
 
+@pytest.mark.parametrize("mode", sorted(m for m in MODES if m != "scale3e6"))
+def test_negative(mode: str, report_path: str, workdir: str) -> None:
+    """The planted fault of `mode` is caught and named (the module docstring lists them)."""
+    wd = os.path.join(workdir, mode)
+    os.makedirs(wd, exist_ok=True)
+    with open(report_path) as fh:
+        report = json.load(fh)
+    MODES[mode](report, wd)
+
+
 def main() -> int:
+    """The measurement scale3e6 (not a test): MODE REPORT.json WORKDIR."""
     if len(sys.argv) != 4 or sys.argv[1] not in MODES:
         print(__doc__, file=sys.stderr)
         return 2
