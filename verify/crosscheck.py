@@ -359,7 +359,7 @@ def write_markdown(path: str, result: Rec) -> None:
     L += case_summary_table(result)
     L += ["", "## Time per case (CPU seconds do not depend on the machine's load)", "",
           "| case | problem | wall s | CPU s |", "|---|---|---|---|"]
-    L += ["| %s | %s | %.2f | %.2f |" % t for t in result["timing"]]
+    L += ["| %s | %s | %.2f | %.2f |" % (gfm_cell(t[0]), gfm_cell(t[1]), t[2], t[3]) for t in result["timing"]]
     allr = result["structure"] + result["runs"] + result["orders"] + result["checks"]
     for title, st in (("Disagreements", "disagree"), ("Not comparable", "not comparable")):
         rows = ["- **%s**: %s ours %s, theirs %s (tolerance %s)%s" % (
@@ -375,9 +375,9 @@ def write_markdown(path: str, result: Rec) -> None:
     for r in allr:
         for c in r["comparisons"]:
             rd = c.get("rel_diff")
-            L.append("| %s | %s | %s | %s | %s | %s | %s |" % (
+            L.append("| " + " | ".join(gfm_cell(x) for x in (
                 label(r), c["status"] if c["status"] != "disagree" else "**disagree**", c["quantity"],
-                _vec(c["ours"]), _vec(c["theirs"]), "%.2g" % rd if rd is not None else "", c["tolerance"]))
+                _vec(c["ours"]), _vec(c["theirs"]), "%.2g" % rd if rd is not None else "", c["tolerance"])) + " |")
     with open(path, "w") as fh:
         fh.write("\n".join(L) + "\n")
 
