@@ -35,7 +35,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "figures"))
-import safeio as sio  # noqa: E402
+from dampfig import safeio as sio  # noqa: E402
 
 DAMPSYM = os.environ.get("DAMPSYM", sys.argv[1] if len(sys.argv) > 2 else "")
 WORK = os.environ.get("WORK", sys.argv[2] if len(sys.argv) > 2 else "")
