@@ -2,12 +2,14 @@
 report's order fit, the local error), the claim's ratio of two methods, work-precision, F Fig
 3.4's half-trace error, and F Figs 3.1-3.3's stability maps."""
 
+import textwrap
 from typing import Any, Dict, List, Tuple
 
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from . import figdata as fd
+from .draw_series import coincidence_text
 from .render import Ctx, Drawn, Json, layout, save, subplots, title_of
 from .styles import REFERENCE_GREY
 
@@ -36,7 +38,12 @@ def conv_axis(ctx: Ctx, ax: Any, data: Dict[str, Json], ylabel: str, fit_label: 
     ctx.xticks[id(ax)] = sorted({h for d in data.values() for h, _ in d["points"]})
     ax.set_xlabel("step size $h$")
     ax.set_ylabel(ylabel)
+    same = coincidence_text([(m, [h for h, _ in d["points"]], [e for _, e in d["points"]])
+                             for m, d in data.items()], True)
     handles, labels = ax.get_legend_handles_labels()
+    if same:  # in the legend, where it cannot be hidden under it
+        handles.append(Line2D([], [], ls="none"))
+        labels.append(textwrap.fill(same, 48))
     if notes:
         handles.append(Line2D([], [], marker="o", mfc="none", mec="k", ls="none"))
         labels.append("hollow: dropped from the fit")
@@ -125,43 +132,53 @@ def by_group(data: Dict[str, Any], group: List[str]) -> Dict[str, Any]:
     return {m: d for m, d in data.items() if m in group}
 
 
+def grid_of(top: int, wp: bool, groups: int) -> Tuple[int, int, bool]:
+    """(rows, cols, one row per group): the step-size panels and the two work-precision panels
+    of a group side by side when they fit in four columns, else work-precision in rows under."""
+    if not wp:
+        return groups, top, True
+    if top + 2 <= 4:
+        return groups, top + 2, True
+    return 2 * groups, max(top, 2), False
+
+
 def fig_convergence(ctx: Ctx, case: Json, timing: Any) -> List[Drawn]:
-    """The step-size panels (the claim's ratio beside them) and, in the rows under them,
-    work-precision when the ladder was timed; a case of more than six methods in one row of
-    each per group of six."""
+    """The step-size panels (the claim's ratio beside them) and work-precision when the ladder
+    was timed; a case of more than six methods in one row of each per group of six."""
     panels, quantities = convergence_panels(case)
     ratio = fd.ratio_check_data(case)
     wp = fd.work_precision_data(case, timing)
     groups = fd.groups([m for m in ctx.styles] or list(wp))
     top = len(panels) + (1 if ratio else 0)
-    cols = max(top, 2 if wp else 1)
-    rows = len(groups) * (2 if wp else 1)
-    height = 3.9 * rows + 0.9
+    rows, cols, same_row = grid_of(top, bool(wp), len(groups))
+    height = 3.9 * rows + 1.0
     fig, axs = subplots(ctx, rows, cols, (4.6 * cols, height))
+    for ax in axs.flat:
+        ax.axis("off")
     notes: List[str] = []
     for g, group in enumerate(groups):
         row = axs[g]
         for ax, (data, ylabel, fit_label, title) in zip(row, panels):
+            ax.axis("on")
             notes += conv_axis(ctx, ax, by_group(data, group), ylabel, fit_label)
             ax.set_title(title)
         if ratio and g == 0:
+            row[len(panels)].axis("on")
             ratio_axis(ctx, row[len(panels)], ratio)
-        for ax in row[len(panels) + (1 if ratio and g == 0 else 0):]:
-            ax.axis("off")
         if wp:
-            wrow = axs[len(groups) + g]
-            wp_axes(ctx, list(wrow[:2]), by_group(wp, group))
-            for ax in wrow[2:]:
-                ax.axis("off")
+            wax = list(row[top:top + 2]) if same_row else list(axs[len(groups) + g][:2])
+            for ax in wax:
+                ax.axis("on")
+            wp_axes(ctx, wax, by_group(wp, group))
     if wp:
         quantities += ["timing.wall_seconds_min", "rhs_evals"]
     fig.suptitle(title_of(case, "error against the step size" +
-                          (" and work-precision" if wp else "")))
+                          (" and work-precision" if wp else "")), y=1 - 0.1 / height, va="top")
     if notes:
         text = "; ".join(notes)
         fig.text(0.01, 0.01, "dropped: " + (text[:297] + "…" if len(text) > 300 else text),
                  fontsize=6, wrap=True)
-    layout(fig, bottom=(0.75 if notes else 0.5) / height, top=1 - 0.55 / height,
+    layout(fig, bottom=(0.75 if notes else 0.5) / height, top=1 - 0.75 / height,
            left=0.55 / (4.6 * cols) + 0.03, hspace=0.45, wspace=0.32)
     return [(save(ctx, fig, case, "convergence"), "convergence" +
              (" and work-precision" if wp else ""), quantities)]

@@ -101,11 +101,12 @@ def panel_lines(runs: List[Json], ser: Json, key: str, scale: str, dts: List[flo
     return out
 
 
-def coincidence_note(ax: Any, lines: List[Line], log: bool) -> None:
-    """Names the pairs of lines that coincide on this panel's scale (one would hide the other)."""
+def coincidence_text(lines: List[Line], log: bool) -> str:
+    """The pairs of lines that coincide on the scale of their panel (one would hide the other),
+    as 'a = b to d', or ''."""
     ys = [v for _, _, y in lines for v in y]
     if len(lines) < 2 or not ys:
-        return
+        return ""
     lo, hi = min(ys), max(ys)
     span = (math.log10(hi) - math.log10(lo)) if log else hi - lo
     notes = []
@@ -114,10 +115,15 @@ def coincidence_note(ax: Any, lines: List[Line], log: bool) -> None:
             d = coincident((a[1], a[2]), (b[1], b[2]), span, log)
             if d >= 0:
                 notes.append(f"{a[0]} = {b[0]} to {d:.1g}" + (" decades" if log else ""))
-    if notes:
-        text = "coincide on this scale: " + "; ".join(notes[:3])
-        ax.text(0.99, 0.04, text, transform=ax.transAxes, ha="right", fontsize=6.5,
-                bbox={"facecolor": "w", "alpha": 0.8, "lw": 0})
+    return "coincide on this scale: " + "; ".join(notes[:3]) if notes else ""
+
+
+def coincidence_note(ax: Any, lines: List[Line], log: bool, y: float = 0.04) -> None:
+    """Names the coinciding pairs of lines in the panel (at its bottom or top right)."""
+    text = coincidence_text(lines, log)
+    if text:
+        ax.text(0.99, y, text, transform=ax.transAxes, ha="right", fontsize=6.5,
+                va="bottom" if y < 0.5 else "top", bbox={"facecolor": "w", "alpha": 0.8, "lw": 0})
 
 
 def draw_panel(ctx: Ctx, ax: Any, case: Json, runs: List[Json], panel: Tuple[str, str, str],
@@ -151,6 +157,11 @@ def draw_panel(ctx: Ctx, ax: Any, case: Json, runs: List[Json], panel: Tuple[str
 def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     runs = [r for r in ser["runs"] if r["series"]]
     panels = [p for p in fd.series_panels(ser) if has_data(runs, p[0], p[2])]
+    keys = [p[0] for p in panels]
+    # a measure of the whole state's absolute error is error.abs itself: drawn once
+    same = "measure-pointwise.state.abs" in keys and "error.abs" in keys
+    if same:
+        panels = [p for p in panels if p[0] != "measure-pointwise.state.abs"]
     if not panels:
         return []
     dts = sorted({r["dt"] for r in runs})
@@ -183,6 +194,8 @@ def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     layout(fig, bottom=0.5 / height, top=1 - 0.8 / height, left=0.9 / width, hspace=0.12,
            wspace=0.28)
     quantities = [q for p in panels for q in fd.series_quantities(case, p[0])]
+    if same:
+        quantities += fd.series_quantities(case, "measure-pointwise.state.abs")
     return [(save(ctx, fig, case, "series"), "time series", quantities)]
 
 

@@ -84,11 +84,19 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     equal = problem in EQUAL_ASPECT
     drawn = [(r, orbit_coords(problem, r["series"]["orbit"]["states"]),
               orbit_coords(problem, (reference_of(ser, r) or {}).get("states", []))) for r in runs]
-    xlim, ylim = shared_limits([c for _, a, b in drawn for c in a + b], equal)
-    reach = 0.5 * max(xlim[1] - xlim[0], ylim[1] - ylim[0])
+    # one box for every panel, except a run that leaves it by far (explicit Euler's spiral),
+    # which gets its own and says so: one outlier must not shrink the others to a dot
+    boxes = [shared_limits(a + b, equal) for _, a, b in drawn]
+    sizes = [max(x[1] - x[0], y[1] - y[0]) for x, y in boxes]
+    typical = sorted(sizes)[len(sizes) // 2]
+    inside = [d for d, s in zip(drawn, sizes) if s <= 3 * typical]
+    xlim, ylim = shared_limits([c for _, a, b in inside for c in a + b], equal)
     greys, turned = set(), False
-    for ax, (r, curves, refs) in zip(axs.flat, drawn):
+    for ax, (r, curves, refs), box, size in zip(axs.flat, drawn, boxes, sizes):
         c = ctx.style(r["method"])[0]
+        own = size > 3 * typical
+        lims = box if own else (xlim, ylim)
+        reach = 0.5 * max(lims[0][1] - lims[0][0], lims[1][1] - lims[1][0])
         for x, y, _ in refs:
             ax.plot(x, y, "-", color=REFERENCE_GREY, lw=2.2, alpha=0.6, rasterized=dense(len(x)))
         for x, y, _ in curves:
@@ -99,11 +107,12 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
                       else "reference")
         turn = precession_rays(ax, report_runs.get((r["method"], r["dt"]), {}), c, reach)
         turned = turned or turn is not None
-        ax.set_title(f"{r['method']} h={r['dt']:g}" + (f"\n{turn}" if turn else ""), fontsize=8)
+        ax.set_title(f"{r['method']} h={r['dt']:g}" + (f"\n{turn}" if turn else "") +
+                     (" (own limits: far outside the others')" if own else ""), fontsize=8)
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
-        ax.set_xlim(*xlim)
-        ax.set_ylim(*ylim)
+        ax.set_xlim(*lims[0])
+        ax.set_ylim(*lims[1])
         if equal:
             ax.set_aspect("equal", adjustable="box")
     handles = [Line2D([], [], color="k", marker=".", ls="none", ms=6, label="initial state")]
@@ -280,7 +289,7 @@ def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
             drawn.append((m, list(x[:len(e)]), y))
         bottom.axhline(0.0, color="k", lw=0.5)
         bottom.set_ylim(-emax * 1.08, emax * 1.08)
-        coincidence_note(bottom, drawn, False)
+        coincidence_note(bottom, drawn, False, y=0.96)
         top.set_title(f"t = {times[k]:g}")
         bottom.set_xlabel("$x$")
     axs[0, 0].set_ylabel("$u(x, t)$")

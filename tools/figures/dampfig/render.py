@@ -95,7 +95,7 @@ def log_ticks(lo: float, hi: float) -> List[float]:
     """Labelled ticks of a log axis over [lo, hi]: every decade (every k-th beyond 6 decades);
     below 2 decades 1, 2, 5 × 10^k, finer mantissas when fewer than three fall inside."""
     k0, k1 = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
-    if k1 - k0 > 2:
+    if math.log10(hi / lo) > 2:
         step = max(1, -(-(k1 - k0) // 6))
         return [10.0 ** k for k in range(k0, k1 + 1) if (k - k0) % step == 0]
     ticks: List[float] = []
