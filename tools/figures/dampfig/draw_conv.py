@@ -36,7 +36,7 @@ def conv_axis(ctx: Ctx, ax: Any, data: Dict[str, Json], ylabel: str, fit_label: 
     ax.set_xscale("log")
     ax.set_yscale("log")
     ctx.xticks[id(ax)] = sorted({h for d in data.values() for h, _ in d["points"]})
-    ax.set_xlabel("step size $h$")
+    ax.set_xlabel("step size h")
     ax.set_ylabel(ylabel)
     same = coincidence_text([(m, [h for h, _ in d["points"]], [e for _, e in d["points"]])
                              for m, d in data.items()], True)
@@ -80,7 +80,7 @@ def ratio_axis(ctx: Ctx, ax: Any, r: Json) -> None:
     ax.set_xscale("log")
     ax.set_yscale("log")
     ctx.xticks[id(ax)] = [h for h, _ in r["points"]]
-    ax.set_xlabel("step size $h$")
+    ax.set_xlabel("step size h")
     ax.set_ylabel(f"ratio {r['label']}")
     ax.set_title("the claim: ratio of the two methods")
     ax.legend(loc="best", fontsize=6.5)
@@ -204,7 +204,7 @@ def fig_trace(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
             r"(h) - e^{-\gamma h}\cos\beta h|$")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("step size $h$")
+    ax.set_xlabel("step size h")
     ax.set_ylabel(r"half-trace error $|\frac{1}{2}\mathrm{tr}M - e^{-\gamma h}\cos\beta h|$")
     d0 = next(iter(data.values()))
     ax.set_title(f"on the case's oscillator: ω = {d0['omega']:g}, γ = {d0['gamma']:g}; "
@@ -289,8 +289,8 @@ def fig_stability(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
         ax.plot([h for h, _ in emp], [g for _, g in emp], "o", mfc="w", mec="k", ms=5)
         ax.plot([h for h, _ in pbu], [g for _, g in pbu], "x", color="k", ms=5)
         ax.set_title(f"{m} (ω = {d['omega']:g})")
-        ax.set_xlabel("step size $h$")
-        ax.set_ylabel(r"damping $\gamma$")
+        ax.set_xlabel("step size h")
+        ax.set_ylabel("damping γ")
         ax.grid(False)
     fig.legend(handles=map_legend(), loc="lower center", ncol=2, fontsize=7, frameon=False)
     fig.suptitle(title_of(case, r"where F's condition $|\frac{1}{2}\mathrm{tr}M| < e^{-\gamma h}$"

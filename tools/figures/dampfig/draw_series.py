@@ -126,30 +126,51 @@ def coincidence_note(ax: Any, lines: List[Line], log: bool, y: float = 0.04) -> 
                 va="bottom" if y < 0.5 else "top", bbox={"facecolor": "w", "alpha": 0.8, "lw": 0})
 
 
+def offset_base(values: List[List[float]]) -> float:
+    """The value a linear panel's values are drawn relative to when their spread is below 10⁻⁴
+    of their size (else 0): their midpoint rounded to the spread's precision, so that the tick
+    labels need no offset text (which ran into the panel above)."""
+    vals = [v for y in values for v in y if math.isfinite(v)]
+    if not vals:
+        return 0.0
+    lo, hi = min(vals), max(vals)
+    mid, spread = 0.5 * (lo + hi), hi - lo
+    if not spread > 0 or spread >= 1e-4 * abs(mid):
+        return 0.0
+    digits = max(0, -math.floor(math.log10(spread)) + 1)
+    return round(mid, digits)
+
+
 def draw_panel(ctx: Ctx, ax: Any, case: Json, runs: List[Json], panel: Tuple[str, str, str],
                lines: List[Line], k: int, dts: List[float]) -> None:
     """One panel: the lines (divided by 10^k, which the label states), notes on coinciding and
     all-zero runs."""
     key, label, scale = panel
     by_label = {run_label(r, len(dts) > 1): r for r in runs}
+    base = 0.0 if scale == "log" else offset_base([y for _, _, y in lines])
+    if base:  # values 0.9900498... apart by 1e-8: drawn as their difference from the base
+        k = sci_scale([[v - base for v in y] for _, _, y in lines])
     for i, (lab, t, y) in enumerate(lines):
         r = by_label[lab]
         c = run_colour(ctx, r, dts)
-        yy = [v / 10.0 ** k for v in y] if k else y
+        yy = [(v - base) / 10.0 ** k for v in y]
         if key == "dissipation-drift.d":
             drift_lines(ctx, ax, case, r, t, yy, c, i == 0)
         else:
             ax.plot(t, yy, "-", color=c, lw=0.9, rasterized=dense(len(t)))
     if scale == "log" and lines:
         ax.set_yscale("log")
-    elif lines:
-        flat_panel(ax, [y for _, _, y in lines])
+    elif lines and not base:
+        flat_panel(ax, [[v / 10.0 ** k for v in y] for _, _, y in lines])
     coincidence_note(ax, lines, scale == "log")
     zero = zero_note(runs, key) if scale == "log" else ""
     if zero:
         ax.text(0.01, 0.96, zero, transform=ax.transAxes, va="top", fontsize=6.5,
                 bbox={"facecolor": "w", "alpha": 0.8, "lw": 0})
-    ax.set_ylabel(label + (f"  [×{pow10(k)}]" if k else ""), fontsize=7.5)
+    ax.set_ylabel(label + (f" − {base:.12g}" if base else "") + (f"  [×{pow10(k)}]" if k else ""),
+                  fontsize=7.5)
+    if scale != "log":
+        ax.ticklabel_format(axis="y", useOffset=False)
     if key == "dissipation-drift.d":
         ax.legend(loc="upper right", ncol=2, fontsize=6)
 
@@ -181,7 +202,7 @@ def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
             draw_panel(ctx, axs[i, j], case, gruns, panel, lines[j], k, dts)
     for j, group in enumerate(cols):
         gruns = [r for r in runs if r["method"] in group]
-        axs[-1, j].set_xlabel("time $t$" + (" (log: the claim is a growth rate in t)"
+        axs[-1, j].set_xlabel("time t" + (" (log: the claim is a growth rate in t)"
                                             if fd.growth_in_time(case) else ""))
         if fd.growth_in_time(case):
             axs[-1, j].set_xscale("log")

@@ -16,10 +16,9 @@ from .styles import REFERENCE_GREY, TRANSIENT_GREY
 
 # axis names of a problem's orbit; problems whose two drawn coordinates are lengths in the same
 # unit are drawn with equal aspect (a circle stays a circle: HLW Fig 2.1's precession)
-AXES = {"kepler": ("$q_1$", "$q_2$"), "hill": ("$q_1$", "$q_2$"),
-        "lotka-volterra": ("$u$", "$v$"), "pendulum": ("$q$ (rad)", "$p$"),
-        "oscillator": ("$q$", "$p$"), "outer-solar-system": ("$x$ (AU)", "$y$ (AU)"),
-        "rigid-body": ("$z_1$", "$z_2$")}
+AXES = {"kepler": ("q₁", "q₂"), "hill": ("q₁", "q₂"), "lotka-volterra": ("u", "v"),
+        "pendulum": ("q (rad)", "p"), "oscillator": ("q", "p"),
+        "outer-solar-system": ("x (AU)", "y (AU)"), "rigid-body": ("z₁", "z₂")}
 EQUAL_ASPECT = {"kepler", "hill", "outer-solar-system"}
 XY = Tuple[Any, Any, str]
 
@@ -80,7 +79,7 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.6 * cols), 3.5 * rows + 0.9))
     for ax in axs.flat[n:]:
         ax.axis("off")
-    xl, yl = AXES.get(problem, ("$z_1$", "$z_2$"))
+    xl, yl = AXES.get(problem, ("z₁", "z₂"))
     equal = problem in EQUAL_ASPECT
     drawn = [(r, orbit_coords(problem, r["series"]["orbit"]["states"]),
               orbit_coords(problem, (reference_of(ser, r) or {}).get("states", []))) for r in runs]
@@ -229,8 +228,8 @@ def fig_poincare(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         ax.scatter(pts["q"], pts["p"], s=5, color=ctx.style(r["method"])[0], lw=0,
                    rasterized=True)
         ax.set_title(f"{r['method']} h={r['dt']:g} ({len(pts['q'])} points)")
-        ax.set_xlabel(r"$q$ mod $2\pi$ (rad)")
-        ax.set_ylabel("$p$")
+        ax.set_xlabel("q mod 2π (rad)")
+        ax.set_ylabel("p")
     handles = [Line2D([], [], color="0.3", marker="o", ls="none", ms=3,
                       label="the method's section (its colour)")]
     if ref:
@@ -291,8 +290,8 @@ def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         bottom.set_ylim(-emax * 1.08, emax * 1.08)
         coincidence_note(bottom, drawn, False, y=0.96)
         top.set_title(f"t = {times[k]:g}")
-        bottom.set_xlabel("$x$")
-    axs[0, 0].set_ylabel("$u(x, t)$")
+        bottom.set_xlabel("x")
+    axs[0, 0].set_ylabel("u(x, t)")
     axs[1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
     labels = []
     for r in runs:

@@ -31,7 +31,12 @@ def encode_png(pixels: Any, width: int, height: int, channels: int) -> bytes:
     if len(view) != stride * height:
         raise ValueError(f"encode_png: {len(view)} bytes for {width}x{height}x{channels}")
     raw = b"".join(b"\0" + view[r * stride:(r + 1) * stride] for r in range(height))
+    return png_of_filtered_rows(raw, width, height, channels)
 
+
+def png_of_filtered_rows(raw: bytes, width: int, height: int, channels: int) -> bytes:
+    """A PNG file of rows already prefixed by their filter byte 0 (encode_png; render builds
+    them with numpy in one copy)."""
     def chunk(kind: bytes, data: bytes) -> bytes:
         return (len(data).to_bytes(4, "big") + kind + data
                 + (zlib.crc32(kind + data) & 0xFFFFFFFF).to_bytes(4, "big"))

@@ -70,3 +70,13 @@ def test_series_panels_readable(monkeypatch: pytest.MonkeyPatch, tmp_path: Any) 
     assert any("m0 = m1" in n for n in notes), notes
     assert not any("m2 = m3" in n for n in notes)
     assert fig.axes[0].yaxis.get_offset_text().get_text() == ""
+
+
+def test_offset_base_replaces_the_offset_text() -> None:
+    near = [[0.99004983375, 0.99004983338], [0.9900498323]]
+    base = draw_series.offset_base(near)
+    assert abs(base - 0.990049833) < 1e-15
+    assert all(abs(v - base) < 1e-8 for y in near for v in y)
+    # a spread of 1e-3 of the size needs no base; equal values are flat_panel's
+    assert draw_series.offset_base([[1.0, 1.001]]) == 0.0
+    assert draw_series.offset_base([[2.0, 2.0]]) == 0.0
