@@ -192,7 +192,7 @@ def gallery_row(c: Json, figs: List[Json], paper: str) -> str:
     ours = "; ".join(f"{f['kind']}: " + ", ".join(f["quantities"]) for f in figs) or "—"
     cells = [paper, f"[{c['id']}](report.md#case-{c['id']})", papers.describe(paper),
              c["title"], ours, imgs, held, verdict_of(c)]
-    return "| " + " | ".join(x.replace("|", "/") if i != 1 else x
+    return "| " + " | ".join(x.replace("|", "\\|") if i != 1 else x
                              for i, x in enumerate(cells)) + " |"
 
 

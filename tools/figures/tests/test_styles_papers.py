@@ -73,3 +73,16 @@ def test_every_paper_item_of_the_suite_is_described() -> None:
             missing = [i for i in papers.items(ref) if i not in papers.PAPER_FIGURES]
             assert not missing, (path, ref, missing)
     assert named > 30
+
+
+def test_gallery_row_sets_the_paper_beside_ours() -> None:
+    from dampfig import cli
+    case = {"id": "c1", "title": "a|b", "checks": [{"name": "k", "passed": False}]}
+    figs = [{"file": "figures/c1-series.png", "caption": "c1: time series", "kind": "series",
+             "quantities": ["measure-pointwise.q.rel", "measure.u_rel_max"]}]
+    row = cli.gallery_row(case, figs, "B Fig 5.1")
+    cells = [c.strip() for c in row.strip("|").split(" | ")]
+    assert len(cells) == 8, cells  # no unescaped | inside a cell
+    assert cells[2].startswith("B Fig 5.1: damped Klein–Gordon: absolute error")
+    assert cells[4] == "series: measure-pointwise.q.rel, measure.u_rel_max"
+    assert cells[3] == "a\\|b" and cells[7] == "**FAIL** (1)"
