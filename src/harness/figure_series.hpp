@@ -27,6 +27,7 @@
 #include "harness/case_figures.hpp"
 #include "harness/figure_step_observer.hpp"
 #include "harness/registry.hpp"
+#include "reference/oscillator_exact.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -63,6 +64,48 @@ bool figure_orbit_from_steps(const P& problem, const CaseSpec& c, Eigen::Index c
     return case_orbit<P>(c) && cols - 1 < std::min<std::int64_t>(n, orbit_samples(problem.dim()));
 }
 
+// The pointwise values of the case's measures on the output grid, before their reduction over
+// the grid (harness/measures.cpp): ‖U_n − u(t_n)‖ over the measure's components, or
+// |H(U_n) − H(u(t_n))| for an energy-error measure, divided by ‖u(t_n)‖ (|H(u(t_n))|) when
+// relative. B Fig 5.1 draws the absolute and relative error of u against t, HLW Fig 2.2 the
+// energy and global errors. One series per distinct (quantity, components, norm):
+// "measure-pointwise.<component or energy>.<abs|rel>".
+template <class P>
+void measure_pointwise_series(const P& problem, const CaseSpec& c, const Mat& grid,
+                              const std::vector<double>& grid_t, const Mat& ref,
+                              nlohmann::json& s) {
+    for (const MeasureSpec& m : c.measures) {
+        const bool energy = m.quantity == MeasureQuantity::energy_error;
+        if (energy && !P::has_energy) continue;
+        if (!energy && (m.count < 1 || m.first + m.count > grid.rows())) continue;
+        const std::string key = "measure-pointwise." +
+                                (energy ? std::string("energy") : m.component) +
+                                (m.relative ? ".rel" : ".abs");
+        if (s.contains(key)) continue;
+        MinMaxDecimator d(grid.cols() - 1);
+        for (Eigen::Index i = 1; i < grid.cols(); ++i) {
+            double e = 0.0, scale = 0.0;
+            if constexpr (P::has_energy) {
+                if (energy) {
+                    scale = std::abs(problem.energy(ref.col(i)));
+                    e = std::abs(problem.energy(grid.col(i)) - problem.energy(ref.col(i)));
+                }
+            }
+            if (!energy) {
+                e = (grid.col(i).segment(m.first, m.count) - ref.col(i).segment(m.first, m.count))
+                        .norm();
+                scale = ref.col(i).segment(m.first, m.count).norm();
+            }
+            d.push(grid_t[static_cast<std::size_t>(i)],
+                   m.relative ? (scale > 0.0 ? e / scale : std::nan("")) : e);
+        }
+        nlohmann::json j = d.to_json();
+        j["component"] = energy ? std::string("H") : m.component;
+        j["relative"] = m.relative;
+        s[key] = std::move(j);
+    }
+}
+
 // Everything one run keeps for its figures. steps: the series the measured run's figure observer
 // (FigureStepObserver, with the conformal-symplectic pass's E_n series) recorded per step;
 // grid/ref: the measured run's output grid and the reference on the same grid (ref_on_grid false
@@ -83,6 +126,8 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
                 e.push(grid_t[static_cast<std::size_t>(i)], (grid.col(i) - ref.col(i)).norm());
             s["error.abs"] = e.to_json();
         }
+        if (ref_on_grid && c.wants("error"))
+            measure_pointwise_series(problem, c, grid, grid_t, ref, s);
         if constexpr (P::has_energy) {
             if (c.wants("energy")) {
                 const double e0 = problem.energy(grid.col(0));
@@ -232,6 +277,25 @@ nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann:
     return s;
 }
 
+// F Fig 3.4: |½ tr M(h) − e^{−γh} cos(βh)| of the method on the case's own oscillator at 25 step
+// sizes from 2e-3 to 0.5 (geometric), the quantity whose h⁴ coefficient trace-taylor fits
+// (diagnostics/stability_diagnostic.cpp); the figure draws it with the fitted c h⁴ line.
+template <class P>
+nlohmann::json half_trace_error_series(const P& problem, const MethodInfo& info) {
+    std::vector<double> hs, err;
+    for (int k = 0; k < 25; ++k) {
+        const double h = 2e-3 * std::pow(250.0, k / 24.0);
+        double half = std::numeric_limits<double>::quiet_NaN();
+        with_kernel<P>(info, [&]<class K>() {
+            half =
+                analyse_one_step(one_step_matrix<K>(problem, info, h), problem.gamma, h).half_trace;
+        });
+        hs.push_back(h);
+        err.push_back(std::abs(half - oscillator_damped_cs(problem.omega, problem.gamma, h).c));
+    }
+    return {{"omega", problem.omega}, {"gamma", problem.gamma}, {"h", hs}, {"error", err}};
+}
+
 // The (γ, h) stability map of one method on the oscillator for its figure: the case's sweep
 // ranges on a grid `refine` times finer, each cell coded 0 = F's condition holds and M is
 // power-bounded, 1 = F fails but M is power-bounded, 2 = F holds but M is not power-bounded,
@@ -254,9 +318,9 @@ nlohmann::json stability_map_series(const P& problem, const CaseSpec& c, const M
         return out;
     };
     const std::vector<double> gs = fine(g0), hs = fine(h0);
-    json rows = json::array();
+    json rows = json::array(), equal_rows = json::array();
     for (double g : gs) {
-        std::vector<int> row;
+        std::vector<int> row, equal;
         for (double h : hs) {
             const P osc = problem.with(sw.omega, g);
             OneStepAnalysis a;
@@ -264,10 +328,19 @@ nlohmann::json stability_map_series(const P& problem, const CaseSpec& c, const M
                 a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
             });
             row.push_back((a.F_condition ? 0 : 1) + (a.power_bounded ? 0 : 2));
+            // F's strict condition |½trM| < e^{−γh} at equality (cimp at γ = ω): which side a
+            // cell falls on is round-off, so the figure marks these cells as such
+            equal.push_back(std::abs(std::abs(a.half_trace) - std::exp(-g * h)) <=
+                                    64.0 * std::numeric_limits<double>::epsilon()
+                                ? 1
+                                : 0);
         }
         rows.push_back(row);
+        equal_rows.push_back(equal);
     }
-    json out = {{"omega", sw.omega}, {"gamma", gs}, {"h", hs}, {"code", rows}};
+    json out = {
+        {"omega", sw.omega}, {"gamma", gs}, {"h", hs}, {"code", rows}, {"F_equal", equal_rows}};
+    out["half_trace_error"] = half_trace_error_series(problem, info);
     if (oscillator_formulas(info.id).F_condition) {
         json bg = json::array(), bh = json::array();
         const double hlo = h0.front(), hhi = h0.back();

@@ -1,52 +1,23 @@
 #!/usr/bin/python3
-"""Draws the figures of a dampsym report directory (issue 14; docs/reports.md "Figures").
+"""Draws the figures of a dampsym report directory: the entry point `dampsym plot` and
+`dampsym run --figures` run (the package dampfig beside this file does the work; its
+cli module documents the arguments and exit statuses).
 
-    /usr/bin/python3 tools/figures/plot.py REPORT_DIR [--jobs N] [--format png|svg|pdf[,...]]
-
-Reads REPORT_DIR/report.json and, when the run was made with --figures, REPORT_DIR/series/*.json;
-writes REPORT_DIR/figures/<case>-<kind>.<format> (png by default; svg and/or pdf on request, the
-first of png/svg is the one report.md embeds), the list of figures per case
-REPORT_DIR/figures/manifest.json (which `dampsym` embeds in report.md) and the paper-figure gallery
-REPORT_DIR/figures.md. One process imports matplotlib (Agg) once and forks N workers; each worker
-draws whole cases (reading only that case's series file), so there is no per-figure process or
-import. Kinds: convergence (with work-precision beside it), series (time series), orbit,
-stability, poincare; a case's "figures" key (report.json) selects among them. What each plots is
-computed in figdata.py (without matplotlib).
-
-Cost (issue 14: a run with --figures at most 2x one without): log axes get at most one tick per
-decade and no minor ticks beyond 3 decades (matplotlib's tick objects were most of the drawing
-time), each line is thinned to min/max per pixel column (figdata.decimate_columns: the drawn
-line is the same), time-series legends are placed at fixed spots instead of "best" (which scans
-every vertex), dense lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and
-the cyclic garbage collector runs rarely (main).
-
-Inputs and outputs (safeio.py): report.json (at most safeio.REPORT_LIMIT bytes, its
-ids and the keys read here checked: safeio.validate_report) and each series file (safeio.SERIES_LIMIT) are read only as
-regular files of bounded size; a figure's name is its case id (a valid case id) and kind; a file
-is replaced only when it is a regular file; only what figures/.dampsym-manifest lists (the
-figures of earlier runs) is removed. Exit status: 0; 1 a figure could not be drawn; 2 bad input
-(one line naming the file); 3 an output that cannot be written; 130/143 on SIGINT/SIGTERM, quietly
-(dampsym runs this script in a process group of its own and forwards its signals)."""
+    /usr/bin/python3 tools/figures/plot.py REPORT_DIR [--jobs N] [--format png|svg|pdf[,...]]"""
 
 import os
 import signal
 import sys
 from types import FrameType
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Optional
 
 
 def on_stop(sig: int, _frame: Optional[FrameType]) -> None:
-    """SIGINT/SIGTERM: stop at once and quietly (no traceback), with the workers (a file is
-    renamed into place whole, so none is half-written); exit 130/143."""
-    if "multiprocessing" in sys.modules:
-        for p in sys.modules["multiprocessing"].active_children():
-            try:
-                os.kill(p.pid, sig)
-            except OSError:
-                pass
+    """A signal while matplotlib is being imported (a second): stop quietly, 130/143."""
     os._exit(128 + sig)
 
 
+<<<<<<< HEAD
 # before the imports below (matplotlib takes a second): a signal while importing is quiet too
 signal.signal(signal.SIGINT, on_stop)
 signal.signal(signal.SIGTERM, on_stop)
@@ -889,5 +860,11 @@ def main() -> int:
         return 3
 
 
+=======
+>>>>>>> fg
 if __name__ == "__main__":
+    signal.signal(signal.SIGINT, on_stop)
+    signal.signal(signal.SIGTERM, on_stop)
+    # the script's directory is on sys.path when run as a script: the package imports plainly
+    from dampfig.cli import main
     sys.exit(main())

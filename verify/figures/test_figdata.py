@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Unit tests of the figure helpers (tools/figures/figdata.py): min/max decimation keeps every
+"""Unit tests of the figure helpers (tools/figures/dampfig/figdata.py): min/max decimation keeps every
 extreme, the drawn convergence line has the fitted slope and passes through the window's points,
 the method styles are fixed, the paper-figure parser. No matplotlib; well under a second."""
 from typing import Any, Dict, Set
@@ -10,7 +10,7 @@ import os
 import random
 import unittest
 
-from tools.figures import figdata as fd
+from tools.figures.dampfig import figdata as fd
 
 
 class Decimation(unittest.TestCase):
@@ -114,35 +114,37 @@ class Styles(unittest.TestCase):
         return pairs
 
     def test_methods_run_together_have_distinct_colours(self) -> None:
-        # time series are solid lines: colour alone must tell the runs of a figure apart
-        pairs = self.pairs_run_together()
-        self.assertGreater(len(pairs), 100)
-        for a, b in pairs:
-            if a in fd.STYLES and b in fd.STYLES:
-                self.assertGreaterEqual(
-                    fd.lab_distance(fd.STYLES[a][0], fd.STYLES[b][0]), 25, (a, b))
-        self.assertGreater(fd.lab_distance(fd.STYLES["glifrk2"][0], fd.STYLES["gauss3"][0]), 25)
+        # time series are solid lines: colour alone must tell the runs of a panel apart (a panel
+        # holds one group of at most fd.GROUP methods of a case, in the case's order)
+        self.assertGreater(len(self.pairs_run_together()), 100)
+        cases = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cases")
+        for name in os.listdir(cases):
+            if name.endswith(".json"):
+                with open(os.path.join(cases, name)) as f:
+                    ms = [m for m in json.load(f).get("methods", []) if isinstance(m, str)]
+                st = fd.case_styles(ms)
+                for group in fd.groups(ms):
+                    cols = [st[m][0] for m in group]
+                    for i, a in enumerate(cols):
+                        for b in cols[i + 1:]:
+                            self.assertGreaterEqual(fd.lab_distance(a, b), 25, (name, group))
         self.assertEqual(len({v for v in fd.STYLES.values()}), len(fd.STYLES))
 
     def test_loaded_methods_get_distinct_colours_in_a_case(self) -> None:
         # methods loaded from files or plugins are not in STYLES: their hashed colour may be a
-        # built-in's or another loaded method's; within one case they are moved apart
+        # built-in's or another loaded method's; within one group of a case they are moved apart
         loaded = ["rk4-file", "stormer-verlet-file", "plugin-csv1", "my-method", "other", "x1",
                   "x2", "x3"]
-        # a hashed colour that collides: some loaded method hashes onto a fixed method's colour
-        fixed = {c for c, _, _ in fd.STYLES.values()}
-        self.assertTrue(any(fd.method_style(m)[0] in fixed for m in loaded + ["y%d" % i for i in
-                                                                                 range(20)]))
         for methods in (["csv1", "rk4", "cimp"] + loaded, loaded, ["rk4-file", "rk4"]):
             st = fd.case_styles(methods)
             self.assertEqual(set(st), set(methods))
-            cols = [st[m][0] for m in methods]
-            for i, a in enumerate(cols):
-                for b in cols[i + 1:]:
-                    self.assertGreaterEqual(fd.lab_distance(a, b), 25, (methods, a, b))
-            for m in methods:  # the built-ins keep their fixed style
-                if m in fd.STYLES:
-                    self.assertEqual(st[m], fd.STYLES[m])
+            for group in fd.groups(methods):
+                cols = [st[m][0] for m in group]
+                for i, a in enumerate(cols):
+                    for b in cols[i + 1:]:
+                        self.assertGreaterEqual(fd.lab_distance(a, b), 25, (methods, a, b))
+            for m in methods:  # markers and line styles are fixed
+                self.assertEqual(st[m][1:], fd.method_style(m)[1:])
         # the same case gives the same styles
         self.assertEqual(fd.case_styles(["csv1", "my-method"]), fd.case_styles(["csv1", "my-method"]))
 

@@ -16,7 +16,8 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-from tools.figures import figdata as fd
+from tools.figures.dampfig import figdata as fd
+from tools.figures.dampfig import papers
 
 RTOL = 1e-12
 problems = []
@@ -217,6 +218,49 @@ def check_figures(report_dir: Any, report: Dict[str, Any]) -> None:
             problems.append(f"{c['id']}: has a ladder or a sweep but no figure")
 
 
+def check_claims(report: Any, manifest: Any) -> None:
+    """Each case of figures.md whose paper item is a figure draws the metric of each of its
+    checks (the claim's metric: figdata.missing_claim_metrics over the quantities the manifest
+    records for its figures)."""
+    global compared
+    for c in report["cases"]:
+        paper = fd.paper_figure(c)
+        if not paper or not papers.is_figure(paper) or fd.case_figure_kinds(c) == set():
+            continue
+        figs = manifest["cases"].get(c["id"], [])
+        quantities = [q for f in figs for q in f.get("quantities", [])]
+        compared += 1
+        for m in fd.missing_claim_metrics(c, quantities):
+            problems.append(f"{c['id']} ({paper}): its check reads {m}, which no figure draws "
+                            f"(drawn: {sorted(set(quantities))})")
+
+
+def check_measure_series(c: Any, ser: Any) -> None:
+    """The pointwise series of a measure reduce to the report's value: its maximum (min/max
+    decimation keeps it) for a max measure, its last point for a final one."""
+    for r, sr in zip(c["runs"], ser["runs"]):
+        for name, spec in c.get("measures", {}).items():
+            comp = "energy" if spec.get("quantity") == "energy-error" else \
+                spec.get("component", "state")
+            s = sr["series"].get(f"measure-pointwise.{comp}.{spec.get('norm', 'abs')}")
+            want = fd.run_metric(r, f"measure.{name}")
+            if not s or not s["y"] or want is None or spec.get("over") not in ("max", "final"):
+                continue
+            got = max(s["y"]) if spec["over"] == "max" else s["y"][-1]
+            expect(f"{c['id']} {r['method']} h={r['dt']:g} measure.{name} from its series", got,
+                   want)
+
+
+def check_half_trace(c: Any, ser: Any) -> None:
+    """F Fig 3.4's drawn half-trace error over h⁴ at h = 0.01 agrees with the report's fitted
+    coefficient (trace-taylor.h4_coeff, Richardson at 0.01 and 0.02) to the O(h) remainder."""
+    for m, d in fd.half_trace_data(c, ser).items():
+        h, e = min(d["points"], key=lambda p: abs(math.log(p[0] / 0.01)))
+        if d["c"]:
+            expect(f"{c['id']} {m} half-trace error / h^4 at h = {h:.3g}", e / h ** 4, d["c"],
+                   rtol=0.05)
+
+
 def main() -> Any:
     report_dir = sys.argv[1]
     report, series = fd.load(report_dir)
@@ -236,7 +280,13 @@ def main() -> Any:
             check_run(c["id"], r, sr["series"])
         check_orders(c)
         check_stability(c, ser)
+        check_measure_series(c, ser)
+        check_half_trace(c, ser)
     check_figures(report_dir, report)
+    manifest_path = os.path.join(report_dir, "figures", "manifest.json")
+    if os.path.exists(manifest_path):
+        with open(manifest_path) as f:
+            check_claims(report, json.load(f))
     for p in problems:
         print("DISAGREE", p)
     print(f"test_figure_data: {compared} comparisons, {len(problems)} disagreements")

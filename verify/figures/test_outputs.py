@@ -34,7 +34,7 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-from tools.figures import safeio as sio
+from tools.figures.dampfig import safeio as sio
 
 DAMPSYM = os.environ.get("DAMPSYM", sys.argv[1] if len(sys.argv) > 2 else "")
 WORK = os.environ.get("WORK", sys.argv[2] if len(sys.argv) > 2 else "")

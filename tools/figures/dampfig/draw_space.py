@@ -1,0 +1,313 @@
+"""Figures in the state space: orbits (equal aspect where both axes are lengths, the same limits
+in every panel), the attractor's probe in its plane, Poincaré sections, and PDE snapshots with
+their error against the PDE's solution."""
+
+import math
+from typing import Any, List, Optional, Tuple
+
+import numpy as np
+from matplotlib.lines import Line2D
+
+from . import figdata as fd
+from .draw_series import coincidence_note
+from .render import PANEL_H, Ctx, Drawn, Json, dense, layout, pow10, save, sci_scale, subplots, \
+    title_of
+from .styles import REFERENCE_GREY, TRANSIENT_GREY
+
+# axis names of a problem's orbit; problems whose two drawn coordinates are lengths in the same
+# unit are drawn with equal aspect (a circle stays a circle: HLW Fig 2.1's precession)
+AXES = {"kepler": ("q₁", "q₂"), "hill": ("q₁", "q₂"), "lotka-volterra": ("u", "v"),
+        "pendulum": ("q (rad)", "p"), "oscillator": ("q", "p"),
+        "outer-solar-system": ("x (AU)", "y (AU)"), "rigid-body": ("z₁", "z₂")}
+EQUAL_ASPECT = {"kepler", "hill", "outer-solar-system"}
+XY = Tuple[Any, Any, str]
+
+
+def orbit_coords(problem: str, states: List[List[float]]) -> List[XY]:
+    """[(x, y, label)] to draw for a problem's states (columns of one numpy array)."""
+    if not states:
+        return []
+    col = np.asarray(states, dtype=float).T
+    if problem == "outer-solar-system":
+        nb = len(col) // 6
+        return [(col[3 * k], col[3 * k + 1], f"body {k}") for k in range(nb)]
+    return [(col[0], col[1], "")]
+
+
+def reference_of(ser: Json, r: Json) -> Optional[Json]:
+    ref = r["series"].get("orbit_reference")
+    if ref and "same_as_run" in ref:  # written once per case (case_series_json)
+        ref = ser["runs"][ref["same_as_run"]]["series"]["orbit_reference"]
+    return ref
+
+
+def shared_limits(curves: List[XY], equal: bool) -> Tuple[Tuple[float, float],
+                                                          Tuple[float, float]]:
+    """One box around every curve of the figure (a 4 % margin); square when equal."""
+    xs = np.concatenate([np.asarray(x, float)[np.isfinite(x)] for x, _, _ in curves])
+    ys = np.concatenate([np.asarray(y, float)[np.isfinite(y)] for _, y, _ in curves])
+    (x0, x1), (y0, y1) = (float(xs.min()), float(xs.max())), (float(ys.min()), float(ys.max()))
+    if equal:
+        half = 0.5 * max(x1 - x0, y1 - y0)
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        x0, x1, y0, y1 = cx - half, cx + half, cy - half, cy + half
+    px, py = 0.04 * (x1 - x0 or 1.0), 0.04 * (y1 - y0 or 1.0)
+    return (x0 - px, x1 + px), (y0 - py, y1 + py)
+
+
+def precession_rays(ax: Any, r: Json, colour: Any, reach: float) -> Optional[str]:
+    """HLW Fig 2.1: the perihelion direction at the start (grey, dashed) and at the end (the
+    method's colour) from the focus at the origin; returns the turn for the panel's title."""
+    p = r.get("metrics", {}).get("precession")
+    if not p or p.get("total") is None or p.get("initial_angle") is None:
+        return None
+    a0, turn = p["initial_angle"], p["total"]
+    ax.plot([0, reach * math.cos(a0)], [0, reach * math.sin(a0)], "--", color="k", lw=0.9)
+    ax.plot([0, reach * math.cos(a0 + turn)], [0, reach * math.sin(a0 + turn)], "-",
+            color=colour, lw=1.6)
+    return f"perihelion turned {turn:+.3f} rad"
+
+
+def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
+    runs = [r for r in ser["runs"] if "orbit" in r["series"]]
+    if not runs:
+        return []
+    problem = case["problem"]["id"]
+    report_runs = {(r["method"], r["dt"]): r for r in case["runs"]}
+    n, cols = len(runs), min(4, len(runs))
+    rows = -(-n // cols)
+    fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.6 * cols), 3.5 * rows + 0.9))
+    for ax in axs.flat[n:]:
+        ax.axis("off")
+    xl, yl = AXES.get(problem, ("z₁", "z₂"))
+    equal = problem in EQUAL_ASPECT
+    drawn = [(r, orbit_coords(problem, r["series"]["orbit"]["states"]),
+              orbit_coords(problem, (reference_of(ser, r) or {}).get("states", []))) for r in runs]
+    # one box for every panel, except a run that leaves it by far (explicit Euler's spiral),
+    # which gets its own and says so: one outlier must not shrink the others to a dot
+    boxes = [shared_limits(a + b, equal) for _, a, b in drawn]
+    sizes = [max(x[1] - x[0], y[1] - y[0]) for x, y in boxes]
+    typical = sorted(sizes)[len(sizes) // 2]
+    inside = [d for d, s in zip(drawn, sizes) if s <= 3 * typical]
+    xlim, ylim = shared_limits([c for _, a, b in inside for c in a + b], equal)
+    greys, turned = set(), False
+    for ax, (r, curves, refs), box, size in zip(axs.flat, drawn, boxes, sizes):
+        c = ctx.style(r["method"])[0]
+        own = size > 3 * typical
+        lims = box if own else (xlim, ylim)
+        reach = 0.5 * max(lims[0][1] - lims[0][0], lims[1][1] - lims[1][0])
+        for x, y, _ in refs:
+            ax.plot(x, y, "-", color=REFERENCE_GREY, lw=2.2, alpha=0.6, rasterized=dense(len(x)))
+        for x, y, _ in curves:
+            ax.plot(x, y, "-", color=c, lw=0.6, rasterized=dense(len(x)))
+        ax.plot([curves[0][0][0]], [curves[0][1][0]], "k.", ms=6)
+        if refs:
+            greys.add("exact solution" if (reference_of(ser, r) or {}).get("exact")
+                      else "reference")
+        turn = precession_rays(ax, report_runs.get((r["method"], r["dt"]), {}), c, reach)
+        turned = turned or turn is not None
+        ax.set_title(f"{r['method']} h={r['dt']:g}" + (f"\n{turn}" if turn else "") +
+                     (" (own limits: far outside the others')" if own else ""), fontsize=8)
+        ax.set_xlabel(xl)
+        ax.set_ylabel(yl)
+        ax.set_xlim(*lims[0])
+        ax.set_ylim(*lims[1])
+        if equal:
+            ax.set_aspect("equal", adjustable="box")
+    handles = [Line2D([], [], color="k", marker=".", ls="none", ms=6, label="initial state")]
+    handles += [Line2D([], [], color=REFERENCE_GREY, lw=2.2, alpha=0.6, label=g) for g in greys]
+    if turned:
+        handles += [Line2D([], [], color="k", ls="--", lw=0.9, label="perihelion direction at "
+                           "t₀ (from the focus)"),
+                    Line2D([], [], color="0.3", lw=1.6, label="perihelion direction at t_end")]
+    height = 3.5 * rows + 0.9
+    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7, frameon=False,
+               bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    fig.suptitle(title_of(case, "orbits, same limits in every panel" +
+                          (", equal aspect" if equal else "")), y=1 - 0.05 / height, va="top")
+    layout(fig, bottom=0.5 / height, top=1 - 0.95 / height, left=0.75 / fig.get_figwidth(),
+           hspace=0.5, wspace=0.35)
+    quantities = ["orbit"] + (["orbit_reference"] if greys else []) + \
+        (["precession.total", "precession.initial_angle"] if turned else [])
+    return [(save(ctx, fig, case, "orbit"), "orbits", quantities)]
+
+
+def drive_frame(case: Json, t: Any, pts: Any) -> Tuple[Any, str]:
+    """The probe's plane points in the frame that turns with the drive F(t) = Γ e^{i(ω₀t + α)}
+    (problem parameters omega0, alpha), where a response locked to the drive is a closed curve
+    (B Fig 5.10(a)'s periodic attractor; in the lab frame it winds as a rosette). Unchanged, with
+    an empty note, for a problem without a drive frequency."""
+    params = case.get("problem", {}).get("params", {})
+    w = params.get("omega0")
+    if not isinstance(w, (int, float)) or w == 0:
+        return pts, ""
+    phase = -(w * np.asarray(t, float) + float(params.get("alpha", 0.0)))
+    z = (pts[:, 0] + 1j * pts[:, 1]) * np.exp(1j * phase)
+    return np.stack([z.real, z.imag], axis=1), r"$\cdot e^{-i(\omega_0 t + \alpha)}$"
+
+
+def statistics_start(case: Json, r: Json, ser: Json) -> float:
+    """Where the attractor statistics begin (the run's attractor.from; half the run otherwise):
+    before it is the transient."""
+    for rr in case["runs"]:
+        if rr["method"] == r["method"] and rr["dt"] == r["dt"]:
+            v = fd.run_metric(rr, "attractor.from")
+            if v is not None:
+                return v
+    return 0.5 * (ser.get("t0", 0.0) + ser.get("t_end", 0.0))
+
+
+def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
+    """B Fig 5.10's right panels: the attractor diagnostic's probe as a point of its plane (in
+    the drive's frame when the problem has a drive frequency), the transient in light grey (its
+    only use), the attractor in the method's colour."""
+    runs = [r for r in ser["runs"] if "attractor.plane" in r["series"]]
+    if not runs:
+        return []
+    n, cols = len(runs), min(3, len(runs))
+    rows = -(-n // cols)
+    height = 3.7 * rows + 1.0
+    fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.8 * cols), height), sharex=True,
+                        sharey=True)
+    for ax in axs.flat[n:]:
+        ax.axis("off")
+    frame = ""
+    for ax, r in zip(axs.flat, runs):
+        pl = r["series"]["attractor.plane"]
+        c = ctx.style(r["method"])[0]
+        t = np.asarray(pl["t"], dtype=float)
+        pts, frame = drive_frame(case, t, np.asarray(pl["points"], dtype=float).reshape(-1, 2))
+        late = t >= statistics_start(case, r, ser)
+        thinned = pl.get("stride", 1) > 1  # joins of thinned points would be chords
+        for mask, col, lw in ((~late, TRANSIENT_GREY, 0.5), (late, c, 0.7)):
+            if mask.any():
+                ax.plot(pts[mask, 0], pts[mask, 1], "." if thinned else "-", color=col, lw=lw,
+                        ms=1.5, rasterized=dense(int(mask.sum())))
+        ax.plot([0.0], [0.0], "k+", ms=6)
+        ax.set_title(f"{r['method']} h={r['dt']:g}")
+        # "Re psi(0, t)" in the drive's frame: Re[psi(0, t) e^{-i(w0 t + a)}]
+        names = [f"{x.split(' ', 1)[0]}[{x.split(' ', 1)[-1]}{frame}]" if frame else x
+                 for x in pl["names"]]
+        ax.set_xlabel(names[0].replace("psi", r"$\psi$"))
+        ax.set_ylabel(names[1].replace("psi", r"$\psi$"))
+        ax.set_aspect("equal", adjustable="box")
+    handles = [Line2D([], [], color=TRANSIENT_GREY, lw=1.5, label="transient (before the "
+                      "attractor statistics)"),
+               Line2D([], [], color="0.2", lw=1.5, label="on the attractor (the method's colour)"),
+               Line2D([], [], color="k", marker="+", ls="none", label="origin")]
+    fig.legend(handles=handles, loc="upper center", ncol=3, fontsize=7, frameon=False,
+               bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    fig.suptitle(title_of(case, "the probe in its plane" +
+                          (", in the frame turning with the drive" if frame else "")),
+                 y=1 - 0.05 / height, va="top")
+    layout(fig, bottom=0.6 / height, top=1 - 0.95 / height, left=0.75 / fig.get_figwidth(),
+           hspace=0.45, wspace=0.3)
+    return [(save(ctx, fig, case, "portrait"), "probe portrait",
+             ["attractor.plane", "attractor.from"])]
+
+
+def fig_poincare(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
+    """Poincaré sections, one panel per run, each over the reference's section (grey)."""
+    runs = [r for r in ser["runs"] if "poincare" in r["series"]]
+    if not runs:
+        return []
+    ref = next((r["series"]["poincare_reference"] for r in runs
+                if "poincare_reference" in r["series"]), None)
+    n = len(runs)
+    cols = n if n <= 3 else (2 if n == 4 else 3)
+    rows = -(-n // cols)
+    height = 3.9 * rows + 1.0
+    fig, axs = subplots(ctx, rows, cols, (4.3 * cols, height), sharex=True, sharey=True)
+    for ax in axs.flat[n:]:
+        ax.axis("off")
+    for ax, r in zip(axs.flat, runs):
+        if ref:
+            ax.scatter(ref["q"], ref["p"], s=9, color=REFERENCE_GREY, lw=0, alpha=0.55,
+                       rasterized=True)
+        pts = r["series"]["poincare"]
+        ax.scatter(pts["q"], pts["p"], s=5, color=ctx.style(r["method"])[0], lw=0,
+                   rasterized=True)
+        ax.set_title(f"{r['method']} h={r['dt']:g} ({len(pts['q'])} points)")
+        ax.set_xlabel("q mod 2π (rad)")
+        ax.set_ylabel("p")
+    handles = [Line2D([], [], color="0.3", marker="o", ls="none", ms=3,
+                      label="the method's section (its colour)")]
+    if ref:
+        handles.append(Line2D([], [], color=REFERENCE_GREY, marker="o", ls="none", ms=4,
+                              alpha=0.55, label="reference section (certified GSL)"))
+    fig.legend(handles=handles, loc="upper center", ncol=2, fontsize=7, frameon=False,
+               bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    fig.suptitle(title_of(case, "Poincaré section at t = t₀ + kT"), y=1 - 0.05 / height,
+                 va="top")
+    layout(fig, bottom=0.55 / height, top=1 - 0.95 / height, left=0.08, hspace=0.4, wspace=0.15)
+    return [(save(ctx, fig, case, "poincare"), "Poincaré sections",
+             ["poincare"] + (["poincare_reference"] if ref else []))]
+
+
+def snapshot_errors(runs: List[Json], k: int, n_x: int) -> List[Tuple[str, List[float]]]:
+    """Per run, u(x, t_k) − u_PDE(x, t_k) at the snapshot k."""
+    out = []
+    for r in runs:
+        sn = r["series"]["snapshots"]
+        if k < len(sn["u"]) and k < len(sn["pde"]):
+            out.append((r["method"], [a - b for a, b in zip(sn["u"][k], sn["pde"][k])][:n_x]))
+    return out
+
+
+def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
+    """B Fig 5.4: top row the field u(x) of each run over the PDE's own solution (grey) at the
+    output times; bottom row u − u_PDE, the error the case checks (pde-error.max_abs), which the
+    top row cannot show (the lines coincide at its scale)."""
+    runs = [r for r in ser["runs"] if r["series"].get("snapshots", {}).get("t")]
+    if not runs:
+        return []
+    first = runs[0]["series"]["snapshots"]
+    times = first["t"]
+    n = min(len(times), 5)  # at most 5 times: the first, the last and 3 between
+    pick = sorted({round(i * (len(times) - 1) / max(1, n - 1)) for i in range(n)})
+    height = 2 * PANEL_H + 1.4
+    fig, axs = subplots(ctx, 2, len(pick), (3.0 * len(pick) + 0.8, height), sharex=True)
+    errs = [e for k in pick for _, e in snapshot_errors(runs, k, len(first["pde"][k]))]
+    scale = sci_scale(errs)
+    # one error scale in every panel: how the error grows with t is seen at a glance
+    emax = max((abs(v) for e in errs for v in e), default=1.0) / 10.0 ** scale or 1.0
+    for j, k in enumerate(pick):
+        x = first["x"] or list(range(len(first["pde"][k])))
+        top, bottom = axs[0, j], axs[1, j]
+        top.plot(x, first["pde"][k], "-", color=REFERENCE_GREY, lw=3.0, alpha=0.7)
+        for r in runs:
+            sn = r["series"]["snapshots"]
+            c, _, ls = ctx.style(r["method"])
+            if k < len(sn["u"]):
+                top.plot(x, sn["u"][k], "--" if ls == ":" else ls, color=c, lw=1.0)
+        drawn = []
+        for m, e in snapshot_errors(runs, k, len(x)):
+            c, _, ls = ctx.style(m)
+            y = [v / 10.0 ** scale for v in e]
+            bottom.plot(x[:len(e)], y, ls, color=c, lw=1.0)
+            drawn.append((m, list(x[:len(e)]), y))
+        bottom.axhline(0.0, color="k", lw=0.5)
+        bottom.set_ylim(-emax * 1.08, emax * 1.08)
+        coincidence_note(bottom, drawn, False, y=0.96)
+        top.set_title(f"t = {times[k]:g}")
+        bottom.set_xlabel("x")
+    axs[0, 0].set_ylabel("u(x, t)")
+    axs[1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
+    labels = []
+    for r in runs:
+        v = fd.run_metric(next((rr for rr in case["runs"] if rr["method"] == r["method"]
+                                and rr["dt"] == r["dt"]), {}), "pde-error.max_abs")
+        labels.append(r["method"] + (f" (max |u − u_PDE| = {v:.2g})" if v is not None else ""))
+    handles = [Line2D([], [], color=REFERENCE_GREY, lw=3.0, alpha=0.7,
+                      label="solution of the PDE")]
+    for r, lab in zip(runs, labels):
+        c, _, ls = ctx.style(r["method"])
+        handles.append(Line2D([], [], color=c, ls="--" if ls == ":" else ls, lw=1.2, label=lab))
+    fig.legend(handles=handles, loc="upper center", ncol=min(4, len(handles)), frameon=False,
+               fontsize=7.5, bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    fig.suptitle(title_of(case, "snapshots (top) and their error against the PDE's solution "
+                          "(bottom)"), y=1 - 0.05 / height, va="top")
+    layout(fig, bottom=0.5 / height, top=1 - 1.0 / height, left=0.95 / fig.get_figwidth(),
+           hspace=0.25, wspace=0.25)
+    return [(save(ctx, fig, case, "snapshots"), "snapshots and their error",
+             ["snapshots", "pde-error.max_abs"])]

@@ -1,0 +1,259 @@
+"""The drawing context and helpers shared by the figure kinds (matplotlib, Agg).
+
+A Ctx holds everything one drawing process needs (the report, the output directory, the formats,
+the styles of the case being drawn, the blank figures kept for reuse): nothing is kept in module
+state, so two contexts never share a figure.
+
+Cost (a run with --figures at most 2x one without): log axes get few ticks (matplotlib's tick
+objects were most of the drawing time), lines are thinned to min/max per pixel column
+(figdata.decimate_columns: the drawn line is the same), legends are placed at fixed spots, dense
+lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and blank figures of a
+layout are reused."""
+
+import io
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa: E402
+                               NullFormatter, NullLocator)
+
+from . import figdata as fd  # noqa: E402
+from . import safeio as sio  # noqa: E402
+
+plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
+                     "figure.dpi": 100, "savefig.dpi": 100, "axes.grid": True, "grid.alpha": 0.3,
+                     "svg.fonttype": "none", "mathtext.default": "regular",
+                     # a fixed title position: matplotlib otherwise measures every axes' tick
+                     # labels to place its title (a sixth of the drawing time)
+                     "axes.titley": 1.0, "axes.titlepad": 4.0})
+
+Json = Dict[str, Any]
+# what a figure function returns per file: (file, caption, quantities drawn on its axes)
+Drawn = Tuple[str, str, List[str]]
+# pixel columns of a full-width axes: lines are thinned to min/max per column of this many
+COLUMNS = 700
+# blank figures kept for reuse at most (each holds its axes' memory)
+KEEP_BLANK = 30
+# a panel at least this tall (inches at 100 dpi: 250 px)
+PANEL_H = 2.6
+
+
+@dataclass
+class Ctx:
+    report: Json
+    out: str
+    formats: List[str]
+    styles: Dict[str, fd.Style] = field(default_factory=dict)
+    blank: Dict[Any, List[Any]] = field(default_factory=dict)
+    # x ticks fixed by a figure (a convergence panel's step sizes), by id of their axes
+    xticks: Dict[int, List[float]] = field(default_factory=dict)
+
+    def style(self, m: str) -> fd.Style:
+        """(colour, marker, line style) of method m in the case being drawn."""
+        return self.styles[m] if m in self.styles else fd.method_style(m)
+
+    def primary_format(self) -> str:
+        """The format report.md embeds: the first of png/svg asked for, else pdf (linked)."""
+        return next((f for f in self.formats if f in ("png", "svg")), self.formats[0])
+
+
+def title_of(case: Json, what: str) -> str:
+    paper = fd.paper_figure(case)
+    return f"{case['id']}: {what}" + (f"  [{paper}]" if paper else "")
+
+
+SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def log_label(x: float, _pos: Optional[int] = None) -> str:
+    """10⁻³, 2×10⁻³: plain text with Unicode superscripts (mathtext in tick labels was a third of
+    the drawing time)."""
+    if not x > 0:
+        return ""
+    e = math.floor(math.log10(x) + 1e-9)
+    m = x / 10 ** e
+    exp = "10" + str(e).translate(SUPERSCRIPT)
+    if abs(m - 1) < 1e-6:
+        return exp
+    return f"{m:.0f}×{exp}" if abs(m - round(m)) < 1e-6 else f"{m:.2g}×{exp}"
+
+
+def pow10(e: int) -> str:
+    return "10" + str(e).translate(SUPERSCRIPT)
+
+
+def log_ticks(lo: float, hi: float) -> List[float]:
+    """Labelled ticks of a log axis over [lo, hi]: every decade (every k-th beyond 6 decades);
+    below 2 decades 1, 2, 5 × 10^k, finer mantissas when fewer than three fall inside."""
+    k0, k1 = math.floor(math.log10(lo)), math.ceil(math.log10(hi))
+    if math.log10(hi / lo) > 2:
+        step = max(1, -(-(k1 - k0) // 6))
+        return [10.0 ** k for k in range(k0, k1 + 1) if (k - k0) % step == 0]
+    ticks: List[float] = []
+    for subs in ((1, 2, 5), (1, 1.5, 2, 3, 5, 7), (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8)):
+        ticks = [m * 10.0 ** k for k in range(k0, k1 + 1) for m in subs
+                 if lo <= m * 10.0 ** k <= hi]
+        if len(ticks) >= 3:
+            break
+    return ticks
+
+
+def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
+    """Before drawing: few, labelled ticks on every axis (xticks: those fixed by the figure)."""
+    for ax in fig.axes:
+        if not ax.axison:
+            continue
+        if id(ax) in xticks and ax.get_xscale() == "log":
+            ax.xaxis.set_major_locator(FixedLocator(xticks[id(ax)]))
+            ax.xaxis.set_major_formatter(FuncFormatter(log_label))
+            ax.xaxis.set_minor_locator(NullLocator())
+            ax.yaxis.set_major_locator(FixedLocator(log_ticks(*sorted(ax.get_ylim()))))
+            ax.yaxis.set_major_formatter(FuncFormatter(log_label))
+            ax.yaxis.set_minor_locator(NullLocator())
+            ax.yaxis.set_minor_formatter(NullFormatter())
+            continue
+        for axis, scale, lim in ((ax.xaxis, ax.get_xscale(), ax.get_xlim),
+                                 (ax.yaxis, ax.get_yscale(), ax.get_ylim)):
+            lo, hi = sorted(lim())
+            if scale == "log" and lo > 0 and hi > lo:
+                axis.set_major_locator(FixedLocator(log_ticks(lo, hi)))
+                axis.set_major_formatter(FuncFormatter(log_label))
+                axis.set_minor_locator(NullLocator())
+                axis.set_minor_formatter(NullFormatter())
+            elif scale == "linear":
+                axis.set_major_locator(MaxNLocator(nbins=5, steps=[1, 2, 2.5, 5, 10]))
+
+
+def subplots(ctx: Ctx, nrows: int, ncols: int, figsize: Tuple[float, float],
+             sharex: bool = False, sharey: Union[bool, str] = False) -> Tuple[Any, Any]:
+    """A blank figure of this layout (reused from ctx.blank when one was recycled)."""
+    key = (nrows, ncols, tuple(round(x, 3) for x in figsize), sharex, sharey)
+    if ctx.blank.get(key):
+        return ctx.blank[key].pop()
+    fig, axs = plt.subplots(nrows, ncols, figsize=figsize, sharex=sharex, sharey=sharey,
+                            squeeze=False)
+    fig._dampsym_key = (key, axs)
+    return fig, axs
+
+
+def recycle(ctx: Ctx, fig: Any) -> None:
+    """Empties a drawn figure back to its blank layout and keeps it in ctx for the next figure of
+    that layout (falls back to closing it)."""
+    key, axs = getattr(fig, "_dampsym_key", (None, None))
+    if key is None or sum(len(v) for v in ctx.blank.values()) >= KEEP_BLANK:
+        plt.close(fig)
+        return
+    for ax in fig.axes:
+        for a in (*ax.lines, *ax.collections, *ax.images, *ax.texts, *ax.patches):
+            a.remove()
+        if ax.get_legend():
+            ax.get_legend().remove()
+        ax.set_title("")
+        ax.set_xlabel("")
+        ax.set_ylabel("")
+        ax.set_xscale("linear")
+        ax.set_yscale("linear")
+        ax.set_aspect("auto")
+        ax.axis("on")
+        ax.set_autoscale_on(True)
+        ax.relim()
+        ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+        ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    for lg in list(fig.legends):
+        lg.remove()
+    for t in list(fig.texts):  # the suptitle too
+        t.remove()
+    fig._suptitle = None
+    ctx.blank.setdefault(key, []).append((fig, axs))
+
+
+def png_bytes(fig: Any) -> bytes:
+    """The figure as savefig draws it, encoded by figdata.encode_png: RGB when opaque."""
+    fig.canvas.draw()
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    h, w, _ = rgba.shape
+    channels = 4 if (rgba[:, :, 3] != 255).any() else 3
+    # each row prefixed by its filter byte 0, in one copy (figdata.encode_png's rows)
+    raw = np.zeros((h, 1 + w * channels), dtype=np.uint8)
+    raw[:, 1:] = rgba[:, :, :channels].reshape(h, w * channels)
+    return fd.png_of_filtered_rows(raw.tobytes(), w, h, channels)
+
+
+def save(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:
+    """Writes the figure in every format as figures/<case id>-<kind>.<format> (the id through
+    safeio.output_name; each name listed in the manifest before its file is written)."""
+    name = sio.output_name(case["id"], f"-{kind}")
+    tidy(fig, ctx.xticks)
+    ctx.xticks.clear()
+    figdir = os.path.join(ctx.out, "figures")
+    for ext in ctx.formats:
+        sio.note_written(figdir, f"{name}.{ext}")
+        if ext == "png":
+            data = png_bytes(fig)
+        else:
+            buf = io.BytesIO()
+            fig.savefig(buf, format=ext)
+            data = buf.getvalue()
+        sio.write_atomic(os.path.join(figdir, f"{name}.{ext}"), data)
+    recycle(ctx, fig)
+    return f"figures/{name}.{ctx.primary_format()}"
+
+
+def dense(n: int) -> bool:
+    """Whether a line of n points is rasterised in svg/pdf."""
+    return n > 2000
+
+
+def layout(fig: Any, bottom: float = 0.1, top: float = 0.9, left: float = 0.09,
+           right: float = 0.98, hspace: float = 0.35, wspace: float = 0.3) -> None:
+    """Fixed margins (tight_layout costs most of a figure's drawing time)."""
+    fig.subplots_adjust(left=left, right=right, bottom=bottom, top=top, hspace=hspace,
+                        wspace=wspace)
+
+
+def method_handles(ctx: Ctx, methods: Sequence[str], with_marker: bool = True) -> List[Any]:
+    """Legend entries of methods in their styles."""
+    out = []
+    for m in methods:
+        c, mk, ls = ctx.style(m)
+        out.append(Line2D([], [], color=c, ls=ls, marker=mk if with_marker else None, ms=4,
+                          lw=1.2, label=m))
+    return out
+
+
+def sci_scale(values: Sequence[Sequence[float]]) -> int:
+    """The power of ten k by which a linear panel's values are divided so that its tick labels
+    need no '1e−5' offset text above the axes (which ran into the panel above): 0 when the
+    largest |value| is between 10⁻² and 10⁴."""
+    big = max((abs(v) for y in values for v in y if math.isfinite(v)), default=0.0)
+    if big == 0.0:
+        return 0
+    k = math.floor(math.log10(big))
+    return k if k < -2 or k > 3 else 0
+
+
+def coincident(a: Tuple[Sequence[float], Sequence[float]],
+               b: Tuple[Sequence[float], Sequence[float]], span: float, log: bool) -> float:
+    """The largest difference between two drawn series (b interpolated onto a's times; in decades
+    on a log panel) when it is below 1 % of the panel's span (the lines cannot be told apart),
+    else -1."""
+    ta, ya = np.asarray(a[0], float), np.asarray(a[1], float)
+    tb, yb = np.asarray(b[0], float), np.asarray(b[1], float)
+    if len(ta) < 2 or len(tb) < 2 or not span > 0:
+        return -1.0
+    if log:
+        ya, yb = np.log10(ya), np.log10(yb)
+    inside = (ta >= tb[0]) & (ta <= tb[-1])
+    if inside.sum() < 2:
+        return -1.0
+    d = float(np.max(np.abs(ya[inside] - np.interp(ta[inside], tb, yb))))
+    return d if d <= 0.01 * span else -1.0

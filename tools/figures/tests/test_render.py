@@ -1,0 +1,82 @@
+"""Drawing helpers and the readability rules of the figures (matplotlib, Agg): tick choice, the
+power of ten taken out of linear panels, coinciding lines, and a synthetic case of 8 methods
+drawn as a series figure (no panel with more than six methods, every panel at least 250 px tall,
+a note naming the two coinciding runs)."""
+
+import math
+from typing import Any, Dict, List, Tuple
+
+import pytest
+
+from dampfig import draw_series, render
+from dampfig.render import Ctx
+
+
+def test_log_ticks_label_at_least_three_below_two_decades() -> None:
+    assert len(render.log_ticks(2e-3, 7e-2)) >= 3
+    assert render.log_ticks(1e-16, 1e-2)[0] == 1e-16 and len(render.log_ticks(1e-16, 1e-2)) <= 8
+    assert render.log_label(2.5e-3) == "2.5×10⁻³" and render.log_label(1e4) == "10⁴"
+
+
+def test_sci_scale() -> None:
+    assert render.sci_scale([[0.0, -2.4e-5]]) == -5
+    assert render.sci_scale([[0.5, 3.0]]) == 0
+    assert render.sci_scale([[]]) == 0
+
+
+def test_coincident() -> None:
+    t = [0.0, 1.0, 2.0, 3.0]
+    a = (t, [0.0, 1.0, 2.0, 3.0])
+    assert 0 <= render.coincident(a, (t, [0.0, 1.0, 2.0, 3.0 + 1e-4]), 3.0, False) < 1e-3
+    assert render.coincident(a, (t, [0.0, 1.0, 2.0, 3.2]), 3.0, False) < 0  # 7 % of the span
+
+
+def series_case(n: int) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    methods = [f"m{k}" for k in range(n)]
+    t = [0.1 * i for i in range(1, 101)]
+    runs = [{"method": m, "dt": 0.1, "status": "ok", "metrics": {}} for m in methods]
+    ser_runs = []
+    for k, m in enumerate(methods):
+        # m0 and m1 coincide; the others are apart
+        y = [1e-5 * (1 + (k if k > 1 else 0)) * math.sin(x) for x in t]
+        ser_runs.append({"method": m, "dt": 0.1, "status": "ok",
+                         "series": {"invariants.I.ratio_dev": {"t": t, "y": y}}})
+    case = {"id": "synthetic", "title": "", "source": "", "runs": runs, "checks": [],
+            "dt_ladder": [0.1], "problem": {"id": "oscillator", "params": {}}}
+    return case, {"t0": 0.0, "t_end": 10.0, "runs": ser_runs}
+
+
+def test_series_panels_readable(monkeypatch: pytest.MonkeyPatch, tmp_path: Any) -> None:
+    seen: List[Any] = []
+
+    def keep(ctx: Ctx, fig: Any, case: Dict[str, Any], kind: str) -> str:
+        fig.canvas.draw()
+        seen.append(fig)
+        return f"figures/{case['id']}-{kind}.png"
+
+    monkeypatch.setattr(draw_series, "save", keep)
+    case, ser = series_case(8)
+    ctx = Ctx(report={"cases": [case]}, out=str(tmp_path), formats=["png"])
+    drawn = draw_series.fig_series(ctx, case, ser)
+    assert drawn[0][2] == ["invariants.I.ratio_dev"]
+    fig = seen[0]
+    axes = [ax for ax in fig.axes if ax.axison]
+    assert len(axes) == 2  # 8 methods: two groups
+    for ax in axes:
+        assert len(ax.lines) <= 6
+        assert ax.get_window_extent().height >= 250
+        assert "$" in ax.get_ylabel() and "10⁻⁵" in ax.get_ylabel()  # mathtext, scale in label
+    notes = [t.get_text() for ax in axes for t in ax.texts]
+    assert any("m0 = m1" in n for n in notes), notes
+    assert not any("m2 = m3" in n for n in notes)
+    assert fig.axes[0].yaxis.get_offset_text().get_text() == ""
+
+
+def test_offset_base_replaces_the_offset_text() -> None:
+    near = [[0.99004983375, 0.99004983338], [0.9900498323]]
+    base = draw_series.offset_base(near)
+    assert abs(base - 0.990049833) < 1e-15
+    assert all(abs(v - base) < 1e-8 for y in near for v in y)
+    # a spread of 1e-3 of the size needs no base; equal values are flat_panel's
+    assert draw_series.offset_base([[1.0, 1.001]]) == 0.0
+    assert draw_series.offset_base([[2.0, 2.0]]) == 0.0
