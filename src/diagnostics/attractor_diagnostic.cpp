@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo AttractorDiagnostic::info() {
-    return {.name = "attractor",
+    return {.name = std::string(name),
             .what = "statistics of the problem's probe over the second half of the run (B Fig "
                     "5.10): distribution, batch-means error, period of mean crossings",
             .requirement = "a probe of the state (probe(z): the driven NLS's |psi(0, t)|)",
@@ -28,6 +28,57 @@ double quantile(const std::vector<double>& v, double p) {
 }
 } // namespace
 
+namespace {
+
+constexpr int attractor_batches = 10;
+
+// The standard error of the mean from batch means: 10 consecutive batches, the first
+// (size % 10) one point longer.
+double batch_mean_se(const std::vector<double>& s) {
+    constexpr int batches = attractor_batches;
+    std::vector<double> bm;
+    std::size_t start = 0;
+    for (int b = 0; b < batches; ++b) {
+        const std::size_t len =
+            s.size() / batches + (static_cast<std::size_t>(b) < s.size() % batches);
+        double bs = 0.0;
+        for (std::size_t i = start; i < start + len; ++i) bs += s[i];
+        bm.push_back(bs / static_cast<double>(len));
+        start += len;
+    }
+    double bmean = 0.0, bvar = 0.0;
+    for (double v : bm) bmean += v / batches;
+    for (double v : bm) bvar += (v - bmean) * (v - bmean);
+    return std::sqrt(bvar / (batches - 1) / batches);
+}
+
+// The period from the upward crossings of the mean level (times t of the samples s) and the
+// spread of the crossing intervals; undefined with fewer than three crossings.
+void crossing_period(const std::vector<double>& t, const std::vector<double>& s, double mean,
+                     json& out) {
+    std::vector<double> tc;
+    for (std::size_t i = 0; i + 1 < s.size(); ++i)
+        if (s[i] < mean && s[i + 1] >= mean)
+            tc.push_back(t[i] + (mean - s[i]) / (s[i + 1] - s[i]) * (t[i + 1] - t[i]));
+    out["crossings"] = static_cast<std::int64_t>(tc.size());
+    if (tc.size() < 3) {
+        const char* why = "fewer than three upward crossings of the mean in the window";
+        set_undefined(out, "period", why);
+        set_undefined(out, "period_spread", why);
+        return;
+    }
+    double lo = tc[1] - tc[0], hi = lo;
+    for (std::size_t i = 1; i + 1 < tc.size(); ++i) {
+        lo = std::min(lo, tc[i + 1] - tc[i]);
+        hi = std::max(hi, tc[i + 1] - tc[i]);
+    }
+    const double period = (tc.back() - tc.front()) / static_cast<double>(tc.size() - 1);
+    out["period"] = period;
+    out["period_spread"] = (hi - lo) / period;
+}
+
+} // namespace
+
 json attractor_metrics(const CaseFacts& c, const Mat& g, std::string_view probe_name,
                        const std::function<double(const Vec&)>& probe) {
     const double from = c.t0 + 0.5 * (c.t_end - c.t0);
@@ -41,8 +92,7 @@ json attractor_metrics(const CaseFacts& c, const Mat& g, std::string_view probe_
     json out = {{"probe", std::string(probe_name)},
                 {"from", from},
                 {"points", static_cast<std::int64_t>(s.size())}};
-    constexpr int batches = 10;
-    if (s.size() < 2 * batches) {
+    if (s.size() < 2 * attractor_batches) {
         const char* why = "needs at least 20 output points in the second half of the run";
         for (const char* k : {"mean", "std", "min", "max", "q10", "q50", "q90", "mean_se",
                               "mean_rse", "crossings", "period", "period_spread"})
@@ -65,27 +115,12 @@ json attractor_metrics(const CaseFacts& c, const Mat& g, std::string_view probe_
     out["q10"] = quantile(sorted, 0.1);
     out["q50"] = quantile(sorted, 0.5);
     out["q90"] = quantile(sorted, 0.9);
-    // Batch means: 10 consecutive batches, the first (size % 10) one point longer.
-    std::vector<double> bm;
-    std::size_t start = 0;
-    for (int b = 0; b < batches; ++b) {
-        const std::size_t len =
-            s.size() / batches + (static_cast<std::size_t>(b) < s.size() % batches);
-        double bs = 0.0;
-        for (std::size_t i = start; i < start + len; ++i) bs += s[i];
-        bm.push_back(bs / static_cast<double>(len));
-        start += len;
-    }
-    double bmean = 0.0, bvar = 0.0;
-    for (double v : bm) bmean += v / batches;
-    for (double v : bm) bvar += (v - bmean) * (v - bmean);
-    const double se = std::sqrt(bvar / (batches - 1) / batches);
+    const double se = batch_mean_se(s);
     out["mean_se"] = se;
     if (mean != 0.0)
         out["mean_rse"] = se / std::abs(mean);
     else
         set_undefined(out, "mean_rse", "the probe's mean is 0");
-    // Upward crossings of the mean level.
     if (!(sd > 1e-12 * std::max(std::abs(mean), 1e-300))) {
         out["crossings"] = 0;
         const char* why = "the probe is constant over the window (std below 1e-12 of the mean)";
@@ -93,25 +128,7 @@ json attractor_metrics(const CaseFacts& c, const Mat& g, std::string_view probe_
         set_undefined(out, "period_spread", why);
         return out;
     }
-    std::vector<double> tc;
-    for (std::size_t i = 0; i + 1 < s.size(); ++i)
-        if (s[i] < mean && s[i + 1] >= mean)
-            tc.push_back(t[i] + (mean - s[i]) / (s[i + 1] - s[i]) * (t[i + 1] - t[i]));
-    out["crossings"] = static_cast<std::int64_t>(tc.size());
-    if (tc.size() < 3) {
-        const char* why = "fewer than three upward crossings of the mean in the window";
-        set_undefined(out, "period", why);
-        set_undefined(out, "period_spread", why);
-        return out;
-    }
-    double lo = tc[1] - tc[0], hi = lo;
-    for (std::size_t i = 1; i + 1 < tc.size(); ++i) {
-        lo = std::min(lo, tc[i + 1] - tc[i]);
-        hi = std::max(hi, tc[i + 1] - tc[i]);
-    }
-    const double period = (tc.back() - tc.front()) / static_cast<double>(tc.size() - 1);
-    out["period"] = period;
-    out["period_spread"] = (hi - lo) / period;
+    crossing_period(t, s, mean, out);
     return out;
 }
 

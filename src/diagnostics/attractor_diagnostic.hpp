@@ -36,12 +36,25 @@ concept HasProbePlane = HasProbe<P> && requires(const P& p, const Vec& z) {
 };
 
 struct AttractorDiagnostic {
+    static constexpr std::string_view name = "attractor";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasProbe<P>;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 json attractor_metrics(const CaseFacts& c, const Mat& grid, std::string_view probe_name,
                        const std::function<double(const Vec&)>& probe);
+
+template <class V>
+json AttractorDiagnostic::produce(const V& run) {
+    using P = typename V::Problem;
+    const auto& p = run.problem;
+    return attractor_metrics(run.facts, run.grid(), P::probe_name,
+                             [&p](const Vec& v) { return p.probe(v); });
+}
 
 } // namespace dampsym

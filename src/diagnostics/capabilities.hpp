@@ -29,13 +29,6 @@ concept HasTemperature = requires(const P& p, const Vec& z) {
     { p.temperature(z) } -> std::convertible_to<double>;
 };
 
-// The Laplace–Runge–Lenz vector of a planar Kepler orbit (its direction is the perihelion's, its
-// length the eccentricity), for the "precession" diagnostic (HLW Fig 2.1).
-template <class P>
-concept HasRungeLenz = requires(const P& p, const Vec& z) {
-    { p.runge_lenz(z) } -> std::convertible_to<std::array<double, 2>>;
-};
-
 // Period of a time-periodic forcing, for Poincaré sections at t = t0 + kT (B §3.2.2).
 template <class P>
 concept HasForcingPeriod = requires(const P& p) {

@@ -5,7 +5,7 @@
 namespace dampsym {
 
 DiagnosticInfo ConformalSymplecticDiagnostic::info() {
-    return {.name = "conformal-symplectic",
+    return {.name = std::string(name),
             .what = "defect of the exact step Jacobian against the conformal symplectic law",
             .needs = {.jacobian_pass = true},
             .metrics = {"max_rel", "last_rel", "max_abs", "last_abs", "max_rel_step",

@@ -10,13 +10,18 @@
 #include "diagnostics/series.hpp"
 
 #include <optional>
+#include <string_view>
 
 namespace dampsym {
 
 struct ConformalSymplecticDiagnostic {
+    static constexpr std::string_view name = "conformal-symplectic";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = true; // not canonical: a reason, not a rejection
+    // Its metrics of one run from a separate pass of the run's kernel K (harness/run_view.hpp).
+    template <class K, class V>
+    static json produce_pass(const V& run);
 };
 
 json conformal_symplectic_json(const ConformalSymplecticStats& st);
@@ -46,6 +51,12 @@ json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, doub
                                          series ? &**series : nullptr, &checker);
     }
     return conformal_symplectic_json(st);
+}
+
+template <class K, class V>
+json ConformalSymplecticDiagnostic::produce_pass(const V& run) {
+    return conformal_symplectic_metrics<K>(run.problem, run.info, run.t0, run.h, run.n,
+                                           run.cs_series);
 }
 
 } // namespace dampsym

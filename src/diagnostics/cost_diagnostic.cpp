@@ -5,7 +5,7 @@
 namespace dampsym {
 
 DiagnosticInfo CostDiagnostic::info() {
-    return {.name = "cost",
+    return {.name = std::string(name),
             .what = "evaluations, Newton iterations and wall time per step",
             .metrics = {"rhs_evals_per_step", "jac_evals_per_step", "newton_iters_per_step",
                         "max_newton_iters", "wall_seconds"},

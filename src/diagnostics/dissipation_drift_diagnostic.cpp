@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo DissipationDriftDiagnostic::info() {
-    return {.name = "dissipation-drift",
+    return {.name = std::string(name),
             .what = "d(t) = ln(max q) + Gamma(t) at the maxima of q (F(4.4)), and its reference",
             .requirement = "one degree of freedom in separable form",
             .needs = {.reference_grid = true, .observer = true, .ok_run = true},

@@ -9,14 +9,20 @@
 #include "diagnostics/metric_json.hpp"
 
 #include <optional>
+#include <string_view>
 #include <vector>
 
 namespace dampsym {
 
 struct DissipationDriftDiagnostic {
+    static constexpr std::string_view name = "dissipation-drift";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasOneDofMaxima<P>;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 struct MaximaSeries {
@@ -39,6 +45,12 @@ std::optional<MaximaSeries> reference_maxima(const P& problem, const CaseFacts& 
         }
     }
     return std::nullopt;
+}
+
+template <class V>
+json DissipationDriftDiagnostic::produce(const V& run) {
+    return drift_metrics({run.rec.maxima(), run.rec.nonpositive_maxima()},
+                         reference_maxima(run.problem, run.facts));
 }
 
 } // namespace dampsym

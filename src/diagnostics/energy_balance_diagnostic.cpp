@@ -3,7 +3,7 @@
 namespace dampsym {
 
 DiagnosticInfo EnergyBalanceDiagnostic::info() {
-    return {.name = "energy-balance",
+    return {.name = std::string(name),
             .what = "residual of the energy balance dH/dt = -2 gamma p.grad T(p) (B(3.4))",
             .requirement = "an energy, the separable form and an autonomous potential",
             .needs = {.observer = true, .ok_run = true},

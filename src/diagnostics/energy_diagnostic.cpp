@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo EnergyDiagnostic::info() {
-    return {.name = "energy",
+    return {.name = std::string(name),
             .what = "energy changes and, with a reference, energy errors on the output grid",
             .requirement = "an energy",
             .needs = {.grid = true, .ok_run = true, .reference_ok = true},

@@ -7,13 +7,19 @@
 #include "diagnostics/metric_json.hpp"
 
 #include <functional>
+#include <string_view>
 
 namespace dampsym {
 
 struct EnergyDiagnostic {
+    static constexpr std::string_view name = "energy";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasEnergy<P>;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 // A scalar function of the state (the problem's energy, energy scale or temperature), passed to
@@ -22,5 +28,13 @@ using StateFunction = std::function<double(const Vec&)>;
 
 json energy_metrics(const CaseFacts& c, const Mat& grid, const StateFunction& energy,
                     const StateFunction& energy_scale);
+
+template <class V>
+json EnergyDiagnostic::produce(const V& run) {
+    const auto& p = run.problem;
+    return energy_metrics(
+        run.facts, run.grid(), [&p](const Vec& v) { return p.energy(v); },
+        [&p](const Vec& v) { return p.energy_scale(v); });
+}
 
 } // namespace dampsym

@@ -7,7 +7,7 @@
 namespace dampsym {
 
 DiagnosticInfo ErrorDiagnostic::info() {
-    return {.name = "error",
+    return {.name = std::string(name),
             .what = "global error against the reference on the output grid and at t_end",
             .needs = {.grid_if_points = true,
                       .streams = true,

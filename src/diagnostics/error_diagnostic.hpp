@@ -6,13 +6,19 @@
 #include "diagnostics/metric_json.hpp"
 
 #include <string>
+#include <string_view>
 
 namespace dampsym {
 
 struct ErrorDiagnostic {
+    static constexpr std::string_view name = "error";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = true;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 // The running reduction of the error over the output grid t_1..t_end (issue 17): fed one grid point
@@ -39,5 +45,11 @@ private:
 
 // grid: the run's states on the output grid (null when the case records none).
 json error_metrics(const CaseFacts& c, const Mat* grid, const Vec& z_final);
+
+template <class V>
+json ErrorDiagnostic::produce(const V& run) {
+    return run.stream ? run.stream->error_metrics(run.z)
+                      : error_metrics(run.facts, run.stored_grid, run.z);
+}
 
 } // namespace dampsym

@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo FieldDriftDiagnostic::info() {
-    return {.name = "field-drift",
+    return {.name = std::string(name),
             .what = "dissipation drift d(t) = ln max_x u + Gamma of a damped wave field, B (5.6)",
             .requirement = "a field on a grid (field_size(): the damped Klein-Gordon problem)",
             .needs = {.grid = true, .ok_run = true},

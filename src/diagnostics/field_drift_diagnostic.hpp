@@ -11,6 +11,7 @@
 #include "diagnostics/metric_json.hpp"
 
 #include <functional>
+#include <string_view>
 
 namespace dampsym {
 
@@ -21,13 +22,25 @@ concept HasField = requires(const P& p) {
 };
 
 struct FieldDriftDiagnostic {
+    static constexpr std::string_view name = "field-drift";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasField<P>;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 // From the output grid: Gamma(t) the problem's Γ, n the field size.
 json field_drift_metrics(const CaseFacts& c, const Mat& grid, int n,
                          const std::function<double(double)>& Gamma);
+
+template <class V>
+json FieldDriftDiagnostic::produce(const V& run) {
+    const auto& p = run.problem;
+    return field_drift_metrics(run.facts, run.grid(), p.field_size(),
+                               [&p](double t) { return p.Gamma(t); });
+}
 
 } // namespace dampsym

@@ -3,7 +3,7 @@
 namespace dampsym {
 
 DiagnosticInfo InvariantsDiagnostic::info() {
-    return {.name = "invariants",
+    return {.name = std::string(name),
             .what = "per-step and global conformal laws of the problem's invariants",
             .requirement = "conformal invariants",
             .needs = {.observer = true, .ok_run = true},

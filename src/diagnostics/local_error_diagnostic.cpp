@@ -3,7 +3,7 @@
 namespace dampsym {
 
 DiagnosticInfo LocalErrorDiagnostic::info() {
-    return {.name = "local-error",
+    return {.name = std::string(name),
             .what = "one-step error against the exact solution at t0 + h (B Fig 3.2)",
             .requirement = "an exact solution",
             .metrics = {"abs", "rel"}};

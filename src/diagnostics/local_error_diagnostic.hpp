@@ -7,12 +7,18 @@
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
 
+#include <string_view>
+
 namespace dampsym {
 
 struct LocalErrorDiagnostic {
+    static constexpr std::string_view name = "local-error";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasExactSolution<P>;
+    // Its metrics of one run from a separate pass of the run's kernel K (harness/run_view.hpp).
+    template <class K, class V>
+    static json produce_pass(const V& run);
 };
 
 // The metrics from the one-step state z and the exact state at t0 + h (null z: the solve failed).
@@ -32,6 +38,11 @@ json local_error_metrics(const P& problem, const MethodInfo& info, double t0, do
     } else {
         return json::object();
     }
+}
+
+template <class K, class V>
+json LocalErrorDiagnostic::produce_pass(const V& run) {
+    return local_error_metrics<K>(run.problem, run.info, run.t0, run.h);
 }
 
 } // namespace dampsym

@@ -7,7 +7,7 @@
 namespace dampsym {
 
 DiagnosticInfo MomentumDiagnostic::info() {
-    return {.name = "momentum",
+    return {.name = std::string(name),
             .what = "per-step laws of the linear and angular momentum (B Ex. 1.3, Table 3.1)",
             .requirement = "linear and angular momentum",
             .needs = {.observer = true, .ok_run = true},

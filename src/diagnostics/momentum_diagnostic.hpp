@@ -8,12 +8,19 @@
 #include "diagnostics/metric_json.hpp"
 #include "diagnostics/recorder.hpp"
 
+#include <string_view>
+
 namespace dampsym {
 
 struct MomentumDiagnostic {
+    static constexpr std::string_view name = "momentum";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasMomentum<P>;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 // B Table 3.1 factor of Σp per step the method declares (claims, core/method.hpp) at a constant
@@ -30,6 +37,14 @@ constexpr bool has_linear_momentum_law() {
         return P::linear_momentum_law;
     else
         return true;
+}
+
+template <class V>
+json MomentumDiagnostic::produce(const V& run) {
+    using P = typename V::Problem;
+    return momentum_metrics(run.rec.linear_momentum_stats(), run.rec.angular_momentum_stats(),
+                            has_linear_momentum_law<P>(), run.table_factor,
+                            std::exp(-2.0 * run.problem.dGamma(run.t0, run.h)));
 }
 
 } // namespace dampsym

@@ -6,7 +6,7 @@
 namespace dampsym {
 
 DiagnosticInfo OrderDiagnostic::info() {
-    return {.name = "order",
+    return {.name = std::string(name),
             .level = DiagnosticLevel::method,
             .what = "observed order: log-log slope of error.final_abs against dt",
             .needs = {.min_dts = 3},
@@ -16,7 +16,7 @@ DiagnosticInfo OrderDiagnostic::info() {
 }
 
 DiagnosticInfo LocalOrderDiagnostic::info() {
-    return {.name = "local-order",
+    return {.name = std::string(name),
             .level = DiagnosticLevel::method,
             .what = "observed local order: log-log slope of local-error.abs against dt",
             .requirement = "an exact solution",

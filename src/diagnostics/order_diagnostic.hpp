@@ -10,17 +10,20 @@
 #include "diagnostics/order_fit.hpp"
 
 #include <limits>
+#include <string_view>
 #include <vector>
 
 namespace dampsym {
 
 struct OrderDiagnostic {
+    static constexpr std::string_view name = "order";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = true;
 };
 
 struct LocalOrderDiagnostic {
+    static constexpr std::string_view name = "local-order";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasExactSolution<P>;

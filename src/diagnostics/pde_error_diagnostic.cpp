@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo PdeErrorDiagnostic::info() {
-    return {.name = "pde-error",
+    return {.name = std::string(name),
             .what = "max-norm error against the PDE's own solution on the grid (space + time "
                     "error), at the output times",
             .requirement = "a PDE solution on the grid (pde_solution(): B's modified Burgers)",

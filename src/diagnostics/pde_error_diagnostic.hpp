@@ -10,6 +10,7 @@
 #include "diagnostics/metric_json.hpp"
 
 #include <functional>
+#include <string_view>
 
 namespace dampsym {
 
@@ -21,13 +22,26 @@ concept HasPdeSolution = requires(const P& p, Vec& out) {
 };
 
 struct PdeErrorDiagnostic {
+    static constexpr std::string_view name = "pde-error";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasPdeSolution<P>;
+    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // facts, the recorder and grid, the method, h, the final state, the counters).
+    template <class V>
+    static json produce(const V& run);
 };
 
 // From the output grid: solution(t, out) the problem's pde_solution from the case's start.
 json pde_error_metrics(const CaseFacts& c, const Mat& grid,
                        const std::function<bool(double, Vec&)>& solution);
+
+template <class V>
+json PdeErrorDiagnostic::produce(const V& run) {
+    const auto& p = run.problem;
+    const double t0 = run.t0;
+    return pde_error_metrics(run.facts, run.grid(),
+                             [&p, t0](double t, Vec& u) { return p.pde_solution(t0, t, u); });
+}
 
 } // namespace dampsym

@@ -8,7 +8,7 @@ namespace dampsym {
 
 DiagnosticInfo PoincareDiagnostic::info() {
     return {
-        .name = "poincare",
+        .name = std::string(name),
         .what = "Poincare sections at t0 + kT against the reference's (B 3.2.2)",
         .requirement = "a periodic forcing",
         .needs = {.grid = true, .reference = true, .ok_run = true},

@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo PrecessionDiagnostic::info() {
-    return {.name = "precession",
+    return {.name = std::string(name),
             .what = "turning of the orbit's perihelion (Laplace-Runge-Lenz vector), HLW Fig 2.1",
             .requirement = "a Laplace-Runge-Lenz vector (Kepler's problem)",
             .needs = {.grid = true, .reference = true, .ok_run = true},

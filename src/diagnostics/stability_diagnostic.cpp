@@ -7,7 +7,7 @@
 namespace dampsym {
 
 DiagnosticInfo StabilityDiagnostic::info() {
-    return {.name = "stability",
+    return {.name = std::string(name),
             .what = "one-step matrix M on the oscillator: det, half trace, F's condition (F ch. 3)",
             .requirement = "the linear oscillator form",
             .metrics = {"det", "det_rel_err", "det_abs_err", "half_trace",
@@ -20,7 +20,7 @@ DiagnosticInfo StabilityDiagnostic::info() {
 }
 
 DiagnosticInfo TraceTaylorDiagnostic::info() {
-    return {.name = "trace-taylor",
+    return {.name = std::string(name),
             .level = DiagnosticLevel::method,
             .what = "h^4 coefficient of half tr M - e^{-gamma h} cos(beta h) (F ch. 3)",
             .requirement = "the linear oscillator form",

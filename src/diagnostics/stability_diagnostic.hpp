@@ -13,16 +13,22 @@
 #include "diagnostics/stability.hpp"
 
 #include <functional>
+#include <string_view>
 
 namespace dampsym {
 
 struct StabilityDiagnostic {
+    static constexpr std::string_view name = "stability";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;
+    // Its metrics of one run from a separate pass of the run's kernel K (harness/run_view.hpp).
+    template <class K, class V>
+    static json produce_pass(const V& run);
 };
 
 struct TraceTaylorDiagnostic {
+    static constexpr std::string_view name = "trace-taylor";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;
@@ -35,5 +41,11 @@ json stability_metrics(const Mat& M, double omega, double gamma, double h, const
 using HalfTraceAt = std::function<double(double h)>;
 json trace_taylor_metrics(const MethodInfo& info, double omega, double gamma,
                           const HalfTraceAt& half_trace);
+
+template <class K, class V>
+json StabilityDiagnostic::produce_pass(const V& run) {
+    return stability_metrics(one_step_matrix<K>(run.problem, run.info, run.h), run.problem.omega,
+                             run.problem.gamma_at(0.0), run.h, run.info);
+}
 
 } // namespace dampsym

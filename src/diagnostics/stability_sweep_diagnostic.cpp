@@ -8,7 +8,7 @@
 namespace dampsym {
 
 DiagnosticInfo StabilitySweepDiagnostic::info() {
-    return {.name = "stability-sweep",
+    return {.name = std::string(name),
             .level = DiagnosticLevel::method,
             .what = "F's condition and power-boundedness over a (gamma, h) grid (F Figs 3.1-3.3)",
             .requirement = "the linear oscillator form",

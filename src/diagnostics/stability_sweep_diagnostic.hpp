@@ -13,11 +13,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <string_view>
 #include <vector>
 
 namespace dampsym {
 
 struct StabilitySweepDiagnostic {
+    static constexpr std::string_view name = "stability-sweep";
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;

@@ -6,7 +6,7 @@
 namespace dampsym {
 
 DiagnosticInfo TemperatureDiagnostic::info() {
-    return {.name = "temperature",
+    return {.name = std::string(name),
             .what = "HLW(3.8) temperature on the output grid: fluctuation and error",
             .requirement = "a temperature",
             .needs = {.grid = true, .ok_run = true},

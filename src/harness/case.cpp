@@ -36,7 +36,7 @@ std::vector<double> Range3::values() const {
     return out;
 }
 
-bool CaseSpec::wants(const std::string& d) const {
+bool CaseSpec::wants(std::string_view d) const {
     return std::find(diagnostics.begin(), diagnostics.end(), d) != diagnostics.end();
 }
 

@@ -136,7 +136,7 @@ struct CaseSpec {
     nlohmann::json overrides = nlohmann::json::object();
     nlohmann::json raw; // the case JSON after overrides
 
-    bool wants(const std::string& diagnostic) const;
+    bool wants(std::string_view diagnostic) const;
 };
 
 // The diagnostics dampsym knows, and the metric names each one produces.

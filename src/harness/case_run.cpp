@@ -35,7 +35,7 @@ void CaseRun::plan(bool has_exact) {
             reference_times(c_, facts_.points, facts_.needs_grid && grid_plan_.store_reference);
 }
 
-bool CaseRun::produces(const std::string& name, bool run_ok) const {
+bool CaseRun::produces(std::string_view name, bool run_ok) const {
     if (!c_.wants(name)) return false;
     const DiagnosticInfo* d = find_diagnostic(name);
     return d && (!d->needs.ok_run || run_ok) && (!d->needs.reference_ok || facts_.reference_ok);

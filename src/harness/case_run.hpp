@@ -40,7 +40,7 @@ protected:
     // The Recorder parts the case's diagnostics enable (diagnostics/recorder.hpp).
     const std::vector<std::string>& observer_parts() const { return observer_parts_; }
     // Whether run-level diagnostic `name` produces metrics for a run with this status.
-    bool produces(const std::string& name, bool run_ok) const;
+    bool produces(std::string_view name, bool run_ok) const;
 
     const MethodInfo& method(std::size_t m) const;
     json& run_slot(std::size_t m, std::size_t d) { return runs_[m * c_.dts.size() + d]; }

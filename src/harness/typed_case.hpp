@@ -19,6 +19,7 @@
 #include "harness/grid_stream.hpp"   // issue 17: the output grid streamed
 #include "harness/limits.hpp"
 #include "harness/registry.hpp"
+#include "harness/run_view.hpp"
 
 #include <cmath>
 #include <optional>
@@ -65,12 +66,14 @@ public:
             for (std::size_t d = 0; d < c_.dts.size(); ++d)
                 tasks.emplace_back([this, m, d] { run_one(m, d); });
             if constexpr (LinearOscillator<P>) {
-                if (c_.wants("stability-sweep")) sweep_tasks(m, tasks, one_step_at(method(m)));
-                if (c_.wants("trace-taylor"))
+                if (c_.wants(StabilitySweepDiagnostic::name))
+                    sweep_tasks(m, tasks, one_step_at(method(m)));
+                if (c_.wants(TraceTaylorDiagnostic::name))
                     tasks.emplace_back([this, m] {
-                        method_metrics_[m]["trace-taylor"] = trace_taylor_metrics(
-                            method(m), problem_.omega, problem_.gamma,
-                            [&](double h) { return half_trace_at(method(m), h); });
+                        method_metrics_[m][std::string(TraceTaylorDiagnostic::name)] =
+                            trace_taylor_metrics(
+                                method(m), problem_.omega, problem_.gamma,
+                                [&](double h) { return half_trace_at(method(m), h); });
                     });
             }
         }
@@ -91,7 +94,7 @@ public:
         if (!figures_) return nullptr;
         json out = case_series_json(c_, runs_, series_);
         if constexpr (LinearOscillator<P>)
-            if (c_.wants("stability-sweep") && c_.sweep)
+            if (c_.wants(StabilitySweepDiagnostic::name) && c_.sweep)
                 for (std::size_t m = 0; m < c_.methods.size(); ++m)
                     out["stability_map"][c_.methods[m]] =
                         stability_map_series(problem_, c_, method(m));
@@ -131,7 +134,7 @@ private:
         // issue 17: the error and measures reduced on the fly when nothing else reads the grid
         std::optional<GridStream<P>> stream;
         if (streams_grid() && facts_.reference_ok)
-            stream.emplace(problem_, c_, facts_, exact_on_the_fly(), c_.wants("error"),
+            stream.emplace(problem_, c_, facts_, exact_on_the_fly(), c_.wants(ErrorDiagnostic::name),
                            !c_.measures.empty());
         IntegrateOutcome res;
         // issue 17: the step loop in chunks with the case's time budget and stop requests tested
@@ -156,10 +159,24 @@ private:
             return;
         }
         const bool ok = res.status == RunStatus::ok;
-        json metrics = observed_metrics(rec, info, h, ok, z, stream ? &*stream : nullptr);
-        if (produces("cost", ok)) metrics["cost"] = cost_metrics(counters, res.steps_done, wall);
         std::optional<MinMaxDecimator> cs_series;
-        kernel_metrics<K>(metrics, info, h, n, fig ? &cs_series : nullptr);
+        const RunView<P> view{problem_,
+                              facts_,
+                              rec,
+                              stores_grid() ? &rec.grid() : nullptr,
+                              stream ? &*stream : nullptr,
+                              info,
+                              c_.t0,
+                              h,
+                              n,
+                              z,
+                              counters,
+                              res.steps_done,
+                              wall,
+                              table_factor(info, h),
+                              fig ? &cs_series : nullptr};
+        json metrics = observed_metrics(view, ok);
+        kernel_metrics<K>(metrics, view);
         out["metrics"] = metrics;
         if (fig && ok) capture_figure_series(*fig, cs_series, n, rec, out);
         // Work-precision timing (ladder cases): the bare step loop only, never a failed run.
@@ -202,10 +219,10 @@ private:
             facts_.reference_ok && facts_.needs_grid && facts_.ref.cols() == g.cols();
         json steps = fig.needed() ? fig.to_json() : json::object();
         if (cs) {
-            steps["conformal-symplectic.rel"] = cs->to_json();
+            steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"] = cs->to_json();
             // the form measured (the figure's axis label): J⁻¹, or the problem's structure matrix D
             if constexpr (has_structure_matrix<P>())
-                steps["conformal-symplectic.rel"]["form"] = "structure-matrix";
+                steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"]["form"] = "structure-matrix";
         }
         series_[run_index(out)] =
             capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
@@ -224,72 +241,24 @@ private:
         return table_momentum_factor(info.claims, P::constant_gamma, problem_.dGamma(c_.t0, h));
     }
 
-    // The metrics read from the observer and the final state (typed on P only, not on the kernel).
-    // stream: the streamed error and measures (issue 17), else null (they read the stored grid).
-    json observed_metrics(const Recorder<P>& rec, const MethodInfo& info, double h, bool ok,
-                          const Vec& z, const GridStream<P>* stream) const {
+    // The metrics read from the observer and the final state: every diagnostic of the list that
+    // produces run metrics and supports P (typed on P only, not on the kernel).
+    json observed_metrics(const RunView<P>& run, bool ok) const {
         json m = json::object();
-        const Mat* grid = stores_grid() ? &rec.grid() : nullptr;
-        StateFunction energy, energy_scale;
-        if constexpr (HasEnergy<P>) {
-            energy = [this](const Vec& v) { return problem_.energy(v); };
-            energy_scale = [this](const Vec& v) { return problem_.energy_scale(v); };
+        for_each_type(DiagnosticList{}, [&]<class D>() {
+            if constexpr (D::template supports<P> && requires { D::produce(run); })
+                if (produces(D::name, ok)) m[std::string(D::name)] = D::produce(run);
+        });
+        if (ok && facts_.reference_ok && !c_.measures.empty()) {
+            StateFunction energy, energy_scale;
+            if constexpr (HasEnergy<P>) {
+                energy = [this](const Vec& v) { return problem_.energy(v); };
+                energy_scale = [this](const Vec& v) { return problem_.energy_scale(v); };
+            }
+            m["measure"] = run.stream ? run.stream->measure_metrics(run.z)
+                                      : measure_metrics(c_, facts_, run.stored_grid, run.z, energy,
+                                                        energy_scale);
         }
-        if (produces("error", ok))
-            m["error"] = stream ? stream->error_metrics(z) : error_metrics(facts_, grid, z);
-        if (ok && facts_.reference_ok && !c_.measures.empty())
-            m["measure"] = stream ? stream->measure_metrics(z)
-                                  : measure_metrics(c_, facts_, grid, z, energy, energy_scale);
-        if constexpr (HasEnergy<P>)
-            if (produces("energy", ok))
-                m["energy"] = energy_metrics(facts_, rec.grid(), energy, [this](const Vec& v) {
-                    return problem_.energy_scale(v);
-                });
-        if (produces("invariants", ok)) {
-            std::vector<double> initial;
-            for (std::size_t k = 0; k < P::invariant_names.size(); ++k)
-                initial.push_back(rec.initial_invariant(k));
-            m["invariants"] = invariant_metrics(
-                rec.invariant_stats(), {P::invariant_names.begin(), P::invariant_names.end()},
-                {P::invariant_scale_defs.begin(), P::invariant_scale_defs.end()}, initial);
-        }
-        if (produces("dissipation-drift", ok))
-            m["dissipation-drift"] = drift_metrics({rec.maxima(), rec.nonpositive_maxima()},
-                                                   reference_maxima(problem_, facts_));
-        if constexpr (HasMomentum<P>)
-            if (produces("momentum", ok))
-                m["momentum"] =
-                    momentum_metrics(rec.linear_momentum_stats(), rec.angular_momentum_stats(),
-                                     has_linear_momentum_law<P>(), table_factor(info, h),
-                                     std::exp(-2.0 * problem_.dGamma(c_.t0, h)));
-        if (produces("energy-balance", ok))
-            m["energy-balance"] = energy_balance_metrics(rec.energy_balance_stats());
-        if constexpr (HasForcingPeriod<P>)
-            if (produces("poincare", ok))
-                m["poincare"] = poincare_metrics(facts_, rec.grid(), problem_.forcing_period());
-        if constexpr (HasRungeLenz<P>)
-            if (produces("precession", ok))
-                m["precession"] = precession_metrics(
-                    facts_, rec.grid(), [this](const Vec& v) { return problem_.runge_lenz(v); });
-        if constexpr (HasField<P>) // B (5.6) (field_drift_diagnostic.hpp)
-            if (produces("field-drift", ok))
-                m["field-drift"] =
-                    field_drift_metrics(facts_, rec.grid(), problem_.field_size(),
-                                        [this](double t) { return problem_.Gamma(t); });
-        if constexpr (HasPdeSolution<P>) // B Fig 5.4 (pde_error_diagnostic.hpp)
-            if (produces("pde-error", ok))
-                m["pde-error"] = pde_error_metrics(facts_, rec.grid(), [this](double t, Vec& u) {
-                    return problem_.pde_solution(c_.t0, t, u);
-                });
-        if constexpr (HasProbe<P>) // B Fig 5.10 (attractor_diagnostic.hpp)
-            if (produces("attractor", ok))
-                m["attractor"] =
-                    attractor_metrics(facts_, rec.grid(), P::probe_name,
-                                      [this](const Vec& v) { return problem_.probe(v); });
-        if constexpr (HasTemperature<P>)
-            if (produces("temperature", ok))
-                m["temperature"] = temperature_metrics(
-                    facts_, rec.grid(), [this](const Vec& v) { return problem_.temperature(v); });
         return m;
     }
 
@@ -328,22 +297,15 @@ private:
         return problem_check_json(pc, states);
     }
 
-    // The metrics that step kernel K again (separate steppers: the run above is untouched).
-    // Instantiated only for (kernel, problem) pairs that can use them.
-    // cs_series (figures): receives the per-step E_n series of the conformal-symplectic pass.
+    // The metrics that step kernel K again (separate steppers: the run above is untouched):
+    // every diagnostic with a kernel pass that supports P, whatever the run's status.
     template <class K>
-    void kernel_metrics(json& m, const MethodInfo& info, double h, std::int64_t n,
-                        std::optional<MinMaxDecimator>* cs_series = nullptr) const {
-        if (produces("conformal-symplectic", true))
-            m["conformal-symplectic"] =
-                conformal_symplectic_metrics<K>(problem_, info, c_.t0, h, n, cs_series);
-        if constexpr (LinearOscillator<P>)
-            if (produces("stability", true))
-                m["stability"] = stability_metrics(one_step_matrix<K>(problem_, info, h),
-                                                   problem_.omega, problem_.gamma_at(0.0), h, info);
-        if constexpr (HasExactSolution<P>)
-            if (produces("local-error", true))
-                m["local-error"] = local_error_metrics<K>(problem_, info, c_.t0, h);
+    void kernel_metrics(json& m, const RunView<P>& run) const {
+        for_each_type(DiagnosticList{}, [&]<class D>() {
+            if constexpr (D::template supports<P> && requires { D::template produce_pass<K>(run); })
+                if (produces(D::name, true))
+                    m[std::string(D::name)] = D::template produce_pass<K>(run);
+        });
     }
 
     // ½ tr M of the method on this oscillator at step h (trace-taylor), NaN if no kernel applies.
