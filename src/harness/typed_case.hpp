@@ -134,8 +134,8 @@ private:
         // issue 17: the error and measures reduced on the fly when nothing else reads the grid
         std::optional<GridStream<P>> stream;
         if (streams_grid() && facts_.reference_ok)
-            stream.emplace(problem_, c_, facts_, exact_on_the_fly(), c_.wants(ErrorDiagnostic::name),
-                           !c_.measures.empty());
+            stream.emplace(problem_, c_, facts_, exact_on_the_fly(),
+                           c_.wants(ErrorDiagnostic::name), !c_.measures.empty());
         IntegrateOutcome res;
         // issue 17: the step loop in chunks with the case's time budget and stop requests tested
         // between them (src/harness/limits.hpp); a fault only where a test planted one
@@ -222,7 +222,8 @@ private:
             steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"] = cs->to_json();
             // the form measured (the figure's axis label): J⁻¹, or the problem's structure matrix D
             if constexpr (has_structure_matrix<P>())
-                steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"]["form"] = "structure-matrix";
+                steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"]["form"] =
+                    "structure-matrix";
         }
         series_[run_index(out)] =
             capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
