@@ -236,7 +236,7 @@ def write_results(ctx: Ctx, results: List[Result]) -> int:
     sio.write_atomic(os.path.join(ctx.out, "figures.md"), gallery(ctx.report, manifest).encode())
     n = sum(len(v) for v in manifest["cases"].values())
     failed = sum(1 for r in results if r[3])
-    print(f"plot.py: {n} figures ({','.join(ctx.formats)}) in {figdir}"
+    print(f"plot.py: {n} figures, each as {' and '.join(ctx.formats)}, in {figdir}"
           + (f", {failed} failed" if failed else ""))
     return status
 
