@@ -6,7 +6,8 @@
 # the run and leaves its reproducer in build-fuzz/findings/<target>/ (commit it under
 # tests/fuzz/regressions/<target>/ once fixed: CI replays it).
 #
-# Usage: ci/fuzz.sh [SECONDS_PER_TARGET (default 600)] [TARGET...]   (targets: case set report method)
+# Usage: ci/fuzz.sh [SECONDS_PER_TARGET (default 600)] [TARGET...]
+#        (targets: case set report method plugin)
 #        ci/fuzz.sh build                                             (build only)
 # Runs at nice 19 (the machine may be shared). Not part of CI: CI replays the corpus instead
 # (ctest -L fuzz in the ASan/UBSan build, seconds; tests/fuzz/CMakeLists.txt).
@@ -18,7 +19,7 @@ mkdir -p "$out/obj"
 cxx="${CXX_FUZZ:-clang++-14}"
 launcher="${CMAKE_CXX_COMPILER_LAUNCHER:-}"
 flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
-       -fno-sanitize-recover=all -I"$root/src" -I"$root" -isystem /usr/include/eigen3
+       -fno-sanitize-recover=all -I"$root/src" -I"$root" -I"$root/include" -isystem /usr/include/eigen3
        -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
 # The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
 lib=(src/harness/case.cpp src/harness/case_json.cpp src/harness/case_parse.cpp src/harness/case_expect.cpp
@@ -50,7 +51,7 @@ build() {
     objs+=("$o")
   done
   while [ "$running" -gt 0 ]; do wait -n || exit 1; running=$((running - 1)); done
-  for t in case set report method; do
+  for t in case set report method plugin; do
     compile "tests/fuzz/fuzz_$t.cpp" "$out/obj/fuzz_$t.o" -fsanitize=fuzzer-no-link
     nice -n 19 "$cxx" -fsanitize=fuzzer,address,undefined -o "$out/fuzz_$t" "$out/obj/fuzz_$t.o" \
       "${objs[@]}" -lgsl -lgslcblas -lquadmath
@@ -61,7 +62,7 @@ build
 seconds="${1:-600}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(case set report method)
+[ ${#targets[@]} -eq 0 ] && targets=(case set report method plugin)
 for t in "${targets[@]}"; do
   corpus="tests/fuzz/corpus/$t"
   mkdir -p "$corpus" "$out/findings/$t" "$out/scratch/$t"
@@ -70,6 +71,7 @@ for t in "${targets[@]}"; do
     case|set) seeds=(verify/cases tests/data/bad tests/data/cases) ;;
     report)   seeds=(tests/fuzz/seeds/report) ;;
     method)   seeds=(examples/methods tests/fuzz/seeds/method) ;;
+    plugin)   seeds=() ;; # its committed corpus (dimension, flags, indices written)
   esac
   [ -d tests/fuzz/regressions/$t ] && seeds+=(tests/fuzz/regressions/$t)
   echo "fuzz: $t for ${seconds} s"

@@ -38,7 +38,7 @@ mypy_pid=$!
 
 echo "== Release build: suites and cross-check (${SECONDS} s)"
 release_status=0
-bash ci/build.sh release dampsym || release_status=$?
+bash ci/build.sh release dampsym dampsym_test_plugins || release_status=$?
 if [ "$release_status" -eq 0 ]; then
   echo "== Release ctest (${SECONDS} s)"
   (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports') || release_status=$?

@@ -388,11 +388,13 @@ TEST_CASE("bounded reads: exact size limit, FIFO refused, shard count limit", "[
     CHECK_THROWS_AS(dampsym::shard_from_env(env("10001")), dampsym::InputError);
 }
 
-// issue 33 item 10: 200 characters shown whole, 201 cut with "…"; control characters escaped.
+// 200 characters shown whole, 201 cut with "… (N more characters)"; control characters escaped.
 TEST_CASE("messages: long inputs cut, control characters escaped", "[ci]") {
     const std::string two_hundred(200, 'x');
     CHECK(dampsym::quote_for_message(two_hundred) == two_hundred);
-    CHECK(dampsym::quote_for_message(two_hundred + "y") == two_hundred + "…");
+    CHECK(dampsym::quote_for_message(two_hundred + "y") == two_hundred + "… (1 more characters)");
+    CHECK(dampsym::quote_for_message(two_hundred + "yé\n") ==
+          two_hundred + "… (3 more characters)");
     CHECK(dampsym::quote_for_message("a\nb\x01\tc") == "a\\nb\\x01\\tc");
     CHECK(dampsym::quote_for_message("é", 1) == "é"); // one character, two bytes
 }

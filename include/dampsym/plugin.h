@@ -10,7 +10,12 @@
  *
  * The state z has length dim(): z = (q, p) for the separable form (n = dim / 2 each).
  * A step reads z[0 .. dim) and writes z_next[0 .. dim) only (z and z_next never alias); it returns
- * 0 on success and nonzero when it cannot take the step (reported as the run's diverged status).
+ * 0 on success, having written every element of z_next, and nonzero when it cannot take the step
+ * (reported as the run's solve-failed status). It calls only the callbacks of its form (dim, gamma,
+ * damping_factor and rhs always; conformal_N in the conformal form; grad_T and force in the
+ * separable form). The host checks each of these (docs/plugins.md): a write outside z_next, into
+ * z, an element left unwritten or a callback of another form is the run's error status; a plugin
+ * that calls exit() or crashes ends dampsym with a nonzero status and no report.
  */
 #ifndef DAMPSYM_PLUGIN_H
 #define DAMPSYM_PLUGIN_H

@@ -254,6 +254,28 @@ std::vector<std::string> selected_paths(const Selection& sel, const std::string&
     return paths;
 }
 
+// A selected case's id (its file's, or set by --set id=) must not be the id of another case file
+// in the cases directory: the report would show one case's results under another case's id, and
+// compare, merge and --costs, keyed by id, would take them for that case's.
+void check_ids_against_directory(const std::vector<CaseSpec>& loaded,
+                                 const std::string& cases_dir) {
+    std::error_code ec;
+    if (!fs::is_directory(cases_dir, ec)) return;
+    std::map<std::string, std::string> by_id;
+    for (const auto& f : scan_cases(cases_dir)) by_id.emplace(f.id, f.path);
+    for (const auto& c : loaded) {
+        const auto it = by_id.find(c.id);
+        if (it == by_id.end() || fs::equivalent(it->second, c.file, ec)) continue;
+        const bool set = c.overrides.contains("id");
+        throw InputError(quote_for_message(c.file) + ": id" +
+                         (set ? " (set by --set id=" + quote_for_message(c.id) + ")" : "") + ": '" +
+                         c.id + "' is the id of another case, " + it->second +
+                         "; case ids must be unique among the cases directory's files and the "
+                         "run's (give " +
+                         (set ? "--set id=" : "the case") + " another id)");
+    }
+}
+
 // Every selected file read and validated (with --substitute applied) before any case runs.
 std::vector<CaseSpec> load_selected(const std::vector<std::string>& paths,
                                     const std::vector<std::string>& sets, const Substitutes& subs) {
@@ -316,6 +338,7 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
     const Substitutes subs = parse_substitutes(sel.substitutes);
     const std::vector<std::string> paths = selected_paths(sel, cases_dir, default_suite);
     std::vector<CaseSpec> loaded = load_selected(paths, sets, subs);
+    check_ids_against_directory(loaded, cases_dir);
     Selected out;
     for (auto& c : loaded) {
         if (!sel.targets.empty()) { // named cases: the filters still apply

@@ -130,6 +130,7 @@ struct HandWrittenScheme {
 // src/harness/plugins.hpp); the row's form says which problem form it steps.
 struct PluginStep {
     const dampsym_method* method;
+    const char* library = nullptr; // the --plugin path (stable storage in harness/plugins.cpp)
 };
 
 using MethodData =

@@ -83,7 +83,10 @@ std::string quote_for_message(const std::string& text, std::size_t max_chars) {
         const unsigned char c = static_cast<unsigned char>(text[i]);
         // a UTF-8 continuation byte belongs to the character already counted
         if ((c & 0xC0) != 0x80 && shown++ == max_chars) {
-            out += "…";
+            std::size_t rest = 0; // the characters not shown, so the reader sees the size
+            for (std::size_t j = i; j < text.size(); ++j)
+                rest += (static_cast<unsigned char>(text[j]) & 0xC0) != 0x80 ? 1 : 0;
+            out += "… (" + std::to_string(rest) + " more characters)";
             break;
         }
         if (c == '\n')

@@ -26,7 +26,8 @@ std::string read_regular_file(const std::string& path, std::size_t max_bytes,
 std::string not_regular_reason(const std::string& path, bool may_be_missing);
 
 // A user-supplied text for a one-line message: control characters escaped (\n, \x01), and cut
-// after max_chars characters with "…" (an id or expression may be megabytes long).
+// after max_chars characters with "… (N more characters)" (an id or expression may be megabytes
+// long).
 std::string quote_for_message(const std::string& text, std::size_t max_chars = 200);
 
 } // namespace dampsym

@@ -2,6 +2,8 @@
 // attribution of errors), the diagnostic names, case ids and the predicted cost of a case.
 #include "harness/case.hpp"
 
+#include "harness/bounded_read.hpp"
+
 #include "harness/case_job.hpp"
 #include "harness/case_util.hpp"
 #include "harness/limits.hpp"
@@ -59,9 +61,8 @@ bool diagnostic_is_method_level(const std::string& d) {
 }
 
 std::string brief(const std::string& s) {
-    if (s.size() <= limits::max_message_value) return s;
-    return s.substr(0, limits::max_message_value) + "... (" + std::to_string(s.size()) +
-           " characters)";
+    // control characters escaped: a newline in a value must not break the one-line message
+    return quote_for_message(s, limits::max_message_value);
 }
 
 std::string brief(const json& v) {

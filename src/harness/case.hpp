@@ -184,7 +184,8 @@ double case_predicted_seconds(const CaseSpec& c);
 std::vector<std::string> diagnostic_metric_names(const std::string& diagnostic,
                                                  const std::vector<std::string>& invariant_names);
 
-// A value or string shortened for an error message (limits::max_message_value characters).
+// A value or string shortened for an error message (limits::max_message_value characters, then
+// "… (N more characters)"), control characters escaped.
 std::string brief(const nlohmann::json& v);
 std::string brief(const std::string& s);
 

@@ -227,6 +227,12 @@ void require(const json& r, const std::string& which, bool merge) {
     for (std::size_t i = 0; i < r["cases"].size(); ++i) {
         const std::string where = which + ": cases[" + std::to_string(i) + "]";
         require_case(r["cases"][i], where, current);
+        // ids become file names (plot, --figures) and keys: validated as a case file's are
+        if (!valid_case_id(r["cases"][i]["id"].get<std::string>()))
+            throw InputError(where +
+                             ".id: " + quote_for_message(r["cases"][i]["id"].get<std::string>()) +
+                             " is not a valid case id (1 to 100 characters of A-Z a-z 0-9 . _ -, "
+                             "starting with a letter or digit)");
         if (!ids.insert(r["cases"][i]["id"].get<std::string>()).second)
             throw InputError(where +
                              ".id: " + quote_for_message(r["cases"][i]["id"].get<std::string>()) +

@@ -251,7 +251,18 @@ void add_limit_options(CLI::App& run, CliLimits& limits) {
                    "with K/M/G/T); default half the physical memory. The error diagnostic and "
                    "measures stream over the output grid (no memory per output point) unless "
                    "another diagnostic, a growth measure, --figures or a certified numerical "
-                   "reference stores it (docs/case-keys.md)");
+                   "reference stores it (docs/case-keys.md)")
+        // validated at parse time: an empty SIZE would otherwise pass for the default
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                try {
+                    (void)parse_memory_size(text);
+                    return "";
+                } catch (const InputError& e) {
+                    return e.what();
+                }
+            },
+            "SIZE"));
 }
 
 void before_run(const std::vector<CaseSpec>& cases, int jobs, const CliLimits& limits,

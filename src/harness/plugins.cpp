@@ -6,9 +6,17 @@
 #include "harness/case.hpp"
 #include "harness/case_util.hpp"
 #include "harness/method_files.hpp"
+#include "methods/plugin_buffers.hpp"
+#include "methods/plugin_call.hpp"
 
 #include <dlfcn.h>
+#include <signal.h>
+#include <unistd.h>
 
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -19,6 +27,7 @@ namespace {
 
 struct Loaded {
     std::map<std::string, std::vector<const MethodInfo*>> by_path; // canonical path -> rows
+    std::deque<std::string> libraries; // the --plugin paths the rows point to (stable storage)
 };
 
 Loaded& loaded() {
@@ -27,7 +36,165 @@ Loaded& loaded() {
 }
 
 [[noreturn]] void fault(const std::string& lib, const std::string& what) {
-    throw InputError(lib + ": " + what);
+    throw InputError(quote_for_message(lib) + ": " + what);
+}
+
+// ---- containment (docs/plugins.md "Containment") ----------------------------------------------
+// A plugin runs in dampsym's process. If it calls exit() or quick_exit() (any status) inside a
+// call the host marked (plugin_call.hpp), the handler below names it and ends the process with
+// status 3 before any other exit handler runs a flush that could pass for success: no report is
+// written by this run. A crash signal inside a plugin is named and then takes its default action
+// (death by the signal; the previous handler, e.g. the sanitizer's, runs first). _exit() and the
+// exit_group system call bypass every handler and cannot be contained in-process; a plugin's
+// endless loop is not contained either.
+constexpr int kPluginEndedProcessStatus = 3;
+
+void write_stderr(const char* s) {
+    std::size_t n = std::strlen(s);
+    while (n > 0) {
+        const ssize_t w = ::write(2, s, n);
+        if (w <= 0) return;
+        s += w;
+        n -= static_cast<std::size_t>(w);
+    }
+}
+
+// "plugin method 'M' (LIB) in its step" from a site, into buf (no allocation: signal handlers).
+void describe_site(const PluginCallSite& site, char* buf, std::size_t size) {
+    std::snprintf(buf, size, "plugin %s%s%s (%s) in its %s", site.method ? "method '" : "",
+                  site.method ? site.method : "entry", site.method ? "'" : "",
+                  site.library ? site.library : "?", site.what);
+}
+
+void exit_inside_plugin() {
+    const PluginCallSite* site = plugin_call_in_progress();
+    if (!site) return; // dampsym's own exit
+    char buf[1024];
+    describe_site(*site, buf, sizeof buf);
+    write_stderr("dampsym: ");
+    write_stderr(buf);
+    write_stderr(" ended the process (exit or quick_exit); the run did not complete and no report "
+                 "was written (exit status 3)\n");
+    ::_exit(kPluginEndedProcessStatus);
+}
+
+constexpr int kCrashSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSYS};
+struct sigaction g_previous[sizeof kCrashSignals / sizeof kCrashSignals[0]];
+
+void crash_inside_plugin(int sig, siginfo_t* info, void* uctx) {
+    std::size_t k = 0;
+    while (kCrashSignals[k] != sig) ++k;
+    if (const PluginCallSite* site = plugin_call_in_progress()) {
+        char buf[1024];
+        describe_site(*site, buf, sizeof buf);
+        write_stderr("dampsym: ");
+        write_stderr(buf);
+        write_stderr(" crashed (");
+        write_stderr(strsignal(sig));
+        write_stderr("); the run did not complete and no report was written\n");
+    }
+    // the previous disposition (default, or the sanitizer's handler) takes it from here
+    sigaction(sig, &g_previous[k], nullptr);
+    const struct sigaction& prev = g_previous[k];
+    if ((prev.sa_flags & SA_SIGINFO) && prev.sa_sigaction)
+        prev.sa_sigaction(sig, info, uctx);
+    else if (prev.sa_handler != SIG_DFL && prev.sa_handler != SIG_IGN && prev.sa_handler)
+        prev.sa_handler(sig);
+    else
+        raise(sig); // delivered when the handler returns (the signal is blocked until then)
+}
+
+void install_containment() {
+    static const bool installed = [] {
+        std::atexit(exit_inside_plugin);
+        std::at_quick_exit(exit_inside_plugin);
+        for (std::size_t k = 0; k < sizeof kCrashSignals / sizeof kCrashSignals[0]; ++k) {
+            struct sigaction sa {};
+            sa.sa_sigaction = crash_inside_plugin;
+            sa.sa_flags = SA_SIGINFO | SA_ONSTACK;
+            sigemptyset(&sa.sa_mask);
+            sigaction(kCrashSignals[k], &sa, &g_previous[k]);
+        }
+        return true;
+    }();
+    (void)installed;
+}
+
+// ---- the probe step at load --------------------------------------------------------------------
+// Each method takes one step of a 2-dimensional state (z = (0.5, 0.25), t = 0, h = 0.01) against
+// host callbacks of simple closed forms; a callback outside the method's form that this step
+// calls is a load error (a form declares which callbacks exist: plain rhs; conformal rhs and
+// conformal_N; separable rhs, grad_T and force). The result of the step is not judged here.
+struct Probe {
+    int form = 0;
+    const char* misuse = nullptr;
+};
+Probe& probe_of(void* ctx) {
+    return *static_cast<Probe*>(ctx);
+}
+int probe_dim(void*) {
+    return 2;
+}
+double probe_gamma(void*, double) {
+    return 0.1;
+}
+double probe_damping(void*, double, double tau) {
+    return std::exp(-0.2 * tau);
+}
+void probe_rhs(void*, double, const double* z, double* out) {
+    out[0] = z[1];
+    out[1] = -z[0] - 0.2 * z[1];
+}
+void probe_N(void* ctx, double, const double* z, double* out) {
+    if (probe_of(ctx).form != DAMPSYM_FORM_CONFORMAL) {
+        probe_of(ctx).misuse = "conformal_N";
+        return;
+    }
+    out[0] = z[1];
+    out[1] = -z[0];
+}
+void probe_grad_T(void* ctx, const double* p, double* out) {
+    if (probe_of(ctx).form != DAMPSYM_FORM_SEPARABLE) {
+        probe_of(ctx).misuse = "grad_T";
+        return;
+    }
+    out[0] = p[0];
+}
+void probe_force(void* ctx, double, const double* q, double* out) {
+    if (probe_of(ctx).form != DAMPSYM_FORM_SEPARABLE) {
+        probe_of(ctx).misuse = "force";
+        return;
+    }
+    out[0] = -q[0];
+}
+
+void probe_method(const std::string& lib, const char* lib_stable, const dampsym_method& m) {
+    Probe probe{m.form, nullptr};
+    dampsym_host host{&probe,     &probe_dim, &probe_gamma,  &probe_damping,
+                      &probe_rhs, &probe_N,   &probe_grad_T, &probe_force};
+    GuardedBuffer z(2), next(2), jac(4);
+    const double z0[2] = {0.5, 0.25};
+    z.arm_copy(z0);
+    next.arm_unwritten();
+    const PluginCallSite site{lib_stable, m.id, "probe step"};
+    {
+        const PluginCall mark(site);
+        (void)m.step(m.method_ctx, &host, 0.0, 0.01, z.data(), next.data());
+        if (m.step_jacobian && !probe.misuse) {
+            z.arm_copy(z0);
+            next.arm_unwritten();
+            jac.arm_unwritten();
+            (void)m.step_jacobian(m.method_ctx, &host, 0.0, 0.01, z.data(), next.data(),
+                                  jac.data());
+        }
+    }
+    if (probe.misuse) {
+        static const char* const forms[] = {"", "plain", "conformal", "separable"};
+        fault(lib, "method '" + std::string(m.id) + "' (" + forms[m.form] +
+                       " form) calls the host callback " + probe.misuse + ", which the " +
+                       forms[m.form] +
+                       " form does not provide (seen in a probe step at load; docs/plugins.md)");
+    }
 }
 
 Form form_of(const std::string& lib, const std::string& id, int code) {
@@ -103,10 +270,19 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
     // dlopen of a FIFO blocks until a writer comes: regular files only
     if (const auto why = not_regular_reason(open_path, false); !why.empty())
         fault(path, "cannot load the plugin: " + why);
-    void* handle = dlopen(open_path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    install_containment(); // before any plugin code runs (its constructors, at dlopen)
+    reg.libraries.push_back(quote_for_message(path));
+    const char* lib_stable = reg.libraries.back().c_str();
+    const PluginCallSite load_site{lib_stable, nullptr, "load (constructors)"};
+    void* handle = nullptr;
+    {
+        const PluginCall mark(load_site);
+        handle = dlopen(open_path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    }
     if (!handle) {
         const char* err = dlerror();
-        fault(path, std::string("cannot load the plugin: ") + (err ? err : "dlopen failed"));
+        fault(path, std::string("cannot load the plugin: ") +
+                        quote_for_message(err ? err : "dlopen failed", 400));
     }
     void* sym = dlsym(handle, DAMPSYM_PLUGIN_ENTRY_NAME);
     if (!sym) {
@@ -116,7 +292,13 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
     }
     const auto entry = reinterpret_cast<dampsym_plugin_entry_fn>(sym);
     dampsym_plugin_descriptor d{};
-    if (const int rc = entry(DAMPSYM_PLUGIN_ABI_VERSION, &d); rc != 0) {
+    int rc = 0;
+    {
+        const PluginCallSite entry_site{lib_stable, nullptr, "entry"};
+        const PluginCall mark(entry_site);
+        rc = entry(DAMPSYM_PLUGIN_ABI_VERSION, &d);
+    }
+    if (rc != 0) {
         dlclose(handle);
         fault(path, "the entry returned " + std::to_string(rc) +
                         " (it does not speak ABI version " +
@@ -125,6 +307,7 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
     std::vector<MethodInfo> rows;
     try {
         rows = rows_of(path, d);
+        for (int i = 0; i < d.n_methods; ++i) probe_method(path, lib_stable, d.methods[i]);
     } catch (...) {
         dlclose(handle);
         throw;
@@ -133,10 +316,12 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
         const dampsym_method& m = d.methods[i];
         MethodInfo row = rows[i];
-        const std::string citation = std::string("plugin ") + path +
-                                     (m.description ? std::string(": ") + m.description : "");
+        const std::string citation =
+            std::string("plugin ") + lib_stable +
+            (m.description ? std::string(": ") + quote_for_message(m.description, 400) : "");
         row.citation = citation; // copied into stable storage by register_runtime_method
-        out.push_back(register_runtime_method(row, path));
+        row.data = PluginStep{&m, lib_stable};
+        out.push_back(register_runtime_method(row, lib_stable));
     }
     reg.by_path[key] = out; // the library stays loaded: its rows point into it
     return out;

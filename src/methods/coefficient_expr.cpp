@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 
 namespace dampsym {
 namespace {
@@ -22,10 +23,32 @@ public:
 
 private:
     [[noreturn]] void error(const std::string& what) const {
-        // an expression may be megabytes long: the message shows the first 200 characters
-        const std::string shown = s_.size() > 200 ? s_.substr(0, 200) + "…" : s_;
-        throw CoefficientExprError("expression \"" + shown + "\": " + what + " (at character " +
+        throw CoefficientExprError("expression \"" + one_line(s_, 200) +
+                                   "\": " + one_line(what, 200) + " (at character " +
                                    std::to_string(pos_ + 1) + ")");
+    }
+    // An expression may be megabytes long and hold control characters: the message shows the
+    // first max bytes, control characters escaped, and how many more characters there are.
+    static std::string one_line(const std::string& text, std::size_t max) {
+        std::string out;
+        for (std::size_t i = 0; i < text.size(); ++i) {
+            if (i == max) {
+                std::size_t rest = 0; // UTF-8 continuation bytes are not characters
+                for (std::size_t j = i; j < text.size(); ++j)
+                    rest += (static_cast<unsigned char>(text[j]) & 0xC0) != 0x80 ? 1 : 0;
+                out += "… (" + std::to_string(rest) + " more characters)";
+                break;
+            }
+            const unsigned char c = static_cast<unsigned char>(text[i]);
+            if (c < 0x20 || c == 0x7F) {
+                char buf[8];
+                std::snprintf(buf, sizeof buf, "\\x%02x", c);
+                out += buf;
+            } else {
+                out += static_cast<char>(c);
+            }
+        }
+        return out;
     }
     void skip() {
         while (pos_ < s_.size() && (s_[pos_] == ' ' || s_[pos_] == '\t')) ++pos_;

@@ -1,12 +1,16 @@
 // libFuzzer target: the report readers of `dampsym compare` and `dampsym merge`
 // (compare_reports, merge_reports, and the renderers of their results). The input is read as
 // report.json is (nlohmann::json::parse; malformed JSON is exit 2 before these readers), then
-// compared with itself and with a small valid report, and merged with it. Rejection must be an
-// InputError; anything else is a finding.
+// compared with itself and with a small valid report, and merged with it; and, so that a valid
+// shard (tests/fuzz/seeds/report holds real ones) reaches the merging itself, merged as shard 1
+// of 2 with a copy as shard 2 (its case ids renamed), with and without --allow-mixed. Rejection
+// must be an InputError; anything else is a finding.
 #include "fuzz_support.hpp"
 
 #include "harness/compare.hpp"
 #include "harness/shard.hpp"
+
+#include <utility>
 
 namespace {
 
@@ -24,6 +28,32 @@ const char* kReport = R"({
   "timings": {"wall_seconds": 0.1, "cases": [{"id": "a", "runs_wall_seconds": 0.1,
               "runs": [{"method": "csv1", "dt": 0.1, "wall_seconds": 0.1}]}]}
 })";
+
+// The input as two shards of two: itself as shard 1 and a copy as shard 2, the copy's case ids
+// suffixed so that the two hold different cases, both selections listing both. (The input itself
+// twice if it has no shard.)
+std::pair<nlohmann::json, nlohmann::json> as_two_shards(const nlohmann::json& j) {
+    nlohmann::json a = j, b = j;
+    if (!j.is_object() || !j.contains("provenance") || !j["provenance"].is_object() ||
+        !j["provenance"].contains("shard") || !j["provenance"]["shard"].is_object())
+        return {a, b};
+    if (b.contains("cases") && b["cases"].is_array())
+        for (auto& c : b["cases"])
+            if (c.is_object() && c.contains("id") && c["id"].is_string())
+                c["id"] = c["id"].get<std::string>() + "-b";
+    nlohmann::json& sa = a["provenance"]["shard"];
+    nlohmann::json& sb = b["provenance"]["shard"];
+    sa["index"] = 1;
+    sb["index"] = 2;
+    sa["count"] = sb["count"] = 2;
+    if (sa.contains("selected") && sa["selected"].is_array()) {
+        nlohmann::json both = sa["selected"];
+        for (const auto& id : sa["selected"])
+            if (id.is_string()) both.push_back(id.get<std::string>() + "-b");
+        sa["selected"] = sb["selected"] = both;
+    }
+    return {a, b};
+}
 
 } // namespace
 
@@ -50,5 +80,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     expect_input_error([&] { (void)dampsym::merge_reports({j}, {"r0"}, prov); });
     expect_input_error([&] { (void)dampsym::merge_reports({j, good}, {"r0", "r1"}, prov); });
     expect_input_error([&] { (void)dampsym::merge_reports({good, j}, {"r0", "r1"}, prov); });
+    const auto [s1, s2] = as_two_shards(j);
+    for (bool mixed : {false, true}) {
+        expect_input_error([&] {
+            (void)dampsym::merge_reports({s1, s2}, {"r0", "r1"}, prov, mixed);
+        });
+        expect_input_error([&] {
+            (void)dampsym::merge_reports({s2, s1}, {"r0", "r1"}, prov, mixed);
+        });
+    }
     return 0;
 }
