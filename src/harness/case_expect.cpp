@@ -198,10 +198,75 @@ void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& 
     }
 }
 
+namespace {
+
+// The check's "metric": a metric of a requested diagnostic (or a measure, or run.<field>) of this
+// problem; returns its diagnostic.
+std::string parse_check_metric(const json& cj, const ProblemInfo& problem, const std::string& file,
+                               const std::string& base, const CaseSpec& c, CheckSpec& cs) {
+    const ProblemInfo* prob = &problem;
+    if (!cj.contains("metric")) fail(file, base + ".metric", "missing required key");
+    cs.metric = string_of(cj["metric"], file, base + ".metric");
+    const auto dot = cs.metric.find('.');
+    const std::string diag = cs.metric.substr(0, dot);
+    const bool is_measure = diag == "measure" && !c.measures.empty();
+    if (dot == std::string::npos || (!c.wants(diag) && diag != "run" && !is_measure))
+        fail(file, base + ".metric",
+             "'" + brief(cs.metric) + "' is not a metric of a requested diagnostic" +
+                 (diag == "measure" ? " (no \"measures\" defined)" : ""));
+    std::vector<std::string> names = metric_names(diag, prob->invariants);
+    if (diag == "invariants" && names.empty())
+        fail(file, base + ".metric",
+             "problem '" + c.problem_id + "' declares no conformal invariants");
+    if (is_measure)
+        for (const auto& m : c.measures) names.push_back(m.name);
+    if (std::find(names.begin(), names.end(), cs.metric.substr(dot + 1)) == names.end()) {
+        std::string list;
+        std::vector<std::string> full;
+        for (const auto& n : names) {
+            list += (list.empty() ? "" : ", ") + diag + "." + n;
+            full.push_back(diag + "." + n);
+        }
+        const std::string hint = did_you_mean(cs.metric, full);
+        fail(file, base + ".metric",
+             "unknown metric '" + brief(cs.metric) + "'" + (hint.empty() ? "" : "; " + hint) +
+                 " (known: " + list + ")");
+    }
+    return diag;
+}
+
+// The check's operator (exactly one of near, le, ge, lt, gt) and its value; "near"'s tolerance.
+void parse_check_op(const json& cj, const std::string& file, const std::string& base,
+                    CheckSpec& cs) {
+    int ops = 0;
+    const std::pair<const char*, CheckOp> op_names[] = {{"near", CheckOp::near},
+                                                        {"le", CheckOp::le},
+                                                        {"ge", CheckOp::ge},
+                                                        {"lt", CheckOp::lt},
+                                                        {"gt", CheckOp::gt}};
+    for (const auto& [name, op] : op_names) {
+        if (!cj.contains(name)) continue;
+        ++ops;
+        cs.op = op;
+        const json& v = cj[name];
+        cs.value =
+            v.is_boolean() ? (v.get<bool>() ? 1.0 : 0.0) : number(v, file, base + "." + name);
+    }
+    if (ops != 1) fail(file, base, "give exactly one of near, le, ge, lt, gt");
+    if (cs.op == CheckOp::near) {
+        if (!cj.contains("tol")) fail(file, base + ".tol", "\"near\" needs a tolerance");
+        cs.tol = number(cj["tol"], file, base + ".tol");
+        if (!(cs.tol >= 0.0)) fail(file, base + ".tol", "must be >= 0");
+    } else if (cj.contains("tol")) {
+        fail(file, base + ".tol", "only \"near\" takes a tolerance");
+    }
+}
+
+} // namespace
+
 // The "expect" object: one CheckSpec per named check.
 void parse_expect(const json& ej, const ProblemInfo& problem, const std::string& file,
                   CaseSpec& c) {
-    const ProblemInfo* prob = &problem;
     if (!ej.is_object()) fail(file, "expect", "must be an object of named checks");
     for (auto it = ej.begin(); it != ej.end(); ++it) {
         const std::string base = "expect." + brief(it.key());
@@ -213,56 +278,9 @@ void parse_expect(const json& ej, const ProblemInfo& problem, const std::string&
                   file, base + ".");
         CheckSpec cs;
         cs.name = it.key();
-        if (!cj.contains("metric")) fail(file, base + ".metric", "missing required key");
-        cs.metric = string_of(cj["metric"], file, base + ".metric");
-        const auto dot = cs.metric.find('.');
-        const std::string diag = cs.metric.substr(0, dot);
-        const bool is_measure = diag == "measure" && !c.measures.empty();
-        if (dot == std::string::npos || (!c.wants(diag) && diag != "run" && !is_measure))
-            fail(file, base + ".metric",
-                 "'" + brief(cs.metric) + "' is not a metric of a requested diagnostic" +
-                     (diag == "measure" ? " (no \"measures\" defined)" : ""));
-        std::vector<std::string> names = metric_names(diag, prob->invariants);
-        if (diag == "invariants" && names.empty())
-            fail(file, base + ".metric",
-                 "problem '" + c.problem_id + "' declares no conformal invariants");
-        if (is_measure)
-            for (const auto& m : c.measures) names.push_back(m.name);
-        if (std::find(names.begin(), names.end(), cs.metric.substr(dot + 1)) == names.end()) {
-            std::string list;
-            std::vector<std::string> full;
-            for (const auto& n : names) {
-                list += (list.empty() ? "" : ", ") + diag + "." + n;
-                full.push_back(diag + "." + n);
-            }
-            const std::string hint = did_you_mean(cs.metric, full);
-            fail(file, base + ".metric",
-                 "unknown metric '" + brief(cs.metric) + "'" + (hint.empty() ? "" : "; " + hint) +
-                     " (known: " + list + ")");
-        }
+        const std::string diag = parse_check_metric(cj, problem, file, base, c, cs);
         parse_check_methods(cj, c, diag, file, base, cs);
-        int ops = 0;
-        const std::pair<const char*, CheckOp> op_names[] = {{"near", CheckOp::near},
-                                                            {"le", CheckOp::le},
-                                                            {"ge", CheckOp::ge},
-                                                            {"lt", CheckOp::lt},
-                                                            {"gt", CheckOp::gt}};
-        for (const auto& [name, op] : op_names) {
-            if (!cj.contains(name)) continue;
-            ++ops;
-            cs.op = op;
-            const json& v = cj[name];
-            cs.value =
-                v.is_boolean() ? (v.get<bool>() ? 1.0 : 0.0) : number(v, file, base + "." + name);
-        }
-        if (ops != 1) fail(file, base, "give exactly one of near, le, ge, lt, gt");
-        if (cs.op == CheckOp::near) {
-            if (!cj.contains("tol")) fail(file, base + ".tol", "\"near\" needs a tolerance");
-            cs.tol = number(cj["tol"], file, base + ".tol");
-            if (!(cs.tol >= 0.0)) fail(file, base + ".tol", "must be >= 0");
-        } else if (cj.contains("tol")) {
-            fail(file, base + ".tol", "only \"near\" takes a tolerance");
-        }
+        parse_check_op(cj, file, base, cs);
         if (cj.contains("abs")) cs.use_abs = boolean(cj["abs"], file, base + ".abs");
         if (cj.contains("negative_control"))
             cs.negative_control = boolean(cj["negative_control"], file, base + ".negative_control");

@@ -21,6 +21,20 @@
 namespace dampsym::case_detail {
 namespace {
 
+// An unknown problem id: the error names the known ones and the closest.
+[[noreturn]] void unknown_problem(const std::string& file, const std::string& id) {
+    std::string list;
+    std::vector<std::string> ids;
+    for (const auto& p : problem_catalog()) {
+        list += (list.empty() ? "" : ", ") + p.id;
+        ids.push_back(p.id);
+    }
+    const std::string hint = did_you_mean(id, ids);
+    fail(file, "problem.id",
+         "unknown problem '" + brief(id) + "'" + (hint.empty() ? "" : "; " + hint) +
+             " (known: " + list + ")");
+}
+
 // "problem": the id and the parameters, each in its range; then the problem checks the whole.
 const ProblemInfo* parse_problem(const json& j, const std::string& file, CaseSpec& c,
                                  std::optional<double>& forcing_period) {
@@ -29,18 +43,7 @@ const ProblemInfo* parse_problem(const json& j, const std::string& file, CaseSpe
     if (!pj.contains("id")) fail(file, "problem.id", "missing required key");
     c.problem_id = string_of(pj["id"], file, "problem.id");
     const ProblemInfo* prob = find_problem(c.problem_id);
-    if (!prob) {
-        std::string list;
-        std::vector<std::string> ids;
-        for (const auto& p : problem_catalog()) {
-            list += (list.empty() ? "" : ", ") + p.id;
-            ids.push_back(p.id);
-        }
-        const std::string hint = did_you_mean(c.problem_id, ids);
-        fail(file, "problem.id",
-             "unknown problem '" + brief(c.problem_id) + "'" + (hint.empty() ? "" : "; " + hint) +
-                 " (known: " + list + ")");
-    }
+    if (!prob) unknown_problem(file, c.problem_id);
     std::set<std::string> allowed{"id"};
     for (const auto& ps : prob->params) {
         allowed.insert(ps.name);

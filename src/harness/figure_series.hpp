@@ -17,12 +17,17 @@
 #include "diagnostics/attractor_diagnostic.hpp"
 #include "diagnostics/capabilities.hpp"
 #include "diagnostics/conformal_symplectic.hpp"
+#include "diagnostics/dissipation_drift_diagnostic.hpp"
+#include "diagnostics/energy_diagnostic.hpp"
+#include "diagnostics/error_diagnostic.hpp"
 #include "diagnostics/field_drift_diagnostic.hpp"
 #include "diagnostics/maxima.hpp"
 #include "diagnostics/pde_error_diagnostic.hpp"
+#include "diagnostics/poincare_diagnostic.hpp"
 #include "diagnostics/recorder.hpp"
 #include "diagnostics/series.hpp"
 #include "diagnostics/stability.hpp"
+#include "diagnostics/temperature_diagnostic.hpp"
 #include "harness/case.hpp"
 #include "harness/case_figures.hpp"
 #include "harness/figure_step_observer.hpp"
@@ -106,174 +111,222 @@ void measure_pointwise_series(const P& problem, const CaseSpec& c, const Mat& gr
     }
 }
 
-// Everything one run keeps for its figures. steps: the series the measured run's figure observer
-// (FigureStepObserver, with the conformal-symplectic pass's E_n series) recorded per step;
-// grid/ref: the measured run's output grid and the reference on the same grid (ref_on_grid false
-// when the reference is not on it); orbit_steps: figure_orbit_from_steps for this grid.
+// What a run's series are drawn from: the measured run's output grid, its times, the reference on
+// the same grid (ref_on_grid false when the reference is not on it) and the oscillation maxima.
 template <class P>
-nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann::json steps,
-                                  const Mat& grid, const std::vector<double>& grid_t,
-                                  const Mat& ref, bool ref_on_grid,
-                                  const std::vector<Maximum>& maxima, bool orbit_steps) {
-    using json = nlohmann::json;
-    json s = steps.is_object() ? std::move(steps) : json::object();
-    const Eigen::Index cols = grid.cols();
-    // series on the output grid (the formulas of TypedCase's error/energy/temperature metrics)
-    if (cols > 1) {
-        if (ref_on_grid && c.wants("error")) {
-            MinMaxDecimator e(cols - 1);
-            for (Eigen::Index i = 1; i < cols; ++i)
-                e.push(grid_t[static_cast<std::size_t>(i)], (grid.col(i) - ref.col(i)).norm());
-            s["error.abs"] = e.to_json();
+struct GridSeries {
+    const P& problem;
+    const CaseSpec& c;
+    const Mat& grid;
+    const std::vector<double>& grid_t;
+    const Mat& ref;
+    bool ref_on_grid;
+    const std::vector<Maximum>& maxima;
+    Eigen::Index cols() const { return grid.cols(); }
+    double t(Eigen::Index i) const { return grid_t[static_cast<std::size_t>(i)]; }
+};
+
+// error: |z_n − z(t_n)| on the grid, and each measure's pointwise value.
+template <class P>
+void error_series(const GridSeries<P>& g, nlohmann::json& s) {
+    if (!g.ref_on_grid) return;
+    MinMaxDecimator e(g.cols() - 1);
+    for (Eigen::Index i = 1; i < g.cols(); ++i)
+        e.push(g.t(i), (g.grid.col(i) - g.ref.col(i)).norm());
+    s[std::string(ErrorDiagnostic::name) + ".abs"] = e.to_json();
+    measure_pointwise_series(g.problem, g.c, g.grid, g.grid_t, g.ref, s);
+}
+
+// energy: H on the grid, its change relative to the scale (the residual) and its error.
+template <class P>
+void energy_series(const GridSeries<P>& g, nlohmann::json& s) {
+    if constexpr (P::has_energy) {
+        const std::string name(EnergyDiagnostic::name);
+        const double e0 = g.problem.energy(g.grid.col(0));
+        const double s0 = g.problem.energy_scale(g.grid.col(0));
+        MinMaxDecimator change(g.cols()), err(g.cols()), raw(g.cols());
+        for (Eigen::Index i = 0; i < g.cols(); ++i) {
+            const double en = g.problem.energy(g.grid.col(i));
+            raw.push(g.t(i), en);
+            change.push(g.t(i), scale_defined(s0) ? (en - e0) / s0 : 0.0);
+            if (g.ref_on_grid) err.push(g.t(i), g.problem.energy(g.ref.col(i)) - en);
         }
-        if (ref_on_grid && c.wants("error"))
-            measure_pointwise_series(problem, c, grid, grid_t, ref, s);
-        if constexpr (P::has_energy) {
-            if (c.wants("energy")) {
-                const double e0 = problem.energy(grid.col(0));
-                const double s0 = problem.energy_scale(grid.col(0));
-                MinMaxDecimator change(cols), err(cols), raw(cols);
-                for (Eigen::Index i = 0; i < cols; ++i) {
-                    const double t = grid_t[static_cast<std::size_t>(i)];
-                    const double en = problem.energy(grid.col(i));
-                    raw.push(t, en);
-                    change.push(t, scale_defined(s0) ? (en - e0) / s0 : 0.0);
-                    if (ref_on_grid) err.push(t, problem.energy(ref.col(i)) - en);
-                }
-                s["energy.value"] = raw.to_json();
-                s["energy.change_res"] = change.to_json();
-                if (ref_on_grid) s["energy.error"] = err.to_json();
-            }
-        }
-        if constexpr (HasTemperature<P>) {
-            if (c.wants("temperature")) {
-                MinMaxDecimator temp(cols);
-                for (Eigen::Index i = 0; i < cols; ++i)
-                    temp.push(grid_t[static_cast<std::size_t>(i)],
-                              problem.temperature(grid.col(i)));
-                s["temperature"] = temp.to_json();
-            }
-        }
-        if constexpr (HasPdeSolution<P>) {
-            // B Fig 5.4: the field and the PDE's solution at the output times (at most 9; full
-            // precision: figures.data recomputes pde-error.max_abs from them)
-            if (c.wants("pde-error")) {
-                StrideSampler pick(cols, 9);
-                json ts = json::array(), us = json::array(), ps = json::array(), xs = json::array();
-                Vec v;
-                for (Eigen::Index i = 0; i < cols; ++i) {
-                    if (!pick.wants(i)) continue;
-                    const double t = grid_t[static_cast<std::size_t>(i)];
-                    if (!problem.pde_solution(c.t0, t, v) || v.size() > grid.rows()) break;
-                    ts.push_back(t);
-                    us.push_back(
-                        std::vector<double>(grid.col(i).data(), grid.col(i).data() + v.size()));
-                    ps.push_back(std::vector<double>(v.data(), v.data() + v.size()));
-                }
-                if constexpr (requires { problem.grid.x(0); })
-                    for (int n = 0; n < problem.dim(); ++n) xs.push_back(problem.grid.x(n));
-                s["snapshots"] = {{"t", ts}, {"u", us}, {"pde", ps}, {"x", xs}};
-            }
-        }
-        if constexpr (HasField<P>) {
-            // d(t) = ln max_x u + Γ(t) − Γ(t0) of field_drift_metrics, B (5.6); up to the first
-            // output time where max_x u <= 0 (where the metric is undefined)
-            if (c.wants("field-drift") && cols > 2) {
-                const int n = problem.field_size();
-                const double gamma0 = problem.Gamma(c.t0);
-                MinMaxDecimator d(cols - 1);
-                for (Eigen::Index i = 1; i < cols && n >= 1 && n <= grid.rows(); ++i) {
-                    const double m = grid.col(i).head(n).maxCoeff();
-                    if (!(m > 0.0)) break;
-                    const double t = grid_t[static_cast<std::size_t>(i)];
-                    d.push(t, std::log(m) + (problem.Gamma(t) - gamma0));
-                }
-                s["field-drift.d"] = d.to_json();
-            }
-        }
-        if constexpr (HasProbe<P>) {
-            // B Fig 5.10's amplitude: the attractor diagnostic's probe on the output grid (the
-            // whole run: the transient too; the statistics are of its second half)
-            if (c.wants("attractor") && cols > 1) {
-                MinMaxDecimator d(cols - 1);
-                for (Eigen::Index i = 1; i < cols; ++i)
-                    d.push(grid_t[static_cast<std::size_t>(i)], problem.probe(grid.col(i)));
-                json j = d.to_json();
-                j["probe"] = std::string(P::probe_name);
-                s["attractor.probe"] = j;
-            }
-        }
-        if constexpr (HasProbePlane<P>) {
-            // B Fig 5.10's right panels: the probe as a point of its plane at (at most
-            // kPortraitPoints) output times, the whole run
-            if (c.wants("attractor") && cols > 1) {
-                StrideSampler pick(cols - 1, kPortraitPoints);
-                json t = json::array(), pts = json::array();
-                for (Eigen::Index i = 1; i < cols; ++i) {
-                    if (!pick.wants(i - 1)) continue;
-                    const auto xy = problem.probe_plane(grid.col(i));
-                    t.push_back(grid_t[static_cast<std::size_t>(i)]);
-                    pts.push_back({drawn_value(xy[0]), drawn_value(xy[1])});
-                }
-                s["attractor.plane"] = {
-                    {"t", t},
-                    {"points", pts},
-                    {"names",
-                     {std::string(P::probe_plane_names[0]), std::string(P::probe_plane_names[1])}},
-                    {"stride", pick.stride()}};
-            }
-        }
-        if (c.wants("poincare")) {
-            auto section = [](const Mat& g) {
-                json q = json::array(), p = json::array();
-                for (Eigen::Index i = 0; i < g.cols(); ++i) {
-                    q.push_back(std::remainder(g(0, i), 2.0 * M_PI));
-                    p.push_back(g(1, i));
-                }
-                return json{{"q", q}, {"p", p}};
-            };
-            s["poincare"] = section(grid);
-            if (ref_on_grid) s["poincare_reference"] = section(ref);
-        }
-        // the orbit and the reference orbit at (at most) kOrbitSamples grid points
-        auto grid_orbit = [&](const Mat& g) {
-            StrideSampler pick(cols, orbit_samples(g.rows()));
-            json t = json::array(), st = json::array();
-            for (Eigen::Index i = 0; i < cols; ++i) {
-                if (!pick.wants(i)) continue;
-                t.push_back(grid_t[static_cast<std::size_t>(i)]);
-                std::vector<double> v(static_cast<std::size_t>(g.rows()));
-                for (Eigen::Index r = 0; r < g.rows(); ++r)
-                    v[static_cast<std::size_t>(r)] = drawn_value(g(r, i)); // drawn, not compared
-                st.push_back(v);
-            }
-            return json{{"t", t}, {"states", st}, {"stride", pick.stride()}};
-        };
-        const bool orbit = case_orbit<P>(c);
-        if (orbit && !orbit_steps && cols > 2) {
-            s["orbit"] = grid_orbit(grid);
-            if (ref_on_grid) s["orbit_reference"] = grid_orbit(ref);
-        } else if (orbit && ref_on_grid && cols > 2 && !s.contains("orbit_reference")) {
-            s["orbit_reference"] = grid_orbit(ref); // no exact solution: the grid's reference
-        }
+        s[name + ".value"] = raw.to_json();
+        s[name + ".change_res"] = change.to_json();
+        if (g.ref_on_grid) s[name + ".error"] = err.to_json();
     }
+}
+
+// temperature, HLW (3.8), on the grid.
+template <class P>
+void temperature_series(const GridSeries<P>& g, nlohmann::json& s) {
+    if constexpr (HasTemperature<P>) {
+        MinMaxDecimator temp(g.cols());
+        for (Eigen::Index i = 0; i < g.cols(); ++i)
+            temp.push(g.t(i), g.problem.temperature(g.grid.col(i)));
+        s[std::string(TemperatureDiagnostic::name)] = temp.to_json();
+    }
+}
+
+// B Fig 5.4: the field and the PDE's solution at the output times (at most 9; full precision:
+// figures.data recomputes pde-error.max_abs from them).
+template <class P>
+void pde_error_series(const GridSeries<P>& g, nlohmann::json& s) {
+    using json = nlohmann::json;
+    if constexpr (HasPdeSolution<P>) {
+        StrideSampler pick(g.cols(), 9);
+        json ts = json::array(), us = json::array(), ps = json::array(), xs = json::array();
+        Vec v;
+        for (Eigen::Index i = 0; i < g.cols(); ++i) {
+            if (!pick.wants(i)) continue;
+            if (!g.problem.pde_solution(g.c.t0, g.t(i), v) || v.size() > g.grid.rows()) break;
+            ts.push_back(g.t(i));
+            us.push_back(
+                std::vector<double>(g.grid.col(i).data(), g.grid.col(i).data() + v.size()));
+            ps.push_back(std::vector<double>(v.data(), v.data() + v.size()));
+        }
+        if constexpr (requires { g.problem.grid.x(0); })
+            for (int n = 0; n < g.problem.dim(); ++n) xs.push_back(g.problem.grid.x(n));
+        s["snapshots"] = {{"t", ts}, {"u", us}, {"pde", ps}, {"x", xs}};
+    }
+}
+
+// d(t) = ln max_x u + Γ(t) − Γ(t0) of field_drift_metrics, B (5.6); up to the first output time
+// where max_x u <= 0 (where the metric is undefined).
+template <class P>
+void field_drift_series(const GridSeries<P>& g, nlohmann::json& s) {
+    if constexpr (HasField<P>) {
+        if (g.cols() <= 2) return;
+        const int n = g.problem.field_size();
+        const double gamma0 = g.problem.Gamma(g.c.t0);
+        MinMaxDecimator d(g.cols() - 1);
+        for (Eigen::Index i = 1; i < g.cols() && n >= 1 && n <= g.grid.rows(); ++i) {
+            const double m = g.grid.col(i).head(n).maxCoeff();
+            if (!(m > 0.0)) break;
+            d.push(g.t(i), std::log(m) + (g.problem.Gamma(g.t(i)) - gamma0));
+        }
+        s[std::string(FieldDriftDiagnostic::name) + ".d"] = d.to_json();
+    }
+}
+
+// B Fig 5.10: the attractor diagnostic's probe on the output grid (the whole run: the transient
+// too; the statistics are of its second half), and the probe as a point of its plane at (at most
+// kPortraitPoints) output times.
+template <class P>
+void attractor_series(const GridSeries<P>& g, nlohmann::json& s) {
+    using json = nlohmann::json;
+    const std::string name(AttractorDiagnostic::name);
+    if constexpr (HasProbe<P>) {
+        MinMaxDecimator d(g.cols() - 1);
+        for (Eigen::Index i = 1; i < g.cols(); ++i) d.push(g.t(i), g.problem.probe(g.grid.col(i)));
+        json j = d.to_json();
+        j["probe"] = std::string(P::probe_name);
+        s[name + ".probe"] = j;
+    }
+    if constexpr (HasProbePlane<P>) {
+        StrideSampler pick(g.cols() - 1, kPortraitPoints);
+        json t = json::array(), pts = json::array();
+        for (Eigen::Index i = 1; i < g.cols(); ++i) {
+            if (!pick.wants(i - 1)) continue;
+            const auto xy = g.problem.probe_plane(g.grid.col(i));
+            t.push_back(g.t(i));
+            pts.push_back({drawn_value(xy[0]), drawn_value(xy[1])});
+        }
+        s[name + ".plane"] = {
+            {"t", t},
+            {"points", pts},
+            {"names", {std::string(P::probe_plane_names[0]), std::string(P::probe_plane_names[1])}},
+            {"stride", pick.stride()}};
+    }
+}
+
+// B §3.2.2: the Poincaré section's points (q mod 2π, p) of the run and of the reference.
+template <class P>
+void poincare_series(const GridSeries<P>& g, nlohmann::json& s) {
+    using json = nlohmann::json;
+    auto section = [](const Mat& m) {
+        json q = json::array(), p = json::array();
+        for (Eigen::Index i = 0; i < m.cols(); ++i) {
+            q.push_back(std::remainder(m(0, i), 2.0 * M_PI));
+            p.push_back(m(1, i));
+        }
+        return json{{"q", q}, {"p", p}};
+    };
+    const std::string name(PoincareDiagnostic::name);
+    s[name] = section(g.grid);
+    if (g.ref_on_grid) s[name + "_reference"] = section(g.ref);
+}
+
+// The orbit and the reference orbit at (at most) kOrbitSamples grid points, unless the figure
+// observer kept the orbit from the steps (orbit_steps).
+template <class P>
+void orbit_series(const GridSeries<P>& g, bool orbit_steps, nlohmann::json& s) {
+    using json = nlohmann::json;
+    auto grid_orbit = [&](const Mat& m) {
+        StrideSampler pick(g.cols(), orbit_samples(m.rows()));
+        json t = json::array(), st = json::array();
+        for (Eigen::Index i = 0; i < g.cols(); ++i) {
+            if (!pick.wants(i)) continue;
+            t.push_back(g.t(i));
+            std::vector<double> v(static_cast<std::size_t>(m.rows()));
+            for (Eigen::Index r = 0; r < m.rows(); ++r)
+                v[static_cast<std::size_t>(r)] = drawn_value(m(r, i)); // drawn, not compared
+            st.push_back(v);
+        }
+        return json{{"t", t}, {"states", st}, {"stride", pick.stride()}};
+    };
+    if (!case_orbit<P>(g.c) || g.cols() <= 2) return;
+    if (!orbit_steps) {
+        s["orbit"] = grid_orbit(g.grid);
+        if (g.ref_on_grid) s["orbit_reference"] = grid_orbit(g.ref);
+    } else if (g.ref_on_grid && !s.contains("orbit_reference")) {
+        s["orbit_reference"] = grid_orbit(g.ref); // no exact solution: the grid's reference
+    }
+}
+
+// F (4.4): d(t) at the run's oscillation maxima, and the reference's by the same locator on the
+// reference samples (drift_metrics).
+template <class P>
+void dissipation_drift_series(const GridSeries<P>& g, nlohmann::json& s) {
     auto maxima_json = [](const std::vector<Maximum>& mx) {
         MinMaxDecimator d(static_cast<std::int64_t>(mx.size()));
         for (const auto& m : mx) d.push(m.t, m.d);
         return d.to_json();
     };
-    if (c.wants("dissipation-drift")) {
-        s["dissipation-drift.d"] = maxima_json(maxima);
-        if constexpr (HasOneDofMaxima<P>) {
-            // the reference's d(t) by the same locator on the reference samples (drift_metrics)
-            if (ref_on_grid && cols > 2) {
-                MaximaFinder<P> finder(problem, c.t0);
-                for (Eigen::Index i = 0; i < cols; ++i)
-                    finder.feed(grid_t[static_cast<std::size_t>(i)], ref.col(i));
-                s["dissipation-drift.d_reference"] = maxima_json(finder.maxima());
-            }
+    const std::string name(DissipationDriftDiagnostic::name);
+    s[name + ".d"] = maxima_json(g.maxima);
+    if constexpr (HasOneDofMaxima<P>) {
+        if (g.ref_on_grid && g.cols() > 2) {
+            MaximaFinder<P> finder(g.problem, g.c.t0);
+            for (Eigen::Index i = 0; i < g.cols(); ++i) finder.feed(g.t(i), g.ref.col(i));
+            s[name + ".d_reference"] = maxima_json(finder.maxima());
         }
     }
+}
+
+// Everything one run keeps for its figures. steps: the series the measured run's figure observer
+// (FigureStepObserver, with the conformal-symplectic pass's E_n series) recorded per step;
+// grid/ref: the measured run's output grid and the reference on the same grid (ref_on_grid false
+// when the reference is not on it); orbit_steps: figure_orbit_from_steps for this grid. The
+// series on the output grid use the formulas of the diagnostics' metrics.
+template <class P>
+nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann::json steps,
+                                  const Mat& grid, const std::vector<double>& grid_t,
+                                  const Mat& ref, bool ref_on_grid,
+                                  const std::vector<Maximum>& maxima, bool orbit_steps) {
+    nlohmann::json s = steps.is_object() ? std::move(steps) : nlohmann::json::object();
+    const GridSeries<P> g{problem, c, grid, grid_t, ref, ref_on_grid, maxima};
+    if (g.cols() > 1) {
+        if (c.wants(ErrorDiagnostic::name)) error_series(g, s);
+        if (c.wants(EnergyDiagnostic::name)) energy_series(g, s);
+        if (c.wants(TemperatureDiagnostic::name)) temperature_series(g, s);
+        if (c.wants(PdeErrorDiagnostic::name)) pde_error_series(g, s);
+        if (c.wants(FieldDriftDiagnostic::name)) field_drift_series(g, s);
+        if (c.wants(AttractorDiagnostic::name)) attractor_series(g, s);
+        if (c.wants(PoincareDiagnostic::name)) poincare_series(g, s);
+        orbit_series(g, orbit_steps, s);
+    }
+    if (c.wants(DissipationDriftDiagnostic::name)) dissipation_drift_series(g, s);
     return s;
 }
 
