@@ -66,7 +66,7 @@ void register_problem(const std::string& label, const P& p, std::int64_t n) {
         const bool key = label == "pendulum" && acceptance.count(info.id) != 0;
         with_kernel<P>(info, [&]<class K>() { register_one<K, P>(label, problem, info, n, key); });
     }
-    // Methods loaded from files (issue 18, docs/method-files.md): rk4 and stormer-verlet from
+    // Methods loaded from files (docs/method-files.md): rk4 and stormer-verlet from
     // examples/methods/ against their built-in twins (bench_report.py: within 1.10x).
     if (label == "pendulum")
         for (const char* file : {"rk4.json", "stormer-verlet.json"})

@@ -1,4 +1,4 @@
-// Cost per step of the PDE schemes of B ch. 5 (issue 15 item 7, docs/pde.md, docs/benchmarks.md)
+// Cost per step of the PDE schemes of B ch. 5 (docs/pde.md, docs/benchmarks.md)
 // for M = 256, 512, ..., 8192 grid points:
 //
 //   pde/kg-csv1/M    B (5.3) = csv1 on the semi-discrete Klein–Gordon problem, through the

@@ -306,7 +306,7 @@ def main():
         kernel_row(f"glifrk{s_} / gauss{s_} (ns per step)", f"glifrk{s_}", f"gauss{s_}",
                    "ns_per_step", 1.15)
     kernel_row("etdrk2 / gauss1 (ns per step)", "etdrk2", "gauss1", "ns_per_step", 1.15)
-    # Methods loaded from method files (issue 18, docs/method-files.md) against the built-in rows.
+    # Methods loaded from method files (docs/method-files.md) against the built-in rows.
     kernel_row("rk4 from a method file / built-in rk4 (ns per step)", "rk4-file", "rk4",
                "ns_per_step", 1.10)
     kernel_row("stormer-verlet from a method file / built-in (ns per step)", "stormer-verlet-file",
@@ -317,7 +317,7 @@ def main():
     # them once); no limit in the issue, 6x here so that a regression shows.
     kernel_row("plugin-csv1 (C plugin) / built-in csv1 (ns per step)", "plugin-csv1", "csv1",
                "ns_per_step", 6.0)
-    # PDE schemes of B ch. 5 (issue 15 item 7, bench/bench_pde.cpp): cost per step linear in M
+    # PDE schemes of B ch. 5 (bench/bench_pde.cpp): cost per step linear in M
     # for the explicit KG scheme (5.3) and the banded box scheme (5.5) (ideal 32 for 256 -> 8192),
     # O(M log M) for the FFT-based NLS IF (4.15) (ideal 32 * 13/8 = 52; limit 1.25 x that), and the
     # box scheme at most 10x the explicit scheme at M = 1024.

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The cost of figures (issue 14 acceptance, docs/reports.md "Cost"): the default suite with
+"""The cost of figures (docs/reports.md "Cost": a run with figures costs at most 2x one without): the default suite with
 `--figures` against the same suite without, side by side in one run.
 
     /usr/bin/python3 bench/figures_cost.py build/dampsym [--rounds 3] [--jobs 2] [--out-json F]

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Explicit Klein-Gordon scheme (B (5.3) = csv1) against scipy's solve_ivp(RK45) on the same
-semi-discrete system: a work-precision comparison (issue 15 item 7, docs/benchmarks.md, docs/pde.md).
+semi-discrete system: a work-precision comparison (docs/benchmarks.md, docs/pde.md).
 
     /usr/bin/python3 bench/pde_scipy.py BENCH_RAW_JSON      (prints JSON; called by ci/bench.sh)
 

@@ -27,7 +27,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "cases", "run-pendulum-1e7.json")
 METHODS = ["csv1", "stormer-verlet", "csv1-perk", "cse-if", "cse-etd", "rk4", "gauss1", "gauss2",
            "gauss3", "glifrk1", "glifrk2", "glifrk3", "etdrk2", "rk4-file", "stormer-verlet-file"]
-# Methods loaded from method files (issue 18, docs/method-files.md): id -> file.
+# Methods loaded from method files (docs/method-files.md): id -> file.
 METHOD_FILES = {m: os.path.join(HERE, "..", "examples", "methods", m[:-len("-file")] + ".json")
                 for m in ("rk4-file", "stormer-verlet-file")}
 # (name, numerator, denominator, per, limit): per = "step" or "force" (rhs evaluation).

@@ -32,7 +32,7 @@ status=0
   --out-json reports/bench.json --out-md reports/bench.md || status=$?
 if [ "$status" -eq 2 ]; then exit 2; fi
 # The explicit Klein-Gordon scheme (5.3) against scipy's RK45, work-precision on the same
-# semi-discrete system (issue 15 item 7, docs/benchmarks.md): reports/pde-scipy.json.
+# semi-discrete system (docs/benchmarks.md): reports/pde-scipy.json.
 /usr/bin/python3 bench/pde_scipy.py reports/bench-raw.json > reports/pde-scipy.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 /usr/bin/python3 -c 'import json
@@ -48,7 +48,7 @@ for r in json.load(open("reports/pde-scipy.json")):
 /usr/bin/python3 bench/run_timing.py "$build/dampsym" --bench-json reports/bench-raw.json \
   --out-json reports/run-timing.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
-# The default suite with --figures against without (issue 14: at most 2x): reports/figures-cost.json.
+# The default suite with --figures against without (at most 2x): reports/figures-cost.json.
 /usr/bin/python3 bench/figures_cost.py "$build/dampsym" --out-json reports/figures-cost.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 # Coefficient mutants (docs/mutation.md): every coefficient of every exportable built-in method

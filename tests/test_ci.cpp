@@ -358,7 +358,7 @@ TEST_CASE("cli: --annotations github and GITHUB_STEP_SUMMARY", "[ci]") {
     CHECK(x.find("<failure") != std::string::npos);
 }
 
-// issue 33 item 6: the size limit is exact (max_bytes accepted, one more byte refused), a FIFO is
+// the size limit is exact (max_bytes accepted, one more byte refused), a FIFO is
 // refused without blocking, and the shard count limit is exact (10000 accepted, 10001 refused).
 TEST_CASE("bounded reads: exact size limit, FIFO refused, shard count limit", "[ci]") {
     TempDir dir;

@@ -1,4 +1,4 @@
-// Law residuals on scales that do not vanish with the invariant (issue 21; docs/conventions.md,
+// Law residuals on scales that do not vanish with the invariant (docs/conventions.md,
 // "Law residuals and their scales"). Each case below made the former residuals, relative to the
 // invariant itself, give wrong verdicts in both directions: a conformal method failing at 16 or
 // 1e283 and the rk3 negative control "passing" at 1e133. Here:

@@ -1,4 +1,4 @@
-// "Compute only what a case asks for" (issue 6): each run reports what it observed
+// "Compute only what a case asks for": each run reports what it observed
 // ("observed": bare loop or recorder, stored grid points, tracked invariants, step Jacobians),
 // the case reports which reference it built, and these follow the requested diagnostics only:
 //  - final error only (one output point): the bare step loop, no grid, an exact reference at t_end

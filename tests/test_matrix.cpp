@@ -1,4 +1,4 @@
-// The method × property matrix (issue 18 item 4, docs/matrix.md, src/harness/matrix.hpp): the
+// The method × property matrix (docs/matrix.md, src/harness/matrix.hpp): the
 // battery run on a few methods through the command line, with the perturbed glifrk2 of
 // examples/methods/ as a negative control that must show failing E_n cells (exit 1); the verdict
 // rules on hand-made reports (a claimed failure, a passing control, a failed run); bad input.

@@ -1,4 +1,4 @@
-// Measures as the paper states them and comparison checks (docs/case-keys.md, issue 19):
+// Measures as the paper states them and comparison checks (docs/case-keys.md):
 // the "measures" of a case (component, norm, statistic over the output grid, growth rate) against
 // values recomputed here from the exact oscillator solution; ratio, spread and across_dt checks
 // against their inputs; a check that must fail does; no case without a check or a stated reason.

@@ -1,4 +1,4 @@
-// Method files (issue 18, docs/method-files.md, src/harness/method_files.hpp): the coefficient
+// Method files (docs/method-files.md, src/harness/method_files.hpp): the coefficient
 // expression parser, the bad-file corpus (each defect = exit 2 naming the file and the key), the
 // three ways to load a file, and the acceptance: the example files of examples/methods/ reproduce
 // the built-in methods' final states, and the perturbed negative controls fail their coefficient

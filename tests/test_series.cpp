@@ -1,4 +1,4 @@
-// MinMaxDecimator and StrideSampler (src/diagnostics/series.hpp, issue 14): the series a figure
+// MinMaxDecimator and StrideSampler (src/diagnostics/series.hpp): the series a figure
 // draws keep every bucket's extremes, so the maxima the report states are in the series file.
 #include "diagnostics/series.hpp"
 #include "harness/case.hpp"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Independent cross-check of the PDE cases (issue 15, docs/pde.md) in numpy/scipy.
+"""Independent cross-check of the PDE cases (docs/pde.md) in numpy/scipy.
 
 Usage: /usr/bin/python3 verify/xpde.py REPORT_DIR [--cases verify/cases]
 
@@ -17,7 +17,7 @@ Independently of the report it checks:
     difference must match the predicted space error of the M = 512 grid, |W - W_d| t, to 10 %;
   - Burgers (5.10): Casimir residual (5.15) <= 1e-13; NSFD (4.18) >= 1e-6 (negative control);
   - NLS IF (4.15): R_2 (5.29) <= 1e-13 on damped NLS, IMP (5.28) >= 1e-8;
-  - Burgers (5.10) is conformal Poisson (item 5 of issue 15, docs/pde.md "Conformal Poisson"):
+  - Burgers (5.10) is conformal Poisson (docs/pde.md "Conformal Poisson"):
     its step Jacobian Psi (complex step) satisfies Psi D Psi^T = e^{-4 gamma h} D with B's
     structure matrix D of (5.9) (on the full grid: the skew central difference), relative
     Frobenius defect <= 1e-13; heun's defect >= 1e-8 (negative control).

@@ -43,7 +43,7 @@ void add_selection_options(CLI::App& sub, Selection& sel) {
     sub.add_option("--costs", sel.costs,
                    "measured case costs for --shard (default: case_costs.json beside the "
                    "cases directory)");
-    // issue 18: method files (harness/method_files.hpp), loaded by select_cases.
+    // method files (harness/method_files.hpp), loaded by select_cases.
     sub.add_option("--methods", sel.method_files,
                    "method file(s) (.json, docs/method-files.md) to load before the cases; "
                    "repeatable")
@@ -65,7 +65,7 @@ namespace {
 
 using namespace cli_detail;
 
-// `dampsym plot REPORT_DIR` (issue 14, harness/figures.hpp): the figures of an existing report.
+// `dampsym plot REPORT_DIR` (harness/figures.hpp): the figures of an existing report.
 Command add_plot_command(CLI::App& app, CliContext& ctx) {
     struct State {
         std::string dir;
@@ -154,7 +154,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const Command commands[] = {
         add_list_command(app, ctx),    add_run_command(app, ctx),   add_plot_command(app, ctx),
         add_compare_command(app, ctx), add_merge_command(app, ctx), add_methods_command(app, ctx),
-        add_matrix_command(app, ctx), // issue 18: dampsym matrix (cli_matrix.cpp)
+        add_matrix_command(app, ctx), // dampsym matrix (cli_matrix.cpp)
     };
     try {
         app.parse(argc, argv);

@@ -29,8 +29,8 @@ struct Selection {
     std::vector<std::string> targets, filters, suites, methods, problems;
     std::string shard; // "K/N", "none", or "" (read the CI engines' variables)
     std::string costs; // measured case costs for sharding ("" = next to the cases directory)
-    std::vector<std::string> method_files; // --methods (issue 18, harness/method_files.hpp)
-    std::vector<std::string> plugins;      // --plugin (issue 18, harness/plugins.hpp)
+    std::vector<std::string> method_files; // --methods (harness/method_files.hpp)
+    std::vector<std::string> plugins;      // --plugin (harness/plugins.hpp)
     std::vector<std::string> substitutes;  // run --substitute OLD=NEW (docs/case-keys.md)
 };
 
@@ -50,7 +50,7 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
 // The --suite, --filter, --problem, --method, --shard and --costs options of list and run.
 void add_selection_options(CLI::App& sub, Selection& sel);
 
-// --figure-format's check (issue 14; harness/figures.hpp figure_formats_error), for run and plot.
+// --figure-format's check (harness/figures.hpp figure_formats_error), for run and plot.
 CLI::Validator figure_format_validator();
 
 // What every subcommand sees: the global options (bound before parsing, read by the actions
@@ -76,7 +76,7 @@ Command add_methods_command(CLI::App& app, CliContext& ctx); // cli_list.cpp
 Command add_run_command(CLI::App& app, CliContext& ctx);     // cli_run.cpp
 Command add_merge_command(CLI::App& app, CliContext& ctx);   // cli_run.cpp
 Command add_compare_command(CLI::App& app, CliContext& ctx); // cli_compare.cpp
-Command add_matrix_command(CLI::App& app, CliContext& ctx);  // cli_matrix.cpp (issue 18)
+Command add_matrix_command(CLI::App& app, CliContext& ctx);  // cli_matrix.cpp
 
 // A report.json (or the report.json in a directory); InputError if unreadable or not JSON.
 json read_report(const std::string& arg);

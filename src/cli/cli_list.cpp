@@ -86,7 +86,7 @@ json list_json(const Selected& selected) {
     json methods = json::array();
     std::vector<const MethodInfo*> rows;
     for (const auto& m : method_catalog()) rows.push_back(&m);
-    for (const MethodInfo* m : loaded_methods()) rows.push_back(m); // method files (issue 18)
+    for (const MethodInfo* m : loaded_methods()) rows.push_back(m); // method files
     for (const MethodInfo* m : rows) {
         methods.push_back({{"id", m->id},
                            {"order", m->order},
@@ -173,7 +173,7 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
 // passes when the coefficients agree with the declaration (order, claims), including the expected
 // failures (order conditions beyond the declared order, symplecticity of a non-symplectic method).
 // Exit status 1 if any check disagrees.
-// With --methods FILE (issue 18, harness/method_files.hpp): the methods of those files instead of
+// With --methods FILE (harness/method_files.hpp): the methods of those files instead of
 // the built-in ones, each with its file, checked by the same method_checks as a built-in method of
 // its family.
 int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,

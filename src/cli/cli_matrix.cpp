@@ -1,4 +1,4 @@
-// `dampsym matrix` (issue 18 item 4, docs/matrix.md): the method × property matrix of every
+// `dampsym matrix` (docs/matrix.md): the method × property matrix of every
 // built-in and loaded method, written as DIR/matrix.md and DIR/matrix.json beside the battery's
 // ordinary report (DIR/report.json, DIR/report.md).
 #include "cli/cli_detail.hpp"
@@ -32,7 +32,7 @@ int cmd_matrix(const MatrixArgs& a, const std::string& cases_dir,
     // as `dampsym run`: the methods/ folder beside the cases directory, then --methods files
     load_method_folder(method_folder_beside(cases_dir));
     for (const auto& f : a.method_files) load_method_file(f); // InputError: exit 2
-    // Plugins (issue 18 item 3, `--plugin LIB`) load after the method files: their rows join the
+    // Plugins (`--plugin LIB`) load after the method files: their rows join the
     // same runtime catalog (methods/runtime_methods.hpp), which matrix_methods reads.
     for (const auto& lib : a.plugins) load_plugin(lib); // InputError: exit 2
     const auto methods = matrix_methods(a.globs);

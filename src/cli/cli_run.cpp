@@ -33,7 +33,7 @@ struct OutputOptions {
     bool junit_given = false; // --junit was on the command line (an empty FILE is an error)
     std::string annotations;  // "" or "github"
     bool quiet = false;
-    bool figures = false;              // run --figures (issue 14, harness/figures.hpp)
+    bool figures = false;              // run --figures (harness/figures.hpp)
     std::string figure_format = "png"; // --figure-format png|svg|pdf[,...]
 };
 
@@ -163,12 +163,12 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
         RunOptions ro;
         ro.jobs = jobs;
         ro.time_budget = time_budget;
-        ro.case_timeout = limits.case_timeout; // issue 17 (limits.hpp)
-        if (o.figures) // figures hook (issue 14); issue 17: a failed write is recorded, not fatal
+        ro.case_timeout = limits.case_timeout; // limits.hpp
+        if (o.figures) // figures hook; a failed write is recorded, not fatal
             ro.series_sink = recording_output_errors(series_file_sink(o.out_dir), output_errors);
         report = run_cases(selected.cases, ro, progress.callback());
     }
-    if (!output_errors.empty()) report["output_errors"] = output_errors; // issue 17
+    if (!output_errors.empty()) report["output_errors"] = output_errors; // recorded, not fatal
     report["provenance"] = make_provenance(command_line, jobs, start);
     report["provenance"]["cases_dir"] = fs::absolute(cases_dir).lexically_normal().string();
     // what was run, so that merge refuses shards of different selections or overrides
@@ -184,12 +184,12 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                          {"selected", selected.all_ids}};
     mark_interrupted(report);
     const int status = exit_status_after_run(finish_report(report, o, true, out, err));
-    if (!output_errors.empty()) { // issue 17: the report is written; the outputs are not
+    if (!output_errors.empty()) { // the report is written; the outputs are not
         for (const auto& e : output_errors) err << "dampsym: " << e << "\n";
         return 3;
     }
     if (o.figures && !stop_requested()) {
-        // figures hook (issue 14): draw, then report.md again with the figures; a signal while
+        // figures hook: draw, then report.md again with the figures; a signal while
         // drawing stops the script and gives 130/143 (make_figures)
         if (const int rc = make_figures(o.out_dir, jobs, o.figure_format, err); rc != 0) return rc;
         if (!o.quiet)

@@ -330,7 +330,7 @@ void take_shard(Selected& out, const Selection& sel, const std::string& cases_di
 
 Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
                       const std::string& cases_dir, bool default_suite, bool sharding) {
-    // Method files (issue 18): the methods/ folder beside the cases directory, then --methods;
+    // Method files: the methods/ folder beside the cases directory, then --methods;
     // a case's own "method_files" are loaded by parse_case.
     load_method_folder(method_folder_beside(cases_dir));
     for (const auto& f : sel.method_files) load_method_file(f);

@@ -187,7 +187,7 @@ StepChecker<K>* jacobian_check_plan(ConformalSymplecticStats& st, StepChecker<K>
 // stepper.step_jacobian and measures E_k at every step. z is advanced in place (the final state);
 // the z arithmetic is the same as integrate()'s with step(). Never throws on a failed solve or a
 // divergence: they are reported in status.
-// series (figures, issue 14): when given, receives (t_{k+1}, E_k rel) of every step up to the
+// series (figures): when given, receives (t_{k+1}, E_k rel) of every step up to the
 // first whose relative defect is undefined.
 // checker (when given): Ψ is also checked against central differences of the step at steps 1,
 // n/2 + 1 and n (stats.jacobian_check).

@@ -29,7 +29,7 @@ json conformal_symplectic_json(const ConformalSymplecticStats& st);
 // Typed hook: the Jacobian pass of kernel K over n steps from (t0, z0), with the check of its
 // step Jacobian against central differences of the step (conformal_symplectic.hpp). Instantiated
 // only for kernels with a step Jacobian on canonical problems; the others report why without a
-// pass. series (figures, issue 14): when given, set to the per-step relative defect of the pass
+// pass. series (figures): when given, set to the per-step relative defect of the pass
 // (left empty when there is no pass).
 template <class K, class P>
 json conformal_symplectic_metrics(const P& problem, const MethodInfo& info, double t0, double h,

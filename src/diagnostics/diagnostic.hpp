@@ -23,7 +23,7 @@ struct DiagnosticNeeds {
     bool grid = false;           // the states on the output grid, whatever the grid's size
     bool grid_if_points = false; // ... only when the grid has more than one point (error)
     // Its pass over the grid is a running reduction: the runner feeds it each grid point on the
-    // fly and stores no trajectory when nothing else reads the grid (error; issue 17,
+    // fly and stores no trajectory when nothing else reads the grid (error;
     // harness/limits.hpp grid_plan).
     bool streams = false;
     // Reads the reference on the output grid when the case has one (dissipation-drift's reference

@@ -21,7 +21,7 @@ struct ErrorDiagnostic {
     static json produce(const V& run);
 };
 
-// The running reduction of the error over the output grid t_1..t_end (issue 17): fed one grid point
+// The running reduction of the error over the output grid t_1..t_end: fed one grid point
 // at a time, either on the fly during the run (harness/grid_stream.hpp: no trajectory stored) or
 // from a stored grid (error_metrics); the same operations in the same order either way, so the
 // metrics are bitwise the same.

@@ -3,7 +3,7 @@
 // of the problem's invariants (invariants: I_{n+1} = e^{−2(Γ(t_{n+1})−Γ(t_n))} I_n, B Def. 2.3),
 // and oscillation maxima of q for d(t) = ln(max U(t)) + Γ(t) (dissipation-drift, F(4.4)).
 // Everything is streamed; nothing grows with the number of steps except the requested grid, and
-// not even that when the grid's only readers reduce it on the fly (a GridSink: issue 17,
+// not even that when the grid's only readers reduce it on the fly (a GridSink:
 // harness/grid_stream.hpp).
 #pragma once
 

@@ -1,4 +1,4 @@
-// Time series for figures (issue 14; docs/reports.md "Series files"). Used only when a run is made
+// Time series for figures (docs/reports.md "Series files"). Used only when a run is made
 // with --figures: nothing here is constructed, computed or stored otherwise, so the bare step loop
 // and the lazy diagnostics of recorder.hpp are untouched.
 //

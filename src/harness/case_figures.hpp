@@ -1,4 +1,4 @@
-// The case key "figures" (issue 14; docs/case-keys.md "figures"): which figures a case draws with
+// The case key "figures" (docs/case-keys.md "figures"): which figures a case draws with
 // `dampsym run --figures` and `dampsym plot` (tools/figures/plot.py).
 //   absent                  the defaults: every kind the case's data allows
 //   false, or []            none: with --figures the case keeps no series and draws nothing

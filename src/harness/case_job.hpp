@@ -87,7 +87,7 @@ public:
     void set_time_budget(double seconds) { time_budget_ = seconds; }
     // The case's time budget and the stop requests its runs obey (src/harness/limits.hpp).
     CaseGuard& guard() { return guard_; }
-    // Figures hook (issue 14): with --figures the runs keep time series (harness/figure_series.hpp)
+    // Figures hook: with --figures the runs keep time series (harness/figure_series.hpp)
     // and series() returns them after finish(); without, nothing is kept and series() is null.
     void set_figures(bool on) { figures_ = on; }
     virtual json series() { return nullptr; }

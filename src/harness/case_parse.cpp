@@ -353,7 +353,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
                "$schema"}, // what an editor adds to use schema/case.schema.json; not read
               file, "");
     // clang-format on
-    validate_limit_keys(j, file); // issue 17: timeout_seconds (src/harness/limits.hpp)
+    validate_limit_keys(j, file); // timeout_seconds (src/harness/limits.hpp)
     for (const char* k : {"id", "problem", "methods", "t_end"})
         if (!j.contains(k)) fail(file, k, "missing required key");
 
@@ -385,7 +385,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
 
     std::optional<double> forcing_period;
     const ProblemInfo* prob = parse_problem(j, file, c, forcing_period);
-    parse_method_files(j, file); // issue 18 (harness/method_files.hpp), before "methods"
+    parse_method_files(j, file); // harness/method_files.hpp, before "methods"
     parse_methods(j, file, c);
     parse_time_grid(j, file, c);
     parse_diagnostics(j, file, c, *prob, forcing_period);
@@ -393,7 +393,7 @@ CaseSpec parse_case_unchecked(const json& input, const std::string& file,
     if (j.contains("measures")) parse_measures(j["measures"], *prob, file, c);
     if (j.contains("expect")) parse_expect(j["expect"], *prob, file, c);
     parse_no_checks(j, file, c);
-    validate_figures_key(j, file, c, *prob); // issue 14: "figures" (harness/case_figures.hpp)
+    validate_figures_key(j, file, c, *prob); // "figures" (harness/case_figures.hpp)
     return c;
 }
 

@@ -18,7 +18,7 @@ void CaseRun::plan(bool has_exact) {
     // A trajectory grid only for diagnostics that read it; a reference only for those that
     // compare with it (the energy diagnostic without "error" reports changes only).
     facts_.needs_grid = case_needs_grid(c_, facts_.points);
-    grid_plan_ = grid_plan(c_, facts_.points, has_exact, figures_); // issue 17 (limits.hpp)
+    grid_plan_ = grid_plan(c_, facts_.points, has_exact, figures_); // limits.hpp
     observes_ = facts_.needs_grid;
     for (const std::string& name : c_.diagnostics) {
         const DiagnosticInfo* d = find_diagnostic(name);
@@ -29,7 +29,7 @@ void CaseRun::plan(bool has_exact) {
             observer_parts_.push_back(d->observer_part);
         }
     }
-    // an exact reference evaluated on the fly is stored at t_end only (issue 17)
+    // an exact reference evaluated on the fly is stored at t_end only
     if (needs_reference_)
         ref_times_ =
             reference_times(c_, facts_.points, facts_.needs_grid && grid_plan_.store_reference);
@@ -97,7 +97,7 @@ void CaseRun::record_run(json& out, const IntegrateOutcome& res, const Counters&
     out["final_state"] = state_json(z);
     if (res.status != RunStatus::ok) out["failed_at_step"] = res.failed_step;
     if (res.status == RunStatus::solve_failed && counters.failed_solve_iterations > 0)
-        out["solve_failure"] = solve_failure_json(counters); // issue 17 (limits.hpp)
+        out["solve_failure"] = solve_failure_json(counters); // limits.hpp
     out["rhs_evals"] = counters.rhs_evals;
     out["jac_evals"] = counters.jac_evals;
     out["newton_iters"] = counters.newton_iters;
@@ -217,7 +217,7 @@ json CaseRun::case_json(json checks) const {
     if (!c_.checks_not_run.empty()) out["checks_not_run"] = not_run_checks(c_);
     if (!c_.no_checks_because.empty()) out["no_checks_because"] = c_.no_checks_because;
     if (!c_.measures.empty()) out["measures"] = c_.raw["measures"];
-    if (c_.raw.contains("figures")) out["figures"] = c_.raw["figures"]; // issue 14 (plot.py)
+    if (c_.raw.contains("figures")) out["figures"] = c_.raw["figures"]; // read by plot.py
     return out;
 }
 

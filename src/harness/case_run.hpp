@@ -26,9 +26,9 @@ public:
 
 protected:
     // The output grid and what the case's diagnostics need of it (from the registry); has_exact:
-    // the problem's reference is its exact solution (issue 17: what is stored, grid_plan).
+    // the problem's reference is its exact solution (what is stored, grid_plan).
     void plan(bool has_exact);
-    // issue 17 (limits.hpp grid_plan): the runs store the output grid / feed it on the fly to the
+    // limits.hpp grid_plan: the runs store the output grid / feed it on the fly to the
     // error and measure reductions (harness/grid_stream.hpp); the exact reference is evaluated at
     // each grid time during the runs instead of stored.
     bool stores_grid() const { return grid_plan_.store_grid; }
@@ -52,7 +52,7 @@ protected:
     void record_run(json& out, const IntegrateOutcome& res, const Counters& counters, const Vec& z,
                     double wall, double h) const;
     void mark_not_applicable(json& out) const;
-    // issue 17: the record of a run whose kernel threw (its status; the other runs go on).
+    // the record of a run whose kernel threw (its status; the other runs go on).
     void mark_error(json& out, const std::string& what) const;
 
     // Stability sweep (method level): the row tasks of method m; one_step is its typed analysis.
@@ -96,7 +96,7 @@ json measure_metrics(const CaseSpec& c, const CaseFacts& f, const Mat* grid, con
                      const std::function<double(const Vec&)>& energy_scale);
 
 // The case's measures as running reductions over the output grid t_1..t_end (measures.cpp): fed
-// one grid point at a time, on the fly during the run (harness/grid_stream.hpp, issue 17: no
+// one grid point at a time, on the fly during the run (harness/grid_stream.hpp: no
 // trajectory stored) or from a stored grid (measure_metrics), with bitwise the same results.
 class MeasureAccumulator {
 public:

@@ -1,4 +1,4 @@
-// What a run keeps for its figures with `dampsym run --figures` (issue 14; the file format is in
+// What a run keeps for its figures with `dampsym run --figures` (the file format is in
 // docs/reports.md, "Series files"). Called from one hook in TypedCase::integrate_with and one in
 // TypedCase::series() (typed_case.hpp), and only when figures are on: without --figures nothing
 // here runs, so the measured run, its bare-loop timing and every report number are untouched.

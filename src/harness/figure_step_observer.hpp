@@ -1,4 +1,4 @@
-// The per-step series of a run's figures (issue 14, harness/figure_series.hpp): invariant,
+// The per-step series of a run's figures (harness/figure_series.hpp): invariant,
 // momentum-law and energy-balance residual series and the orbit samples, with the formulas of
 // diagnostics/recorder.hpp. Observes the measured run beside its Recorder (RunObserver), only
 // with `dampsym run --figures`.

@@ -1,4 +1,4 @@
-// Figures (issue 14; docs/reports.md "Figures" and "Series files"): `dampsym run --figures` writes
+// Figures (docs/reports.md "Figures" and "Series files"): `dampsym run --figures` writes
 // one series file per case, DIR/series/<case id>.json, while the cases run, then draws the figures
 // with tools/figures/plot.py (matplotlib, /usr/bin/python3) into DIR/figures/ and rewrites
 // DIR/report.md with the figures embedded; `dampsym plot DIR` does the drawing part on an existing

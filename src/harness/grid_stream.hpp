@@ -1,4 +1,4 @@
-// The output grid streamed (issue 17, harness/limits.hpp grid_plan): when only the error
+// The output grid streamed (harness/limits.hpp grid_plan): when only the error
 // diagnostic and the case's measures read the grid, each run feeds them every grid point on the
 // fly through the Recorder's grid sink, so no trajectory is stored; against an exact solution the
 // reference is evaluated at each grid time here (the same call, at the same time, as the stored

@@ -192,7 +192,7 @@ double default_max_memory();
 double parse_memory_size(const std::string& text);
 std::string format_bytes(double bytes);
 
-// What a case keeps of its output grid t0..t_end (issue 17). The error diagnostic and the case's
+// What a case keeps of its output grid t0..t_end. The error diagnostic and the case's
 // measures are running reductions over the grid (ErrorAccumulator, MeasureAccumulator): when
 // nothing else reads the grid — no diagnostic that needs the stored grid (energy, poincare,
 // temperature), no "growth" measure (a least-squares fit over all its points), no --figures

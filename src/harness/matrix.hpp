@@ -1,4 +1,4 @@
-// The method × property matrix (issue 18 item 4, docs/matrix.md): a fixed battery of cases — order
+// The method × property matrix (docs/matrix.md): a fixed battery of cases — order
 // on the damped pendulum, E_n on the pendulum and Hill, the conformal law of H_γ on the oscillator,
 // the momentum laws of the damped N-body problem (B Table 3.1), the drift of d(t) on the
 // oscillator and the stability threshold on the oscillator against F's closed forms (F ch. 3) or

@@ -1,4 +1,4 @@
-// The memory side of issue 17's limits (declared in limits.hpp): --max-memory's default and
+// The memory side of the run's limits (declared in limits.hpp): --max-memory's default and
 // parser, the output-grid plan (stored or streamed, grid_plan) and the per-case memory estimate
 // that refuses a case before it allocates (check_memory).
 #include "diagnostics/diagnostic.hpp"

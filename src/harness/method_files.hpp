@@ -1,4 +1,4 @@
-// Method files (issue 18, docs/method-files.md): JSON method definitions loaded at run time, for
+// Method files (docs/method-files.md): JSON method definitions loaded at run time, for
 // every family whose method is data — RK (explicit or implicit, optionally under the integrating
 // factor B(2.5)), partitioned RK, exponential RK B(2.7) and partitioned exponential RK B(2.14) with
 // coefficient functions built from a fixed φ-function vocabulary, and general linear methods with

@@ -1,4 +1,4 @@
-// C plugins (issue 18, docs/plugins.md, include/dampsym/plugin.h): shared libraries whose
+// C plugins (docs/plugins.md, include/dampsym/plugin.h): shared libraries whose
 // hand-written steps become method rows (PluginStep, stepped by methods/plugin_kernel.hpp), found
 // by find_method after the built-in catalog like a method file's rows, so every diagnostic, the
 // matrix and the reports treat them as built-in methods.

@@ -9,7 +9,7 @@
 #include "core/problem.hpp"
 #include "core/problem_concepts.hpp"
 #include "harness/problem_info.hpp"
-#include "methods/burgers_b.hpp" // B's Burgers schemes (5.10), (5.12), (4.18), issue 15
+#include "methods/burgers_b.hpp" // B's Burgers schemes (5.10), (5.12), (4.18)
 #include "methods/cimp.hpp"
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
@@ -18,10 +18,10 @@
 #include "methods/general_linear.hpp"
 #include "methods/ifrk.hpp"
 #include "methods/implicit_rk.hpp"
-#include "methods/nls_b.hpp" // B's NLS schemes (4.15), (5.27), (5.28) by FFT, issue 15
+#include "methods/nls_b.hpp" // B's NLS schemes (4.15), (5.27), (5.28) by FFT
 #include "methods/partitioned_exponential_rk.hpp"
 #include "methods/partitioned_rk.hpp"
-#include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md), issue 18
+#include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md)
 #include "methods/symplectic_euler_partitioned.hpp"
 #include "problems/argon.hpp"
 #include "problems/driven_pendulum.hpp"
@@ -32,7 +32,7 @@
 #include "problems/oscillator.hpp"
 #include "problems/outer_solar_system.hpp"
 #include "problems/pendulum.hpp"
-// Damped PDEs of B ch. 4-5, semi-discretised (issue 15, docs/pde.md).
+// Damped PDEs of B ch. 4-5, semi-discretised (docs/pde.md).
 #include "problems/pde/burgers.hpp"
 #include "problems/pde/klein_gordon.hpp"
 #include "problems/pde/nls.hpp"
@@ -50,7 +50,7 @@ namespace dampsym {
 using ProblemList =
     TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra, NBody, Kepler,
              OuterSolarSystem, Argon, KleinGordon, Burgers, BurgersBox, BurgersUpwind, Schrodinger,
-             NLS, NLSDriven>; // PDEs: issue 15 (B (4.3), (4.5), (4.7), docs/pde.md)
+             NLS, NLSDriven>; // PDEs: B (4.3), (4.5), (4.7), docs/pde.md
 
 // Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
 template <class... Ps>

@@ -186,7 +186,7 @@ std::string anchor_of(const std::string& id) {
     return a;
 }
 
-// Overview (issue 14): one row per case, failing cases first, with a link to its section.
+// Overview: one row per case, failing cases first, with a link to its section.
 void overview_table(std::ostringstream& os, const json& report,
                     const std::vector<std::size_t>& order) {
     os << "\n| case | verdict | checks passed | failed | runs | time s | paper |\n"
@@ -236,7 +236,7 @@ void case_heading(std::ostringstream& os, const json& c) {
         os << " No checks: " << c["no_checks_because"].get<std::string>() << ".";
 }
 
-// A case's checks and tables (long tables folded in <details>, issue 14).
+// A case's checks and tables (long tables folded in <details>).
 void case_tables(std::ostringstream& os, const json& c, const json* t) {
     os << "\n\n| result | check | method | dt | metric | value | expected | note |\n"
           "|---|---|---|---|---|---|---|---|\n";
@@ -301,7 +301,7 @@ std::string render_markdown(const json& report, const json& figures) {
     for (const std::size_t ci : order) {
         const json& c = report["cases"][ci];
         case_heading(os, c);
-        // figures (issue 14): from figures/manifest.json, paths relative to report.md
+        // figures: from figures/manifest.json, paths relative to report.md
         if (with_figures && figures["cases"].contains(c["id"].get<std::string>())) {
             os << "\n\n";
             for (const auto& f : figures["cases"][c["id"].get<std::string>()]) {

@@ -32,7 +32,7 @@ std::string report_json_text(const nlohmann::json& report);
 
 std::string render_markdown(const nlohmann::json& report);
 // The same with the figures of figures/manifest.json ({"cases": {id: [{"file", "caption"}]}},
-// tools/figures/plot.py) embedded in each case's section (issue 14).
+// tools/figures/plot.py) embedded in each case's section.
 std::string render_markdown(const nlohmann::json& report, const nlohmann::json& figures);
 std::string render_summary(const nlohmann::json& report); // the one-screen terminal summary
 // One case's line of that summary: "ok   ID   12 checks  0.31 s", or "FAIL ID  24 of 38 checks

@@ -230,7 +230,7 @@ json assemble_report(json out_cases, const RunOptions& options, double wall_seco
 namespace {
 
 // One run of a selection: the cases' jobs, their tasks on --jobs threads, and the records.
-// issue 17: an exception in one task is recorded for its case (which then fails its completion
+// an exception in one task is recorded for its case (which then fails its completion
 // check, limits.hpp) and the other tasks and cases go on. A case's record is made as soon as its
 // last task ends (in that worker thread), so that its line can be printed while other cases run;
 // from its own results only, so it is the same for any --jobs.

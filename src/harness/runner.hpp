@@ -21,7 +21,7 @@ struct RunOptions {
     // Time budget of each case in seconds (--case-timeout; a case's timeout_seconds wins; 0 =
     // none): src/harness/limits.hpp.
     double case_timeout = 0.0;
-    // Figures hook (issue 14): when set (dampsym run --figures), every case keeps the time series
+    // Figures hook: when set (dampsym run --figures), every case keeps the time series
     // of its figures and the sink receives each case's series (docs/reports.md "Series files")
     // after the case has finished; when empty, nothing is kept.
     std::function<void(const nlohmann::json& case_series)> series_sink;

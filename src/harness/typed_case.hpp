@@ -15,8 +15,8 @@
 #include "diagnostics/problem_check_json.hpp"
 #include "diagnostics/recorder.hpp"
 #include "harness/case_run.hpp"
-#include "harness/figure_series.hpp" // figures hook (issue 14)
-#include "harness/grid_stream.hpp"   // issue 17: the output grid streamed
+#include "harness/figure_series.hpp" // figures hook
+#include "harness/grid_stream.hpp"   // the output grid streamed
 #include "harness/limits.hpp"
 #include "harness/registry.hpp"
 #include "harness/run_view.hpp"
@@ -35,7 +35,7 @@ public:
 
     void prepare() override {
         plan(HasExactSolution<P>);
-        if (figures_) series_.assign(runs_.size(), json()); // figures hook (issue 14)
+        if (figures_) series_.assign(runs_.size(), json()); // figures hook
         if (!needs_reference()) {
             reference_ = {{"kind", "none"}};
             return;
@@ -54,7 +54,7 @@ public:
             auto sol = reference_cache().get(reference_key(c_, ref_times_), [&] {
                 ReferenceRequest req = reference_request(problem_, c_, ref_times_);
                 poison_reference(req, fault_for(c_.id, "(reference)")); // tests only (limits.hpp)
-                stop_reference_with(req, guard_); // issue 17: stops at the case's time budget
+                stop_reference_with(req, guard_); // stops at the case's time budget
                 return certified_reference(req);
             });
             set_numerical_reference(*sol);
@@ -89,7 +89,7 @@ public:
         return out;
     }
 
-    // Figures hook (issue 14): the series file of the case (docs/reports.md "Series files").
+    // Figures hook: the series file of the case (docs/reports.md "Series files").
     json series() override {
         if (!figures_) return nullptr;
         json out = case_series_json(c_, runs_, series_);
@@ -112,7 +112,7 @@ private:
         try {
             match = with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
         } catch (const std::exception& e) {
-            // issue 17: a fault in this run is its status; the other runs and cases go on
+            // a fault in this run is its status; the other runs and cases go on
             mark_error(out, e.what());
             return;
         }
@@ -127,17 +127,17 @@ private:
         K stepper(problem_, info, h, counters);
         Vec z = problem_.initial_state();
         Recorder<P> rec(problem_, c_.t0, h);
-        // Figures hook (issue 14): only with --figures, the per-step series from the same pass
+        // Figures hook: only with --figures, the per-step series from the same pass
         // (the figure observer beside the recorder) and the E_n series from the
         // conformal-symplectic pass below; every report number is the same with or without.
         std::optional<FigureStepObserver<P>> fig = figure_observer(out, h, n);
-        // issue 17: the error and measures reduced on the fly when nothing else reads the grid
+        // the error and measures reduced on the fly when nothing else reads the grid
         std::optional<GridStream<P>> stream;
         if (streams_grid() && facts_.reference_ok)
             stream.emplace(problem_, c_, facts_, exact_on_the_fly(),
                            c_.wants(ErrorDiagnostic::name), !c_.measures.empty());
         IntegrateOutcome res;
-        // issue 17: the step loop in chunks with the case's time budget and stop requests tested
+        // the step loop in chunks with the case's time budget and stop requests tested
         // between them (src/harness/limits.hpp); a fault only where a test planted one
         const FaultPlan* fault = fault_for(c_.id, info.id);
         guard_.start();
@@ -155,7 +155,7 @@ private:
         const double wall = seconds_since(start);
         record_run(out, res, counters, z, wall, h);
         if (res.status == RunStatus::timeout || res.status == RunStatus::interrupted) {
-            out["metrics"] = json::object(); // issue 17: stopped; no further pass over the steps
+            out["metrics"] = json::object(); // stopped; no further pass over the steps
             return;
         }
         const bool ok = res.status == RunStatus::ok;
@@ -193,7 +193,7 @@ private:
         }
     }
 
-    // Figures hook (issue 14): the figure observer of the run whose record is `out` (a slot of
+    // Figures hook: the figure observer of the run whose record is `out` (a slot of
     // runs_), or none (no --figures, or a run of a ladder that keeps no series). It observes the
     // steps only if it has per-step series to keep (needed()).
     std::optional<FigureStepObserver<P>> figure_observer(const json& out, double h,
@@ -209,7 +209,7 @@ private:
         return static_cast<std::size_t>(&out - runs_.data());
     }
 
-    // Figures hook (issue 14): the series of the run whose record is `out`.
+    // Figures hook: the series of the run whose record is `out`.
     void capture_figure_series(FigureStepObserver<P>& fig, std::optional<MinMaxDecimator>& cs,
                                std::int64_t n, const Recorder<P>& rec, const json& out) {
         const Mat& g = rec.grid();
@@ -233,7 +233,7 @@ private:
     void start_recorder(Recorder<P>& rec, const MethodInfo& info, double h, std::int64_t n,
                         const Vec& z, GridSink* stream) const {
         if (stores_grid()) rec.record_grid(n / facts_.points, facts_.points + 1);
-        if (stream) rec.stream_grid(n / facts_.points, stream); // issue 17 (grid_stream.hpp)
+        if (stream) rec.stream_grid(n / facts_.points, stream); // grid_stream.hpp
         for (const std::string& part : observer_parts()) rec.enable(part, table_factor(info, h));
         rec.start(z);
     }
@@ -332,7 +332,7 @@ private:
     }
 
     P problem_;
-    std::vector<json> series_; // figures hook (issue 14): per run slot, only with --figures
+    std::vector<json> series_; // figures hook: per run slot, only with --figures
 };
 
 // The case job for c if its problem type is in shard K of N (index in ProblemList mod N == K),

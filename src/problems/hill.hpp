@@ -15,7 +15,7 @@ namespace dampsym {
 struct Hill : SeparableProblem<Hill>, UnitMass, ParamTable<Hill> {
     static constexpr std::string_view id = "hill";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::by_default; // its figures draw the orbit (issue 14)
+        OrbitFigure::by_default; // its figures draw the orbit
     static constexpr std::string_view title = "Hill equation q''+2γ(t)q'+κ²q=0, γ(t)=½ε cos 2t";
     static constexpr bool constant_gamma = false;
     static constexpr bool is_linear =

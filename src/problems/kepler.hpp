@@ -29,7 +29,7 @@ namespace dampsym {
 struct Kepler : SeparableProblem<Kepler>, UnitMass, ConstantGamma<Kepler>, ParamTable<Kepler> {
     static constexpr std::string_view id = "kepler";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::by_default; // its figures draw the orbit (issue 14)
+        OrbitFigure::by_default; // its figures draw the orbit
     static constexpr std::string_view title = "Kepler's problem q''=-q/|q|^3, HLW(2.1), HLW(2.9)";
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = true;

@@ -21,7 +21,7 @@ namespace dampsym {
 struct LotkaVolterra : ParamTable<LotkaVolterra> {
     static constexpr std::string_view id = "lotka-volterra";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::by_default; // its figures draw the orbit (issue 14)
+        OrbitFigure::by_default; // its figures draw the orbit
     static constexpr std::string_view title = "Lotka–Volterra u'=u(v−2), v'=v(1−u) (HLW(1.1))";
     static constexpr bool has_separable = false;
     static constexpr bool has_conformal = false;

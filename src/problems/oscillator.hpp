@@ -19,7 +19,7 @@ struct Oscillator : SeparableProblem<Oscillator>,
                     ParamTable<Oscillator> {
     static constexpr std::string_view id = "oscillator";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::on_request; // a phase portrait when a case asks (issue 14)
+        OrbitFigure::on_request; // a phase portrait when a case asks
     static constexpr std::string_view title = "damped harmonic oscillator q''+2γq'+ω²q=0";
     static constexpr bool is_linear = true;
     static constexpr bool has_exact = true;

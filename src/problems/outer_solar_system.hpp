@@ -22,7 +22,7 @@ namespace dampsym {
 struct OuterSolarSystem : NBodyProblem<OuterSolarSystem> {
     static constexpr std::string_view id = "outer-solar-system";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::by_default; // its figures draw the orbit (issue 14)
+        OrbitFigure::by_default; // its figures draw the orbit
     static constexpr std::string_view title =
         "outer solar system, Sun + 5 planets, HLW(2.10), HLW Table 2.2";
     static constexpr bool has_exact = false;

@@ -18,7 +18,7 @@ struct Pendulum : SeparableProblem<Pendulum>,
                   ParamTable<Pendulum> {
     static constexpr std::string_view id = "pendulum";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::on_request; // a phase portrait when a case asks (issue 14)
+        OrbitFigure::on_request; // a phase portrait when a case asks
     static constexpr std::string_view title = "damped pendulum q''+2γq'+sin q=0";
     static constexpr bool is_linear = false;
     static constexpr bool has_exact = false;

@@ -28,7 +28,7 @@ namespace dampsym {
 struct RigidBody : ParamTable<RigidBody> {
     static constexpr std::string_view id = "rigid-body";
     static constexpr OrbitFigure figure_orbit =
-        OrbitFigure::on_request; // a phase portrait when a case asks (issue 14)
+        OrbitFigure::on_request; // a phase portrait when a case asks
     static constexpr std::string_view title =
         "perturbed rigid body z'=z×(I⁻¹z)−γ(t)z, γ(t)=½ε cos 2t (B(1.7))";
     static constexpr bool has_separable = false;

@@ -1,4 +1,4 @@
-// libFuzzer target: the method-file reader (src/harness/method_files.cpp, issue 18) and the
+// libFuzzer target: the method-file reader (src/harness/method_files.cpp) and the
 // coefficient expressions it evaluates (src/methods/coefficient_expr.cpp). The input is the text
 // of a method file; it goes through check_method_text, which validates it exactly as
 // load_method_file validates a file's contents but registers nothing (so the global method

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The figures are right (issue 14): reads the plotted data back from a report directory made
+"""The figures are right: reads the plotted data back from a report directory made
 with `dampsym run --figures` (series/*.json, figures/manifest.json) and compares it with
 report.json — final and maximum errors, energy errors, invariant, momentum and E_n residual
 maxima, temperature range, d(t) slopes, fitted orders and their drawn lines, the stability map's

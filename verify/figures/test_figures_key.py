@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The case key "figures" and --figure-format (issue 14; docs/case-keys.md "figures",
+"""The case key "figures" and --figure-format (docs/case-keys.md "figures",
 docs/reports.md "Figures"), through the dampsym binary:
 
 - bad values of "figures" (not false/array, unknown kind, a kind twice, a kind the case cannot

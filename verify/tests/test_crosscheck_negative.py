@@ -19,7 +19,7 @@ corrupted item:
              x 1.1, the det error x 3
   kg       : the PDE cases' final states, E_n, an order slope + 0.05 and a verdict
   badinput : not a dampsym report -> exit 2
-issue 32 (a cross-check that cannot be talked into agreeing):
+a cross-check that cannot be talked into agreeing:
   refest   : error.final_abs + 5e-4 with the report's reference_error_estimate 1e-3 (pend-orders,
              a certified reference): the report's estimate must not widen our tolerance
   argmax   : conformal-symplectic.max_rel_step = 1e9 where E_n is at round-off (cs-pendulum

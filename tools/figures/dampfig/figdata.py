@@ -1,5 +1,5 @@
 """What the figures plot, computed from report.json and the series files without matplotlib
-(issue 14; docs/reports.md "Figures"). tools/figures/plot.py draws exactly these data;
+(docs/reports.md "Figures"). tools/figures/plot.py draws exactly these data;
 verify/figures/test_figure_data.py compares them with report.json; tools/figures/tests test the
 helpers (min/max decimation, the fitted slope line, the quantities each figure draws).
 
