@@ -23,7 +23,9 @@ namespace {
 // The smallest problem the plain form needs: z' = -z, no damping.
 struct FuzzProblem {
     int d = 1;
-    static constexpr bool has_conformal = false, has_separable = false;
+    // what the plugin kernel may ask of a problem (unused by the plain form)
+    [[maybe_unused]] static constexpr bool has_conformal = false;
+    [[maybe_unused]] static constexpr bool has_separable = false;
     int dim() const { return d; }
     void rhs(double, const dampsym::Vec& z, dampsym::Vec& out) const { out = -z; }
     double dGamma(double, double) const { return 0.0; }
