@@ -10,7 +10,7 @@ packages=(
   python3-pytest python3-mypy # verify/tests (pytest) and the type check of verify/ (ci/test.sh)
   clang-format
   cmark-gfm # tests/markdown/check_gfm.py: report.md, figures.md as GitHub renders them
-  clang-14 libfuzzer-14-dev # the sanitizer build (ci/build.sh asan) and ci/fuzz.sh's libFuzzer targets
+  clang-14 libclang-rt-14-dev libfuzzer-14-dev # the sanitizer build (ci/build.sh asan; libclang-rt: its ASan/UBSan runtime, only recommended by clang-14) and ci/fuzz.sh
 )
 missing=()
 for p in "${packages[@]}"; do
