@@ -47,6 +47,11 @@ std::string describe_selection(const Selection& sel, bool default_suite);
 Selected select_cases(const Selection& sel, const std::vector<std::string>& sets,
                       const std::string& cases_dir, bool default_suite, bool sharding);
 
+// The measured seconds per case id ({ID: seconds}): --costs, else case_costs.json beside the
+// cases directory (verify/case_costs.json, ci/case_costs.sh), else none. InputError if --costs
+// names a missing file or either is malformed.
+nlohmann::json measured_case_costs(const Selection& sel, const std::string& cases_dir);
+
 // The --suite, --filter, --problem, --method, --shard and --costs options of list and run.
 void add_selection_options(CLI::App& sub, Selection& sel);
 

@@ -129,6 +129,16 @@ void print_shard(const Selected& selected, const OutputOptions& o, std::ostream&
         << std::flush;
 }
 
+// A case's predicted run time and whether it is measured: the case's own measured seconds
+// (case_costs.json, ci/case_costs.sh) when it runs as its file says (no --set), else the fixed
+// per-component estimate (case_predicted_seconds: 30 ns per component and step, 300 implicit).
+static std::pair<double, bool> estimated_seconds(const CaseSpec& c, const json& measured) {
+    const auto it = measured.find(c.id);
+    if (c.overrides.empty() && it != measured.end() && it->is_number() && it->get<double>() >= 0.0)
+        return {it->get<double>(), true};
+    return {case_predicted_seconds(c), false};
+}
+
 int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_budget,
             const CliLimits& limits, const std::vector<std::string>& sets,
             const std::string& cases_dir, const std::vector<std::string>& command_line,
@@ -144,14 +154,16 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     before_run(selected.cases, jobs, limits, o.figures);
     print_shard(selected, o, out);
     note_other_cases_dir(cases_dir, err);
+    const json measured = measured_case_costs(sel, cases_dir);
     for (const auto& c : selected.cases) {
-        const double secs = case_predicted_seconds(c);
+        const auto [secs, from_costs] = estimated_seconds(c, measured);
         if (secs < 10.0) continue;
         char line[256];
         std::snprintf(line, sizeof line,
-                      "note: case '%s' runs %.3g steps; predicted duration about %.0f s "
-                      "(rough estimate, diagnostics and references extra)\n",
-                      c.id.c_str(), case_total_steps(c), secs);
+                      "note: case '%s' runs %.3g steps; predicted duration about %.0f s (%s)\n",
+                      c.id.c_str(), case_total_steps(c), secs,
+                      from_costs ? "its measured run time, case_costs.json"
+                                 : "rough estimate, diagnostics and references extra");
         err << line << std::flush;
     }
     const auto start = std::chrono::system_clock::now();

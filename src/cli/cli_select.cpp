@@ -290,14 +290,9 @@ std::vector<CaseSpec> load_selected(const std::vector<std::string>& paths,
     return loaded;
 }
 
-// --shard K/N (or the CI engines' variables): keeps this shard's cases, balanced by cost.
-void take_shard(Selected& out, const Selection& sel, const std::string& cases_dir) {
-    if (sel.shard == "none") return;
-    if (!sel.shard.empty())
-        out.shard = parse_shard(sel.shard);
-    else if (sel.targets.empty()) // named cases are never split by the engines' variables
-        out.shard = shard_from_env([](const char* name) { return std::getenv(name); });
-    if (!out.shard) return;
+} // namespace
+
+json measured_case_costs(const Selection& sel, const std::string& cases_dir) {
     json measured = json::object();
     const std::string costs_file =
         !sel.costs.empty() ? sel.costs
@@ -312,6 +307,20 @@ void take_shard(Selected& out, const Selection& sel, const std::string& cases_di
     } else if (!sel.costs.empty()) {
         throw InputError(sel.costs + ": --costs: file not found");
     }
+    return measured;
+}
+
+namespace {
+
+// --shard K/N (or the CI engines' variables): keeps this shard's cases, balanced by cost.
+void take_shard(Selected& out, const Selection& sel, const std::string& cases_dir) {
+    if (sel.shard == "none") return;
+    if (!sel.shard.empty())
+        out.shard = parse_shard(sel.shard);
+    else if (sel.targets.empty()) // named cases are never split by the engines' variables
+        out.shard = shard_from_env([](const char* name) { return std::getenv(name); });
+    if (!out.shard) return;
+    const json measured = measured_case_costs(sel, cases_dir);
     std::vector<double> steps;
     for (const auto& c : out.cases) {
         double n = 0.0;

@@ -106,6 +106,18 @@ def mode_lines(bin_: str, work: str) -> None:
     expect(re.search(r"note: case 'ux-long' runs 2e\+09 steps; predicted duration about \d+ s",
                      err) is not None and time.time() - t0 < 30,
            "a long case is announced with its step count and estimate", err)
+    # ... from the case's measured run time when the costs file has it and no --set changes it
+    costs = os.path.join(work, "costs.json")
+    with open(costs, "w") as f:
+        json.dump({"cases": {"ux-fast": 42.5}}, f)
+    rc, out, err = run([bin_, "--cases", cases, "run", "ux-fast", "--costs", costs, "--shard",
+                        "none", "-q", "--out", os.path.join(work, "r5")])
+    expect(rc == 0 and "predicted duration about 42 s (its measured run time" in err,
+           "a case announced from its measured run time (case_costs.json)", err)
+    rc, out, err = run([bin_, "--cases", cases, "run", "ux-fast", "--costs", costs, "--set",
+                        "t_end=2", "--shard", "none", "-q", "--out", os.path.join(work, "r6")])
+    expect(rc == 0 and "predicted duration" not in err,
+           "with a --set the measured time no longer applies (the rough estimate: short)", err)
     # --figures into a pipe: dampsym's lines come before the figure script's, each whole
     rc, out, err = run([bin_, "--cases", cases, "run", "ux-fast", "--figures", "--shard", "none",
                         "--out", os.path.join(work, "r7")])
