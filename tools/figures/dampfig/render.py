@@ -32,6 +32,8 @@ from . import safeio as sio  # noqa: E402
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "figure.dpi": 100, "savefig.dpi": 100, "axes.grid": True, "grid.alpha": 0.3,
                      "svg.fonttype": "none", "mathtext.default": "regular",
+                     # blank figures are kept for reuse (up to 30), not leaked: no warning
+                     "figure.max_open_warning": 0,
                      # a fixed title position: matplotlib otherwise measures every axes' tick
                      # labels to place its title (a sixth of the drawing time)
                      "axes.titley": 1.0, "axes.titlepad": 4.0})
