@@ -3,6 +3,7 @@
 set -euo pipefail
 packages=(
   g++ cmake make
+  ccache # ci/build.sh: a compiler cache, shared between checkouts (a cold cache only costs time)
   python3-numba # verify/xjit.py: the cross-check's compiled step loops (optional, faster)
   libeigen3-dev libgsl-dev nlohmann-json3-dev catch2 libcli11-dev libboost-dev libbenchmark-dev
   python3 python3-numpy python3-scipy python3-mpmath python3-jsonschema python3-junitparser

@@ -84,7 +84,7 @@ const json& run_of(const json& report, std::size_t c, std::size_t r) {
 
 // Runs the binary with args; returns its pid (stdout/stderr to files in dir).
 pid_t spawn(const std::vector<std::string>& args, const fs::path& dir) {
-    std::vector<std::string> full{DAMPSYM_BINARY};
+    std::vector<std::string> full{dampsym_test::binary_path()};
     full.insert(full.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& a : full) argv.push_back(a.data());
@@ -724,7 +724,7 @@ TEST_CASE("limits: a reference stopped by one case's budget is not reused by ano
 namespace {
 // Runs the binary with a file-size limit (RLIMIT_FSIZE: writes past it fail as on a full disk).
 int run_with_file_limit(const std::vector<std::string>& args, const fs::path& dir, rlim_t bytes) {
-    std::vector<std::string> full{DAMPSYM_BINARY};
+    std::vector<std::string> full{dampsym_test::binary_path()};
     full.insert(full.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& a : full) argv.push_back(a.data());
