@@ -28,7 +28,7 @@ case "$kind" in
   # (a library batch: 11.3 s against 25.1 s of CPU), and it adds a second compiler's -Werror.
   asan)    cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O0 -g1" \
              -DCMAKE_CXX_COMPILER="${CXX_ASAN:-clang++-14}" -DCMAKE_C_COMPILER="${CC_ASAN:-clang-14}" \
-             -DDAMPSYM_SANITIZE=ON -DDAMPSYM_WERROR=ON "${launcher[@]}" >/dev/null
+             -DDAMPSYM_SANITIZE=ON -DDAMPSYM_WERROR=ON -DDAMPSYM_UNIT_TESTS_PER_FILE=ON "${launcher[@]}" >/dev/null
            cmake --build build-asan -j"$jobs" "${targets[@]}" ;;
   *) echo "usage: ci/build.sh [release|asan] [target...]" >&2; exit 2 ;;
 esac
