@@ -12,6 +12,7 @@
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <utility>
 
 namespace dampsym {
@@ -96,11 +97,13 @@ void commit(Parsed& m, const std::string& file) {
         e.p = std::move(*m.e2);
         e.data = PartitionedExponentialRKData{id, citation, "file", e.q.s, perk_slots[slot]};
         data = PartitionedExponentialCoefficients{&e.data};
-    } else {
+    } else if (m.family == "general-linear") {
         GlmCoefficients& g = reg.glms.emplace_back(std::move(*m.glm));
         g.name = id;
         g.citation = citation;
         data = GeneralLinearCoefficients{&g};
+    } else { // the reader refuses any other family (method_file_parse.cpp file_families)
+        throw std::logic_error("method file: no registration for family '" + m.family + "'");
     }
     reg.rows.push_back(MethodInfo{id, m.order, m.implicit, m.form, m.claims, citation, data});
     reg.file_of.emplace(m.id, file);
