@@ -137,3 +137,32 @@ def test_tableau_messages_are_the_method_file_messages() -> None:
         dampsym.Tableau([[0, 0], [1]], [0.5, 0.5], [0, 1], id="py-bad", order=2)
     with pytest.raises(dampsym.InputError, match="tableau.b"):
         dampsym.Tableau(np.zeros((2, 2)), [1.0], [0.0, 0.0], id="py-bad-b", order=1)
+
+
+def euler(t: float, z: Array, h: float, problem: Any) -> Array:
+    return np.asarray(z + h * problem.rhs(t, z))
+
+
+def euler_jacobian(t: float, z: Array, h: float, problem: Any) -> tuple[Array, Array]:
+    """Explicit Euler and its step Jacobian I + h A on a linear problem (A's columns probed)."""
+    d = z.size
+    f0 = problem.rhs(t, np.zeros(d))
+    a = np.column_stack([problem.rhs(t, np.eye(d)[j]) - f0 for j in range(d)])
+    return euler(t, z, h, problem), np.eye(d) + h * a
+
+
+def test_a_jacobian_callable_is_used_and_checked() -> None:
+    dampsym.Step(euler, id="py-euler", order=1, form="plain", jacobian=euler_jacobian)
+    dampsym.Step(euler, id="py-euler-wrong-jacobian", order=1, form="plain",
+                 jacobian=lambda t, z, h, pr: (euler(t, z, h, pr),
+                                               euler_jacobian(t, z, h, pr)[1] * (1 + 1e-6)))
+    case = {"id": "py-jacobian", "title": "t", "source": "tests",
+            "problem": {"id": "oscillator", "gamma": 0.1},
+            "methods": ["py-euler", "euler", "py-euler-wrong-jacobian"], "t_end": 5.0, "dt": 0.1,
+            "diagnostics": ["conformal-symplectic"], "no_checks_because": "the test reads them"}
+    runs = dampsym.run(case, time_budget=0)["cases"][0]["runs"]
+    mine, builtin, wrong = (r["metrics"]["conformal-symplectic"] for r in runs)
+    assert mine["jacobian"] == "plugin-jacobian" and builtin["jacobian"] == "exact"
+    assert mine["status"] == "ok" and abs(mine["max_rel"] - builtin["max_rel"]) <= 1e-15
+    assert runs[0]["final_state"].tobytes() == runs[1]["final_state"].tobytes()
+    assert wrong["status"] == "jacobian-mismatch"  # J off by 1e-6: the step's own check sees it
