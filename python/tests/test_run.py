@@ -110,3 +110,26 @@ def test_list_and_cli() -> None:
     with pytest.raises(dampsym.InputError):
         dampsym.list("--filter", "no-such-*")
     assert os.environ.get("PYTHONPATH") is not None
+
+
+def test_runs_from_several_threads_at_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ROOT)
+    cases = []
+    for k in range(3):
+        case = json.loads((ROOT / CASE).read_text())
+        case["id"] = f"osc-orders-thread-{k}"
+        case["problem"]["gamma"] = 0.01 * (k + 1)
+        cases.append(case)
+    alone = [dampsym.run(c, time_budget=0) for c in cases]
+    together: list[dampsym.Report] = [dampsym.Report()] * 3
+
+    def work(k: int) -> None:
+        together[k] = dampsym.run(cases[k], time_budget=0)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(alone, together):
+        assert before_provenance(a.text) == before_provenance(b.text)

@@ -28,6 +28,14 @@ namespace {
 
 using json = nlohmann::json;
 
+// Loading methods and parsing cases write the process's method registry; the API's callers may be
+// several threads (Python threads, with the GIL released during runs), so these steps take turns.
+// The runs themselves go on concurrently (they only read the rows of methods loaded before).
+std::mutex& registry_mutex() {
+    static std::mutex m;
+    return m;
+}
+
 // The command line's errors as the API's (same message; the exit status is the type).
 template <class F>
 auto translated(F&& f) -> decltype(f()) {
@@ -54,6 +62,7 @@ void load_sources(const Options& o) {
 // The cases of the targets, in their order: JSON texts parsed here (file "<case json>"), ids and
 // paths selected as `dampsym run ID|FILE` selects them.
 std::vector<CaseSpec> cases_of(const std::vector<std::string>& targets, const Options& o) {
+    const std::lock_guard<std::mutex> lock(registry_mutex());
     load_sources(o);
     std::vector<CaseSpec> cases;
     for (const auto& t : targets) {
@@ -167,16 +176,22 @@ const MatrixCell* MatrixRow::cell(std::string_view property) const {
 
 Matrix matrix(const std::vector<std::string>& method_globs, const Options& options) {
     return translated([&] {
-        load_sources(options);
-        const auto methods = matrix_methods(method_globs);
-        if (methods.empty())
-            throw dampsym::InputError(
-                "--method: no built-in or loaded method matches the given glob(s)");
+        std::vector<const MethodInfo*> methods;
+        std::vector<CaseSpec> battery;
+        {
+            const std::lock_guard<std::mutex> lock(registry_mutex());
+            load_sources(options);
+            methods = matrix_methods(method_globs);
+            if (methods.empty())
+                throw dampsym::InputError(
+                    "--method: no built-in or loaded method matches the given glob(s)");
+            battery = matrix_battery(methods);
+        }
         const auto start = std::chrono::system_clock::now();
         dampsym::RunOptions ro;
         ro.jobs = options.jobs;
         ro.time_budget = 0.0; // as `dampsym matrix`: the matrix reads no timing
-        json report = run_cases(matrix_battery(methods), ro);
+        json report = run_cases(battery, ro);
         std::vector<std::string> command_line = {"dampsym.api.matrix"};
         command_line.insert(command_line.end(), method_globs.begin(), method_globs.end());
         report["provenance"] = make_provenance(command_line, options.jobs, start);
@@ -192,20 +207,32 @@ Matrix matrix(const std::vector<std::string>& method_globs, const Options& optio
 }
 
 std::string load_method(const std::string& json_text, const std::string& source) {
-    return translated([&] { return std::string(load_method_text(json_text, source).at(0)->id); });
+    return translated([&] {
+        const std::lock_guard<std::mutex> lock(registry_mutex());
+        return std::string(load_method_text(json_text, source).at(0)->id);
+    });
 }
 
 std::vector<std::string> load_method_file(const std::string& path) {
-    return translated([&] { return ids_of(dampsym::load_method_file(path)); });
+    return translated([&] {
+        const std::lock_guard<std::mutex> lock(registry_mutex());
+        return ids_of(dampsym::load_method_file(path));
+    });
 }
 
 std::vector<std::string> load_plugin(const std::string& path) {
-    return translated([&] { return ids_of(dampsym::load_plugin(path)); });
+    return translated([&] {
+        const std::lock_guard<std::mutex> lock(registry_mutex());
+        return ids_of(dampsym::load_plugin(path));
+    });
 }
 
 std::vector<std::string> register_plugin_methods(const dampsym_plugin_descriptor& descriptor,
                                                  const std::string& source) {
-    return translated([&] { return ids_of(dampsym::register_plugin_methods(source, descriptor)); });
+    return translated([&] {
+        const std::lock_guard<std::mutex> lock(registry_mutex());
+        return ids_of(dampsym::register_plugin_methods(source, descriptor));
+    });
 }
 
 std::vector<CoefficientCheck> check_method(const std::string& id) {
