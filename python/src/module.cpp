@@ -122,11 +122,14 @@ int jacobian_trampoline(void* ctx, const dampsym_host* host, double t, double h,
     return call_python(*static_cast<PyMethod*>(ctx), host, t, h, z, z_next, jac);
 }
 
-// Registers a callable step as a plugin method (checks, probe step). The record lives as long as
-// the process (its row points into it), so it is never freed.
+// Registers a callable step as a plugin method (checks, probe step). Once registered, the record
+// lives as long as the process (its row points into it) and is never freed; a refused one is
+// (register_plugin_methods registers nothing when it throws).
 void register_step(const std::string& id, py::object step, py::object jacobian, int order, int form,
                    unsigned claims, const std::string& description, const std::string& source) {
-    auto* m = new PyMethod{id, description, source, std::move(step), std::move(jacobian), {}, {}};
+    auto owned = std::make_unique<PyMethod>(
+        PyMethod{id, description, source, std::move(step), std::move(jacobian), {}, {}});
+    PyMethod* m = owned.get();
     m->method.id = m->id.c_str();
     m->method.description = m->description.empty() ? nullptr : m->description.c_str();
     m->method.order = order;
@@ -142,6 +145,7 @@ void register_step(const std::string& id, py::object step, py::object jacobian, 
         ~Probing() { t_probing = false; }
     } probing;
     dampsym::api::register_plugin_methods(m->descriptor, source);
+    (void)owned.release(); // the registry's row points into it from now on
 }
 
 py::tuple run(const std::vector<std::string>& targets, const dampsym::api::Options& o) {
