@@ -23,7 +23,9 @@ _loaded: dict[str, str] = {}  # id -> the method file text it was loaded from
 
 def _data(x: Matrix | Vector) -> Any:
     """numpy arrays as lists; strings (exact expressions such as "1/6") kept."""
-    return x.tolist() if isinstance(x, np.ndarray) else [_data(v) if isinstance(v, (list, tuple, np.ndarray)) else v for v in x]
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    return [_data(v) if isinstance(v, (list, tuple, np.ndarray)) else v for v in x]
 
 
 def load_method(definition: dict[str, Any], source: str | None = None) -> str:
