@@ -9,6 +9,8 @@ packages=(
   python3 python3-numpy python3-scipy python3-mpmath python3-jsonschema python3-junitparser
   python3-matplotlib
   python3-pytest python3-mypy # verify/tests (pytest) and the type check of verify/ (ci/test.sh)
+  python3-dev pybind11-dev python3-pybind11 # the Python package dampsym (python/, docs/python.md)
+  python3-distributed # dampsym.dask (its test runs a LocalCluster)
   clang-format
   cmark-gfm # tests/markdown/check_gfm.py: report.md, figures.md as GitHub renders them
   clang-14 libclang-rt-14-dev libfuzzer-14-dev # the sanitizer build (ci/build.sh asan; libclang-rt: its ASan/UBSan runtime, only recommended by clang-14) and ci/fuzz.sh

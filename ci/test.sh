@@ -4,6 +4,10 @@
 #     method x property matrix (docs/matrix.md), the Python cross-check and the report tests
 #     (schemas, JUnit, shards + merge, compare) on the suites' reports (ctest labels suite,
 #     crosscheck and reports; the per-case tests, label "case", would only repeat the suites);
+#   - in the Release build too: the Python package (python/: one extension unit linked with the
+#     same library; its pytest, mypy and examples/python/verify_my_method.py, label python) and
+#     the CMake package (ctest package.consumer: cmake --install into a temporary prefix, then
+#     examples/consumer configured, built and tested against it, label package);
 #   - the type check of the Python side (mypy on the package verify, verify/mypy.ini; ~16 CPU s
 #     on a cold cache, 1 s warm), in the background beside the builds;
 #   - the ASan/UBSan build: every unit test (Catch2, including the CLI tests) and the smaller
@@ -47,10 +51,11 @@ mypy_pid=$!
 
 echo "== Release build: suites and cross-check (${SECONDS} s)"
 release_status=0
-bash ci/build.sh release dampsym dampsym_test_plugins || release_status=$?
+bash ci/build.sh release dampsym dampsym_test_plugins dampsym_python || release_status=$?
 if [ "$release_status" -eq 0 ]; then
   echo "== Release ctest (${SECONDS} s)"
-  (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports') || release_status=$?
+  (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports|python|package') ||
+    release_status=$?
 fi
 
 echo "== mypy: waiting for it (${SECONDS} s)"

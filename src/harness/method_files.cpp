@@ -182,6 +182,16 @@ std::string check_method_text(const std::string& text, const std::string& file) 
     return method_file::parse_method(j, r).id;
 }
 
+std::vector<const MethodInfo*> load_method_text(const std::string& text,
+                                                const std::string& source) {
+    const json j = parse_json_checked(text, source); // as a file's text (check_method_text)
+    method_file::Reader r(source);
+    method_file::Parsed m = method_file::parse_method(j, r);
+    const std::string id = m.id;
+    method_file::commit(m, source);
+    return {find_loaded_method(id)};
+}
+
 void load_method_folder(const std::string& dir) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) return;
