@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """Independent Python cross-check of a dampsym report.
 
-    /usr/bin/python3 verify/crosscheck.py REPORT.json [--out DIR] [--jobs N] [--strict]
+    /usr/bin/python3 -m verify.crosscheck REPORT.json [--out DIR] [--jobs N] [--strict]
+                                          [--cache DIR [--cache-read-only]]
+
+--cache DIR keeps our own integrations, references and Newton counts (verify/xcache.py: keyed by
+their arguments and our sources, never by the report; every comparison is always made).
 
 Exit 0 when nothing disagrees, 1 on any disagreement (with --strict, the ctests' setting, also
 when a run, fit, check or field is "not reproduced"), 2 on bad input (naming the file and key).
