@@ -49,6 +49,8 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 import pytest
 
 from verify import crosscheck
+from verify import xproblems as xp
+from verify import xrun
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PY = "/usr/bin/python3"
@@ -132,7 +134,11 @@ def rname(cid: str, r: Rep) -> str:
 
 
 def our_state(case: Rep, method: str, dt: float, steps: int, env: Dict[str, str]) -> List[float]:
-    """Our own kernel's state after `steps` steps (verify/xrun.py)."""
+    """Our own kernel's state after `steps` steps (verify/xrun.py): in this process, or in a fresh
+    interpreter with `env` (XC_PERTURB_GAUSS is read when verify/xmethods.py is imported)."""
+    if not env:
+        prob = xp.make_problem(case["problem"]["id"], case["problem"]["params"])
+        return [float(x) for x in xrun.integrate(method, prob, dt, steps, case["t0"])["z"]]
     code = ("import sys, json; from verify import xproblems as xp, xrun; "
             "c = json.loads(sys.stdin.read()); p = xp.make_problem(c['problem']['id'], c['problem']['params']); "
             "o = xrun.integrate(%r, p, %r, %d, c['t0']); print(json.dumps(o['z'].tolist()))"
