@@ -18,6 +18,7 @@ from __future__ import annotations
 import copy
 import json
 import os
+import shutil
 from typing import Any, Dict, Iterator, List
 
 import numpy as np
@@ -132,6 +133,7 @@ def test_planted_after_cache(report_path: str, workdir: str) -> None:
         base = neg.slice_of(json.load(fh), "pend-orders", "pend-table41-g0", "osc-orders")
     wd = os.path.join(workdir, "xcache")
     cache = os.path.join(wd, "cache")
+    shutil.rmtree(cache, ignore_errors=True)     # written afresh: a cache of an earlier run would be read
     neg.OPTIONS["cache"] = None
     try:
         rc, lines, out = neg.run_crosscheck(base, wd, "write", extra=["--cache", cache])
