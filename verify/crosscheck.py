@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """Independent Python cross-check of a dampsym report.
 
-    /usr/bin/python3 verify/crosscheck.py REPORT.json [--out DIR] [--jobs N] [--strict]
+    /usr/bin/python3 -m verify.crosscheck REPORT.json [--out DIR] [--jobs N] [--strict]
+                                          [--cache DIR [--cache-read-only]]
+
+--cache DIR keeps our own integrations, references and Newton counts (verify/xcache.py: keyed by
+their arguments and our sources, never by the report; every comparison is always made).
 
 Exit 0 when nothing disagrees, 1 on any disagreement (with --strict, the ctests' setting, also
 when a run, fit, check or field is "not reproduced"), 2 on bad input (naming the file and key).
@@ -126,6 +130,7 @@ from typing import Any, Dict, List, Optional, Tuple
 import numpy as np
 
 from . import diagnostics
+from . import xcache
 from . import xcase
 from . import xcaserec
 from . import xjit
@@ -229,8 +234,11 @@ def check_case(case: Rec, selection: Optional[List[str]]) -> Rec:
 
 def _worker(args: Tuple[Rec, Optional[List[str]]]) -> Rec:
     try:
+        before = dict(xcache.STATS)
         with np.errstate(all="ignore"):     # diverged runs: inf/nan are compared as such
-            return check_case(*args)
+            rec = check_case(*args)
+        rec["cache"] = {k: xcache.STATS[k] - before[k] for k in before}
+        return rec
     except BadInput as exc:
         return dict(bad_input=str(exc))
     except Exception as exc:   # a fault of ours: name the case
@@ -508,14 +516,22 @@ def main(argv: Optional[List[str]] = None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--strict", action="store_true",
                     help="exit 1 also when anything is not reproduced")
+    ap.add_argument("--cache", metavar="DIR",
+                    help="keep our own integrations, references and Newton counts in DIR and reuse them "
+                         "(keyed by their inputs and our sources, never by the report: verify/xcache.py)")
+    ap.add_argument("--cache-read-only", action="store_true", help="read the --cache, add nothing to it")
     args = ap.parse_args(argv)
     t_start = time.perf_counter()
     try:
+        xcache.configure(args.cache, write=not args.cache_read_only)
         report = load_report(args.report)
         warm_s = xjit.warm()   # compile the loops once here; the forked workers inherit them
         res = run_all(report, args.jobs)
     except BadInput as exc:
         print("crosscheck: bad input: %s" % exc, file=sys.stderr)
+        return 2
+    except OSError as exc:
+        print("crosscheck: bad input: --cache %s: %s" % (args.cache, exc), file=sys.stderr)
         return 2
     groups = {k: [x for r in res for x in r[k]] for k in ("structure", "runs", "orders", "checks")}
     groups["structure"] = [summary_record(report)] + report_cases(report) + groups["structure"]
@@ -525,6 +541,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                   elapsed_seconds=time.perf_counter() - t_start, summary=summary,
                   timing=[(r["case"], r.get("problem", "?"), r["seconds"], r["cpu_seconds"]) for r in res],
                   cpu_seconds=sum(r["cpu_seconds"] for r in res), jit_warmup_seconds=warm_s,
+                  cache=dict(directory=xcache.directory(), **{k: sum(r["cache"][k] for r in res) for k in xcache.STATS}),
                   coefficient_sources=xm.COEFFICIENT_SOURCES, **groups)
     out = args.out or os.path.dirname(os.path.abspath(args.report))
     os.makedirs(out, exist_ok=True)
@@ -535,6 +552,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     print("crosscheck: wrote %s/crosscheck.{json,md} in %.2f s wall, %.1f s CPU in the workers"
           " (compiled loops: %s, %.2f s to compile or load them)"
           % (out, result["elapsed_seconds"], result["cpu_seconds"], "numba" if xjit.HAVE_NUMBA else "off", warm_s))
+    if xcache.directory() is not None:
+        print("crosscheck: cache %s: %d hits, %d misses, %d stored" % (
+            xcache.directory(), result["cache"]["hits"], result["cache"]["misses"], result["cache"]["stored"]))
     nrep = sum(summary[k]["not reproduced"] for k in groups)
     if args.strict and nrep:
         print("crosscheck: --strict: %d item(s) not reproduced (crosscheck.md lists them)" % nrep)

@@ -7,6 +7,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from . import xcache
 from . import xmethods as xm
 from . import xproblems as xp
 from . import xrun
@@ -400,6 +401,7 @@ def metric_momentum(prob: Any, traj: Any, h: float, method: str) -> Dict[str, An
     return out
 
 
+@xcache.memo
 def metric_conformal_symplectic(method: str, prob: Any, h: float, t0: float, traj: Any) -> Dict[str, Any]:
     """E_n: Psi^T J^-1 Psi against e^{-2 dGamma} J^-1 (canonical), or Psi D Psi^T against
     e^{-2 dGamma} D for a problem with a Poisson structure matrix D (B's Burgers (5.9))."""

@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 
+from . import xcache
 from . import xmethods as xm
 
 MAX_IT = 40
@@ -156,6 +157,7 @@ def _count_roundoff(U: Any) -> Any:
     return cnt
 
 
+@xcache.memo
 def cost_metrics(method: str, prob: Any, h: Any, t0: Any, traj: Any) -> Any:
     """{metric: (ours, lo, hi)} for cost.* and run.* counts (see the module docstring)."""
     Uf, s = iteration_updates(method, prob, h, t0, traj, full=True)
@@ -214,6 +216,7 @@ def _stage_updates(f: Any, t: Any, base: Any, ha: Any, full: bool) -> Any:
     return U, y, f(t, y)
 
 
+@xcache.memo
 def glm_cost_metrics(prob: Any, h: Any, t0: Any, Y: Any) -> Any:
     """Butcher's GLM (BS; xmethods.GLM): two diagonally implicit stages solved one after the
     other, each by the same family of Newton solvers as above; Y = OUR y^[n] (steps + 1, 2, d).

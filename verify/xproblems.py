@@ -13,6 +13,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.special import iv
 
+from . import xcache
+
 EPS = np.finfo(float).eps
 
 
@@ -76,17 +78,21 @@ class Problem:
         key = (t0, tuple(np.asarray(times).tolist()))
         cache = self.__dict__.setdefault("_refcache", {})
         if key not in cache:
-            times = np.asarray(times, float)
-            sols = []
-            for rtol, atol in ((1e-13, 1e-15), (2.3e-14, 1e-16)):
-                s = solve_ivp(self.f_ref, (t0, times[-1]), self.z0, method="DOP853",
-                              rtol=rtol, atol=atol, t_eval=times, dense_output=False)
-                if not s.success:
-                    raise RuntimeError("reference failed: " + s.message)
-                sols.append(s.y.T)
-            est = float(np.max(np.linalg.norm(sols[0] - sols[1], axis=-1)))
-            cache[key] = (sols[1], est)
+            cache[key] = _reference_solves(self, t0, np.asarray(times, float))
         return cache[key]
+
+
+@xcache.memo
+def _reference_solves(prob: Problem, t0: Any, times: Any) -> Any:
+    """Problem.reference_grid's two DOP853 solves: (states at times, their difference)."""
+    sols = []
+    for rtol, atol in ((1e-13, 1e-15), (2.3e-14, 1e-16)):
+        s = solve_ivp(prob.f_ref, (t0, times[-1]), prob.z0, method="DOP853",
+                      rtol=rtol, atol=atol, t_eval=times, dense_output=False)
+        if not s.success:
+            raise RuntimeError("reference failed: " + s.message)
+        sols.append(s.y.T)
+    return sols[1], float(np.max(np.linalg.norm(sols[0] - sols[1], axis=-1)))
 
 
 class Oscillator(Problem):

@@ -5,11 +5,13 @@ import math
 import numpy as np
 
 from . import refmath
+from . import xcache
 from . import xjit
 from . import xscalar
 from . import xmethods as xm
 
 
+@xcache.memo
 def integrate(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool = False, blowup: Any = None) -> Any:
     """nsteps steps of size h from (t0, z0), time t0 + n h.  Returns dict(status, steps, z,
     traj (every state incl. z0, when record), newton (total iterations), newton_max, message).

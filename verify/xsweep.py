@@ -38,6 +38,7 @@ import math
 import numpy as np
 
 from . import refmath
+from . import xcache
 from . import xmethods as xm
 from . import xproblems as xp
 
@@ -187,6 +188,7 @@ def power_bounded_by_r(poly: Any, w: float, Gg: np.ndarray, Hh: np.ndarray) -> n
     return (rR < 1.0 - 8 * EPS) | ((rR <= 1.0 + 8 * EPS) & (np.abs(R[..., 0] - R[..., 1]) > 1e-7))
 
 
+@xcache.memo
 def sweep(method: str, spec: Dict[str, Any]) -> Any:
     w = float(spec.get("omega", 1.0))
     G, H = axis(spec["gamma"]), axis(spec["h"])

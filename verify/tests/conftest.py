@@ -15,6 +15,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     g.addoption("--bin", help="the dampsym binary")
     g.addoption("--register", help="docs/claims.md")
     g.addoption("--ctest-build", help="the build directory (ctest --output-junit)")
+    g.addoption("--xc-cache", help="the cross-check's cache of its own results (crosscheck.py --cache): "
+                                   "read (never extended) by the negative controls")
     g.addoption("--no-skips", action="store_true",
                 help="a skipped test fails (the ctests: an input they forgot to pass is an error)")
 
@@ -72,3 +74,8 @@ def register_path(request: pytest.FixtureRequest) -> str:
 @pytest.fixture
 def ctest_build(request: pytest.FixtureRequest) -> Optional[str]:
     return _opt(request.config, "ctest_build")
+
+
+@pytest.fixture
+def xc_cache(request: pytest.FixtureRequest) -> Optional[str]:
+    return _opt(request.config, "xc_cache")
