@@ -3,12 +3,12 @@
 # with --jobs 1 and --jobs 2, run dampsym_bench (raw output: reports/bench-raw.json), then
 # bench/bench_report.py, which writes reports/bench.json and reports/bench.md and prints the
 # acceptance table, then bench/run_timing.py (the kernel ratios through `dampsym run`) and
-# bench/figures_cost.py (the default suite with --figures against without), then the
-# work-precision comparison (dampsym_bench's wp/ benchmarks and scipy, bench/work_precision.py:
-# reports/work-precision.{json,png}, about 1.5 minutes), then the coefficient mutants
-# (ci/mutants.py, docs/mutation.md). Exits 1
-# if an acceptance row fails (2 on a usage or input error). Takes several minutes; run it on a
-# quiet machine.
+# bench/figures_cost.py (the default suite with --figures against without), then
+# bench/python_api.py (the Python API against the CLI), then the work-precision comparison
+# (dampsym_bench's wp/ benchmarks and scipy, bench/work_precision.py:
+# reports/work-precision.{json,png}, about a minute), then the coefficient mutants
+# (ci/mutants.py, docs/mutation.md). Exits 1 if an acceptance row fails (2 on a usage or input
+# error). Takes several minutes; run it on a quiet machine.
 # Environment: DAMPSYM_BUILD_DIR (default build), DAMPSYM_BUILD_JOBS (default nproc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,7 +16,7 @@ bash ci/setup.sh
 build="${DAMPSYM_BUILD_DIR:-build}"
 jobs="${DAMPSYM_BUILD_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DDAMPSYM_WERROR=ON -DDAMPSYM_BUILD_BENCH=ON >/dev/null
-cmake --build "$build" -j"$jobs" --target dampsym dampsym_bench
+cmake --build "$build" -j"$jobs" --target dampsym dampsym_bench dampsym_python
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p reports
@@ -54,6 +54,11 @@ for r in json.load(open("reports/pde-scipy.json")):
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 # The default suite with --figures against without (at most 2x): reports/figures-cost.json.
 /usr/bin/python3 bench/figures_cost.py "$build/dampsym" --out-json reports/figures-cost.json || {
+  s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
+# The Python API against the command line on the same case (at most 1.05x) and a Python callable
+# step's cost per step (docs/python.md "Cost"): reports/python-api.json.
+PYTHONPATH="$build/python" /usr/bin/python3 bench/python_api.py "$build/dampsym" \
+  --out-json reports/python-api.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
 # Work-precision (docs/benchmarks.md "Work-precision"): dampsym's conformal methods beside
 # Boost.Odeint and GSL (the wp/ benchmarks) and scipy's DOP853 and Radau (bench/work_precision.py),

@@ -4,13 +4,17 @@
 #     method x property matrix (docs/matrix.md), the Python cross-check and the report tests
 #     (schemas, JUnit, shards + merge, compare) on the suites' reports (ctest labels suite,
 #     crosscheck and reports; the per-case tests, label "case", would only repeat the suites);
+#   - in the Release build too: the Python package (python/: one extension unit linked with the
+#     same library; its pytest, mypy and examples/python/verify_my_method.py, label python) and
+#     the CMake package (ctest package.consumer: cmake --install into a temporary prefix, then
+#     examples/consumer configured, built and tested against it, label package);
 #   - the type check of the Python side (mypy on the package verify, verify/mypy.ini; ~16 CPU s
 #     on a cold cache, 1 s warm), in the background beside the builds;
 #   - the ASan/UBSan build: every unit test (Catch2, including the CLI tests) and the smaller
 #     'sanitize' suite. The unit tests run once, under the sanitizers; building them a second
 #     time in Release would only repeat them (ci/suite.sh builds them there for local use).
-#     The ASan/UBSan build runs in the background from the start (below); its log is printed
-#     when it is waited for.
+#     The ASan/UBSan build and its tests run in the background from the start (below); their
+#     log is printed when they are waited for.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash ci/setup.sh
@@ -20,13 +24,22 @@ echo "== clang-format (${SECONDS} s)"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src reference tests -name '*.[ch]pp')
 clang-format --dry-run -Werror $files
 
-# The ASan/UBSan build starts at once, in the background and at a lower priority: each build and
-# test phase alone leaves a core idle now and then (a last compile or a link alone, the last long
-# test), and the background build fills those gaps instead of running after them.
-echo "== ASan/UBSan build in the background (${SECONDS} s)"
+# The ASan/UBSan build and then its unit tests run at once, in the background and at a lower
+# priority: each build and test phase alone leaves a core idle now and then (a last compile or a
+# link alone, the last long test), and the background phase fills those gaps instead of running
+# after them (with a warm compiler cache both builds take about a minute, and the two test phases
+# then overlap).
+asan_phase() {
+  bash ci/build.sh asan || return
+  echo "== ASan/UBSan unit tests (${SECONDS} s)"
+  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+     ctest --output-on-failure -j"$jobs" -LE 'crosscheck|stress|reports|case' \
+           -E '^(suite\.default|matrix\..*)$')
+}
+echo "== ASan/UBSan build and unit tests in the background (${SECONDS} s)"
 asan_log="$(mktemp)"
 trap 'rm -f "$asan_log"' EXIT
-nice -n 10 bash ci/build.sh asan >"$asan_log" 2>&1 &
+(renice -n 10 "$BASHPID" >/dev/null; asan_phase) >"$asan_log" 2>&1 &
 asan_pid=$!
 asan_status=0
 
@@ -38,10 +51,11 @@ mypy_pid=$!
 
 echo "== Release build: suites and cross-check (${SECONDS} s)"
 release_status=0
-bash ci/build.sh release dampsym dampsym_test_plugins || release_status=$?
+bash ci/build.sh release dampsym dampsym_test_plugins dampsym_python || release_status=$?
 if [ "$release_status" -eq 0 ]; then
   echo "== Release ctest (${SECONDS} s)"
-  (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports') || release_status=$?
+  (cd build && ctest --output-on-failure -j"$jobs" -L 'suite|crosscheck|reports|python|package') ||
+    release_status=$?
 fi
 
 echo "== mypy: waiting for it (${SECONDS} s)"
@@ -50,13 +64,9 @@ wait "$mypy_pid" || mypy_status=$?
 cat "$mypy_log"
 if [ "$mypy_status" -ne 0 ] && [ "$release_status" -eq 0 ]; then release_status=$mypy_status; fi
 
-echo "== ASan/UBSan build: waiting for it (${SECONDS} s)"
+echo "== ASan/UBSan build and unit tests: waiting for them (${SECONDS} s)"
 wait "$asan_pid" || asan_status=$?
 cat "$asan_log"
 if [ "$release_status" -ne 0 ]; then exit "$release_status"; fi
 if [ "$asan_status" -ne 0 ]; then exit "$asan_status"; fi
-
-echo "== ASan/UBSan unit tests (${SECONDS} s)"
-(cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-   ctest --output-on-failure -j"$jobs" -LE 'crosscheck|stress|reports|case' -E '^(suite\.default|matrix\..*)$')
 echo "== done (${SECONDS} s)"

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cli/cli.hpp"
+#include "test_paths.hpp"
 
 #include <atomic>
 #include <filesystem>
@@ -20,7 +21,7 @@ namespace dampsym_test {
 
 namespace fs = std::filesystem;
 
-inline const fs::path test_data{DAMPSYM_TEST_DATA};
+inline const fs::path test_data{test_data_dir()};
 
 // A fresh directory under the system temporary directory, removed with everything in it.
 class TempDir {

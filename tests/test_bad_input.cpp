@@ -661,7 +661,7 @@ TEST_CASE("bad input: list documents parameters, invariants and metrics", "[bad-
 }
 
 TEST_CASE("bad input: docs/case-keys.md documents every case key", "[bad-input]") {
-    const std::string doc = dampsym_test::read_text(fs::path(DAMPSYM_TEST_DATA) / ".." / ".." /
+    const std::string doc = dampsym_test::read_text(fs::path(dampsym_test::test_data_dir()) / ".." / ".." /
                                                     "docs" / "case-keys.md");
     for (const char* key : {"id",        "title",     "source",      "notes",  "suites",
                             "problem",   "methods",   "t0",          "t_end",  "dt",

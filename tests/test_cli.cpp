@@ -357,7 +357,7 @@ TEST_CASE("cli: the dampsym executable returns run_cli's exit status", "[cli]") 
     TempDir cases, out_root;
     copy_data("cases/cli-pass.json", cases.path());
     copy_data("cases/cli-wrong-order.json", cases.path());
-    const std::string bin = DAMPSYM_BINARY;
+    const std::string bin = dampsym_test::binary_path();
     auto status_of = [&](const std::string& rest) {
         const std::string cmd =
             "'" + bin + "' --cases '" + cases.str() + "' " + rest + " > /dev/null 2>&1";

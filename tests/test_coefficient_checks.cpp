@@ -464,7 +464,7 @@ TEST_CASE("glm4 conserves the G-weighted quadratic forms of its two values to ro
 }
 
 TEST_CASE("dampsym methods --check agrees with every declaration", "[coefficients][cli]") {
-    const std::string bin = DAMPSYM_BINARY;
+    const std::string bin = dampsym_test::binary_path();
     auto status_of = [&](const std::string& rest) {
         const std::string cmd = "'" + bin + "' " + rest + " > /dev/null 2>&1";
         const int raw = std::system(cmd.c_str());

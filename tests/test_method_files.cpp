@@ -7,11 +7,14 @@
 
 #include "core/method.hpp"
 #include "harness/case.hpp"
+#include "harness/method_file_reader.hpp"
 #include "harness/method_files.hpp"
 #include "harness/provenance.hpp"
 #include "methods/coefficient_expr.hpp"
 #include "methods/exponential_tableaux.hpp"
+#include "methods/families.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
@@ -311,5 +314,34 @@ TEST_CASE("method files: the φ-function vocabulary against long-double formulas
         CHECK_THAT(t.b[0], Catch::Matchers::WithinRel(
                                static_cast<double>(3 * phi(1, z) - std::exp(z / 2) / 2), 1e-14));
         CHECK(t.phi0 == std::exp(-x));
+    }
+}
+
+TEST_CASE("method files: the reader knows exactly the families whose traits name a file family",
+          "[method-files][families]") {
+    std::vector<std::string> traits;
+    dampsym::for_each_type(dampsym::MethodFamilies{}, [&]<class D>() {
+        const std::string name(dampsym::Family<D>::file_family);
+        if (!name.empty() && std::find(traits.begin(), traits.end(), name) == traits.end())
+            traits.push_back(name);
+    });
+    std::vector<std::string> reader = dampsym::method_file::known_families();
+    std::sort(traits.begin(), traits.end());
+    std::sort(reader.begin(), reader.end());
+    CHECK(reader == traits);
+    CHECK(traits.size() == 5); // rk (plain and under the integrating factor) and four more
+}
+
+TEST_CASE("families: every built-in row with coefficients gets its family's checks",
+          "[families][coefficients]") {
+    // a row whose family has coefficients (a file family) must have checks, and a row of a family
+    // without (hand-written, plugin) none: no family is skipped silently
+    for (const dampsym::MethodInfo& m : dampsym::method_catalog()) {
+        const bool has_coefficients =
+            dampsym::visit_family(m, []<class D>(dampsym::Family<D>, const D&) {
+                return !dampsym::Family<D>::file_family.empty();
+            });
+        INFO(m.id);
+        CHECK(dampsym::method_checks(m).empty() == !has_coefficients);
     }
 }

@@ -133,10 +133,22 @@ struct PluginStep {
     const char* library = nullptr; // the --plugin path (stable storage in harness/plugins.cpp)
 };
 
-using MethodData =
-    std::variant<HandWrittenScheme, RungeKuttaTableau, IntegratingFactorTableau, PartitionedTableau,
-                 ExponentialCoefficients, PartitionedExponentialCoefficients,
-                 GeneralLinearCoefficients, PluginStep>;
+// The method families, one typed coefficient set each. MethodData is generated from this list,
+// and each family registers, in one place (its Family<D> traits, src/methods/families.hpp), its
+// kernels, stage count and coefficient checks; the registry's kernels, the checks, the method-file
+// reader and the memory model are folds over this list, and a family without traits does not
+// compile.
+using MethodFamilies =
+    TypeList<HandWrittenScheme, RungeKuttaTableau, IntegratingFactorTableau, PartitionedTableau,
+             ExponentialCoefficients, PartitionedExponentialCoefficients, GeneralLinearCoefficients,
+             PluginStep>;
+template <class L>
+struct VariantOf;
+template <class... Ts>
+struct VariantOf<TypeList<Ts...>> {
+    using type = std::variant<Ts...>;
+};
+using MethodData = VariantOf<MethodFamilies>::type;
 
 struct MethodInfo {
     std::string_view id;

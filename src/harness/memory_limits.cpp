@@ -8,6 +8,7 @@
 #include "harness/limits.hpp"
 #include "harness/problem_info.hpp"
 #include "methods/exponential_tableaux.hpp"
+#include "methods/families.hpp"
 #include "methods/glm_coefficients.hpp"
 #include "methods/tableaux.hpp"
 
@@ -100,23 +101,8 @@ GridPlan grid_plan(const CaseSpec& c, std::int64_t points, bool has_exact, bool 
 double method_stages(const std::string& id) {
     const MethodInfo* m = find_method(id);
     if (!m) return 1.0;
-    const int s = std::visit(
-        [](const auto& data) -> int {
-            using T = std::decay_t<decltype(data)>;
-            if constexpr (std::is_same_v<T, RungeKuttaTableau> ||
-                          std::is_same_v<T, IntegratingFactorTableau>)
-                return data.tableau ? data.tableau->stages : 1;
-            else if constexpr (std::is_same_v<T, PartitionedTableau>)
-                return std::max(data.q ? data.q->stages : 1, data.p ? data.p->stages : 1);
-            else if constexpr (std::is_same_v<T, ExponentialCoefficients> ||
-                               std::is_same_v<T, PartitionedExponentialCoefficients>)
-                return data.data ? data.data->stages : 1;
-            else if constexpr (std::is_same_v<T, GeneralLinearCoefficients>)
-                return data.glm ? std::max(data.glm->s, data.glm->r) : 1;
-            else
-                return 1;
-        },
-        m->data);
+    const int s =
+        visit_family(*m, []<class D>(Family<D>, const D& data) { return Family<D>::stages(data); });
     return std::max(1, s);
 }
 

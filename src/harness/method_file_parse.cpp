@@ -80,24 +80,33 @@ unsigned parse_claims(const json& v, Reader& r) {
 const std::set<std::string> common_keys{"id",     "family",   "order", "citation",
                                         "claims", "explicit", "notes"};
 
+// The reader of one "family" of method files: its coefficient keys and its parser.
+struct FileFamily {
+    std::set<std::string> keys;
+    void (*parse)(const json&, Reader&, Parsed&, std::optional<bool>);
+};
+using FileFamilies = std::vector<std::pair<std::string, FileFamily>>;
+const FileFamilies& file_families(); // below, after the parsers
+
+const FileFamily* file_family(const std::string& name) {
+    for (const auto& [n, f] : file_families())
+        if (n == name) return &f;
+    return nullptr;
+}
+
 // "family", and no key outside the common keys and the family's.
 void parse_family(const json& j, Reader& r, Parsed& m) {
     const std::string& file = r.file();
     const json& fam = r.need(j, "family", "");
-    static const std::map<std::string, std::set<std::string>> family_keys{
-        {"rk", {"tableau", "integrating_factor"}},
-        {"partitioned-rk", {"q", "p"}},
-        {"exponential-rk", {"tableau"}},
-        {"partitioned-exponential-rk", {"q", "p"}},
-        {"general-linear", {"A", "U", "B", "V", "c", "G", "D", "starting"}}};
-    if (!fam.is_string() || !family_keys.count(fam.get<std::string>()))
-        bad(file, "family",
-            "unknown family " + show(fam) +
-                " (known: rk, partitioned-rk, exponential-rk, partitioned-exponential-rk, "
-                "general-linear)");
+    if (!fam.is_string() || !file_family(fam.get<std::string>())) {
+        std::string known;
+        for (const auto& [name, f] : file_families()) known += (known.empty() ? "" : ", ") + name;
+        bad(file, "family", "unknown family " + show(fam) + " (known: " + known + ")");
+    }
     m.family = fam.get<std::string>();
     std::set<std::string> allowed = common_keys;
-    allowed.insert(family_keys.at(m.family).begin(), family_keys.at(m.family).end());
+    const std::set<std::string>& keys = file_family(m.family)->keys;
+    allowed.insert(keys.begin(), keys.end());
     r.only(j, allowed, "");
 }
 
@@ -317,6 +326,19 @@ void parse_general_linear(const json& j, Reader& r, Parsed& m,
     m.glm = std::move(g);
 }
 
+// Every family a method file can name (Family<D>::file_family, methods/families.hpp; ctest
+// "method files: the reader knows exactly the families whose traits name a file family").
+const FileFamilies& file_families() {
+    static const FileFamilies table{
+        {"rk", {{"tableau", "integrating_factor"}, parse_rk}},
+        {"partitioned-rk", {{"q", "p"}, parse_partitioned_rk}},
+        {"exponential-rk", {{"tableau"}, parse_exponential_rk}},
+        {"partitioned-exponential-rk", {{"q", "p"}, parse_partitioned_exponential_rk}},
+        {"general-linear",
+         {{"A", "U", "B", "V", "c", "G", "D", "starting"}, parse_general_linear}}};
+    return table;
+}
+
 } // namespace
 
 Parsed parse_method(const json& j, Reader& r) {
@@ -325,17 +347,14 @@ Parsed parse_method(const json& j, Reader& r) {
     parse_family(j, r, m);
     parse_id(j, r, m);
     const std::optional<bool> declared_explicit = parse_declarations(j, r, m);
-    if (m.family == "rk")
-        parse_rk(j, r, m, declared_explicit);
-    else if (m.family == "partitioned-rk")
-        parse_partitioned_rk(j, r, m, declared_explicit);
-    else if (m.family == "exponential-rk")
-        parse_exponential_rk(j, r, m, declared_explicit);
-    else if (m.family == "partitioned-exponential-rk")
-        parse_partitioned_exponential_rk(j, r, m, declared_explicit);
-    else
-        parse_general_linear(j, r, m, declared_explicit);
+    file_family(m.family)->parse(j, r, m, declared_explicit);
     return m;
+}
+
+std::vector<std::string> known_families() {
+    std::vector<std::string> out;
+    for (const auto& [name, f] : file_families()) out.push_back(name);
+    return out;
 }
 
 } // namespace dampsym::method_file

@@ -313,6 +313,8 @@ private:
 
 // The method of a parsed file (method_file_parse.cpp); throws InputError naming file and key.
 Parsed parse_method(const json& j, Reader& r);
+// The values a method file's "family" may take (each a Family<D>::file_family).
+std::vector<std::string> known_families();
 
 // Of the run-time registry (method_files.cpp): the number of loaded partitioned exponential
 // methods, and the file a loaded id came from ("" if none).

@@ -12,6 +12,7 @@
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <utility>
 
 namespace dampsym {
@@ -96,11 +97,13 @@ void commit(Parsed& m, const std::string& file) {
         e.p = std::move(*m.e2);
         e.data = PartitionedExponentialRKData{id, citation, "file", e.q.s, perk_slots[slot]};
         data = PartitionedExponentialCoefficients{&e.data};
-    } else {
+    } else if (m.family == "general-linear") {
         GlmCoefficients& g = reg.glms.emplace_back(std::move(*m.glm));
         g.name = id;
         g.citation = citation;
         data = GeneralLinearCoefficients{&g};
+    } else { // the reader refuses any other family (method_file_parse.cpp file_families)
+        throw std::logic_error("method file: no registration for family '" + m.family + "'");
     }
     reg.rows.push_back(MethodInfo{id, m.order, m.implicit, m.form, m.claims, citation, data});
     reg.file_of.emplace(m.id, file);
@@ -177,6 +180,16 @@ std::string check_method_text(const std::string& text, const std::string& file) 
     const json j = parse_json_checked(text, file); // as read_case_json after reading the file
     method_file::Reader r(file);
     return method_file::parse_method(j, r).id;
+}
+
+std::vector<const MethodInfo*> load_method_text(const std::string& text,
+                                                const std::string& source) {
+    const json j = parse_json_checked(text, source); // as a file's text (check_method_text)
+    method_file::Reader r(source);
+    method_file::Parsed m = method_file::parse_method(j, r);
+    const std::string id = m.id;
+    method_file::commit(m, source);
+    return {find_loaded_method(id)};
 }
 
 void load_method_folder(const std::string& dir) {

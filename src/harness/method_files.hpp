@@ -32,6 +32,9 @@ std::vector<const MethodInfo*> load_method_file(const std::string& path);
 // load_method_file would register every valid input, so the registry would grow without bound
 // and later inputs with a registered id would stop at the duplicate-id check.
 std::string check_method_text(const std::string& text, const std::string& file);
+// Loads a method file's text (the Python module's Tableau, src/api/) with every check of
+// load_method_file; `source` stands for the file in messages and in method_file_of.
+std::vector<const MethodInfo*> load_method_text(const std::string& text, const std::string& source);
 // Loads every *.json file of `dir` in name order; a missing directory loads nothing.
 void load_method_folder(const std::string& dir);
 // The file a loaded method came from ("" for a built-in or unknown id).

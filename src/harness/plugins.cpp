@@ -257,6 +257,26 @@ std::vector<MethodInfo> rows_of(const std::string& lib, const dampsym_plugin_des
     return rows;
 }
 
+// Validates every method of the descriptor, takes each one probe step, then registers them all
+// (nothing is registered when one fails). `lib_stable` outlives the rows (their citation).
+std::vector<const MethodInfo*> register_descriptor(const std::string& path, const char* lib_stable,
+                                                   const dampsym_plugin_descriptor& d) {
+    const std::vector<MethodInfo> rows = rows_of(path, d);
+    for (int i = 0; i < d.n_methods; ++i) probe_method(path, lib_stable, d.methods[i]);
+    std::vector<const MethodInfo*> out;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const dampsym_method& m = d.methods[i];
+        MethodInfo row = rows[i];
+        const std::string citation =
+            std::string("plugin ") + lib_stable +
+            (m.description ? std::string(": ") + quote_for_message(m.description, 400) : "");
+        row.citation = citation; // copied into stable storage by register_runtime_method
+        row.data = PluginStep{&m, lib_stable};
+        out.push_back(register_runtime_method(row, lib_stable));
+    }
+    return out;
+}
+
 } // namespace
 
 std::vector<const MethodInfo*> load_plugin(const std::string& path) {
@@ -304,27 +324,22 @@ std::vector<const MethodInfo*> load_plugin(const std::string& path) {
                         " (it does not speak ABI version " +
                         std::to_string(DAMPSYM_PLUGIN_ABI_VERSION) + "?)");
     }
-    std::vector<MethodInfo> rows;
+    std::vector<const MethodInfo*> out;
     try {
-        rows = rows_of(path, d);
-        for (int i = 0; i < d.n_methods; ++i) probe_method(path, lib_stable, d.methods[i]);
+        out = register_descriptor(path, lib_stable, d);
     } catch (...) {
         dlclose(handle);
         throw;
     }
-    std::vector<const MethodInfo*> out;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const dampsym_method& m = d.methods[i];
-        MethodInfo row = rows[i];
-        const std::string citation =
-            std::string("plugin ") + lib_stable +
-            (m.description ? std::string(": ") + quote_for_message(m.description, 400) : "");
-        row.citation = citation; // copied into stable storage by register_runtime_method
-        row.data = PluginStep{&m, lib_stable};
-        out.push_back(register_runtime_method(row, lib_stable));
-    }
     reg.by_path[key] = out; // the library stays loaded: its rows point into it
     return out;
+}
+
+std::vector<const MethodInfo*> register_plugin_methods(const std::string& source,
+                                                       const dampsym_plugin_descriptor& d) {
+    auto& reg = loaded();
+    reg.libraries.push_back(quote_for_message(source));
+    return register_descriptor(source, reg.libraries.back().c_str(), d);
 }
 
 bool is_plugin_method(const MethodInfo& m) {

@@ -18,10 +18,17 @@
 #include <string>
 #include <vector>
 
+struct dampsym_plugin_descriptor; // include/dampsym/plugin.h
+
 namespace dampsym {
 
 // Loads the plugin library and registers its methods; returns them (also when loaded before).
 std::vector<const MethodInfo*> load_plugin(const std::string& path);
+// Registers the methods of a descriptor that did not come from a library (the Python module's
+// callables, python/): the same checks and probe step as load_plugin, `source` naming them in
+// messages and citations. The descriptor and its methods must outlive the process's runs.
+std::vector<const MethodInfo*> register_plugin_methods(const std::string& source,
+                                                       const dampsym_plugin_descriptor& d);
 // Whether the method row is a plugin's.
 bool is_plugin_method(const MethodInfo& m);
 

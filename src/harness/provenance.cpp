@@ -83,10 +83,6 @@ json build_json() {
 
 } // namespace
 
-std::string source_dir() {
-    return DAMPSYM_SOURCE_DIR; // only this file is compiled with it (CMakeLists.txt)
-}
-
 std::string version_string() {
     const BuildInfo& b = build_info();
     std::string s = std::string("dampsym ") + DAMPSYM_VERSION;

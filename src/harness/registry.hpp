@@ -1,28 +1,15 @@
 // The two registries: the problem types and the method kernels. Adding a problem = one header in
-// src/problems/ plus one entry in ProblemList; adding a family kernel = one adapter header (its
-// Data type, a MethodData alternative in core/method.hpp, and its engine or code) plus one entry
-// in KernelList; adding a method of an existing family = one row in src/methods/catalog.cpp.
-// Nothing in the runner changes.
+// src/problems/ plus one entry in ProblemList; adding a family = its coefficient type in
+// MethodFamilies (core/method.hpp), its kernel header(s) and its Family<D> traits
+// (src/methods/families.hpp), from which the kernel list here is generated; adding a method of an
+// existing family = one row in src/methods/catalog.cpp. Nothing in the runner changes.
 #pragma once
 
 #include "core/method.hpp"
 #include "core/problem.hpp"
 #include "core/problem_concepts.hpp"
 #include "harness/problem_info.hpp"
-#include "methods/burgers_b.hpp" // B's Burgers schemes (5.10), (5.12), (4.18)
-#include "methods/cimp.hpp"
-#include "methods/csv1.hpp"
-#include "methods/csv2.hpp"
-#include "methods/explicit_rk.hpp"
-#include "methods/exponential_rk.hpp"
-#include "methods/general_linear.hpp"
-#include "methods/ifrk.hpp"
-#include "methods/implicit_rk.hpp"
-#include "methods/nls_b.hpp" // B's NLS schemes (4.15), (5.27), (5.28) by FFT
-#include "methods/partitioned_exponential_rk.hpp"
-#include "methods/partitioned_rk.hpp"
-#include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md)
-#include "methods/symplectic_euler_partitioned.hpp"
+#include "methods/families.hpp" // the families and their kernels
 #include "problems/argon.hpp"
 #include "problems/driven_pendulum.hpp"
 #include "problems/hill.hpp"
@@ -61,14 +48,21 @@ static_assert(all_problems(ProblemList{}),
               "every problem in ProblemList must satisfy dampsym::Problem "
               "(core/problem_concepts.hpp; an exact solution takes its start (t0, z0))");
 
-template <template <class> class... Ks>
-struct KernelList {};
-using Kernels = KernelList<Cimp, Csv1, Csv2, ExplicitRK, ImplicitRK, IFRK, PartitionedRK,
-                           GeneralLinear, ExponentialRK, PartitionedExponentialRK, BurgersCsv,
-                           BurgersBoxScheme, BurgersNsfd, // B (5.10), (5.12), (4.18)
-                           NlsIf, NlsEtd, NlsImp,         // B (4.15), (5.27), (5.28)
-                           SymplecticEulerPartitioned,    // HLW (1.8) on (1.7)
-                           PluginPlain, PluginConformal, PluginSeparable>; // plugins
+// Every kernel of every family (Family<D>::kernels, methods/families.hpp).
+using Kernels = AllKernels;
+
+// Each family's kernels step that family's coefficient set (Kernel::Data; the problem type only
+// chooses the instantiation, so the oscillator stands for all).
+template <class D, template <class> class... Ks>
+constexpr bool kernels_step(KernelList<Ks...>) {
+    return (std::is_same_v<typename Ks<Oscillator>::Data, D> && ...);
+}
+template <class... Ds>
+constexpr bool kernels_step_their_family(TypeList<Ds...>) {
+    return (kernels_step<Ds>(typename Family<Ds>::kernels{}) && ...);
+}
+static_assert(kernels_step_their_family(MethodFamilies{}),
+              "a kernel in Family<D>::kernels must have Data = D (methods/families.hpp)");
 
 // Calls f.template operator()<P>() for the problem type with this id; false if none.
 template <class F>

@@ -206,6 +206,8 @@ std::string fmt(double v) {
     return buf;
 }
 
+} // namespace
+
 // Checks of a Runge–Kutta tableau: row sums, order conditions through the declared order and
 // their failure at the next, symplecticity (expected as given).
 void rk_checks(const ButcherTableau& t, int order, bool symplectic_expected,
@@ -274,6 +276,8 @@ void prk_checks(const ButcherTableau& q, const ButcherTableau& p, int order, boo
                    expected, v <= tol, v, tol});
 }
 
+namespace {
+
 // The linear test y' = λy, z = hλ: one step of the method maps its r values by
 // M(z) = V + z B (I − zA)⁻¹ U, the starting method produces S(z) = V₀ + z B₀ (I − zA₀)⁻¹ U₀ from
 // y₀, and the values it carries after a step are those of the exact solution when
@@ -322,6 +326,8 @@ double glm_stage_time_residual(const GlmCoefficients& m) {
     return std::max(main, start);
 }
 
+} // namespace
+
 void glm_order_checks(const GlmCoefficients& m, int order, std::vector<CoefficientCheck>& out) {
     const double tol = coefficient_tolerance;
     const double lin = glm_linear_order_residual(m, order);
@@ -356,8 +362,6 @@ void glm_checks(const GlmCoefficients& m, bool g_expected, std::vector<Coefficie
     out.push_back({"consistent", "B e + V v = u + v for some v (BD Def 2.3)", true,
                    con.residual <= tol, con.residual, tol});
 }
-
-} // namespace
 
 std::vector<RootedTree> rooted_trees(int max_order, int colours) {
     std::vector<RootedTree> trees;
@@ -483,36 +487,6 @@ GlmVectorCondition glm_consistency(const GlmCoefficients& m) {
     GlmVectorCondition out;
     out.vector = min_norm_solve(M, rhs);
     out.residual = (M * out.vector - rhs).cwiseAbs().maxCoeff();
-    return out;
-}
-
-std::vector<CoefficientCheck> method_checks(const MethodInfo& info) {
-    std::vector<CoefficientCheck> out;
-    const auto claims = [&](unsigned c) { return (info.claims & c) != 0; };
-    std::visit(
-        [&](const auto& data) {
-            using D = std::decay_t<decltype(data)>;
-            if constexpr (std::is_same_v<D, RungeKuttaTableau>) {
-                rk_checks(*data.tableau, info.order, claims(claim_symplectic_if_undamped),
-                          "b_i a_ij + b_j a_ji − b_i b_j = 0 (B(1.18), BS)", out);
-            } else if constexpr (std::is_same_v<D, IntegratingFactorTableau>) {
-                rk_checks(*data.tableau, info.order, claims(claim_conformal_symplectic),
-                          "underlying RK symplectic, b_i a_ij + b_j a_ji − b_i b_j = 0 "
-                          "(B(1.18)); conformal symplectic by B Thm 2.6",
-                          out);
-            } else if constexpr (std::is_same_v<D, PartitionedTableau>) {
-                prk_checks(*data.q, *data.p, info.order, claims(claim_symplectic_if_undamped), out);
-            } else if constexpr (std::is_same_v<D, GeneralLinearCoefficients>) {
-                glm_checks(*data.glm, claims(claim_g_symplectic), out);
-                glm_order_checks(*data.glm, info.order, out);
-            } else if constexpr (std::is_same_v<D, ExponentialCoefficients>) {
-                erk_checks(*data.data, info.order, info.claims, out);
-            } else if constexpr (std::is_same_v<D, PartitionedExponentialCoefficients>) {
-                perk_checks(*data.data, info.order, info.claims, out);
-            }
-            // Hand-written schemes: their code is the method; no coefficients to check.
-        },
-        info.data);
     return out;
 }
 

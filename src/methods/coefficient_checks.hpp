@@ -27,16 +27,9 @@
 //   u and v are found by least squares (complete orthogonal decomposition) and the residual of
 //   the equations is what is checked.
 //
-// method_checks(info) chooses the checks of the method's family from the type of its coefficient
-// set (std::visit on MethodInfo::data):
-//   RungeKuttaTableau: RK checks; symplecticity expected iff claim_symplectic_if_undamped;
-//   IntegratingFactorTableau: the same on the underlying tableau; symplecticity expected iff
-//         claim_conformal_symplectic (B Thm 2.6: the IFRK method is conformal symplectic when its
-//         underlying RK method is symplectic);
-//   PartitionedTableau: PRK checks; GeneralLinearCoefficients: GLM checks, G-symplecticity
-//         expected iff claim_g_symplectic;
-//   ExponentialCoefficients, PartitionedExponentialCoefficients: exponential_checks.cpp;
-//   any other (hand-written cimp, csv1, csv2, B's PDE schemes, plugins): no checks.
+// method_checks(info) runs the checks of the method's family: each family's traits
+// (Family<D>::checks, src/methods/families.hpp) say which of the functions below apply and which
+// properties are expected from the row's claims.
 // Order conditions are expected to hold through the declared order and to fail at the next order
 // (not checked for order ≥ 6, the largest tree order generated for RK).
 #pragma once
@@ -133,8 +126,21 @@ struct CoefficientCheck {
     bool inconclusive() const { return sufficient_only && expected && !holds; }
     bool agrees() const { return expected == holds || inconclusive(); }
 };
-// The checks of the method's family (empty: no coefficient-level check applies).
+// The checks of the method's family (empty: no coefficient-level check applies); defined with the
+// family traits (methods/families.cpp).
 std::vector<CoefficientCheck> method_checks(const MethodInfo& info);
+
+// The checks of one family's coefficients (appended to out): a Runge–Kutta tableau (row sums,
+// order conditions through `order` and their failure at the next, symplecticity expected as
+// given, described by symplectic_what); a partitioned pair; a general linear method's order on
+// the linear test with its starting method and its stage abscissae; its G-symplecticity (expected
+// as given), stability, pre-consistency and consistency.
+void rk_checks(const ButcherTableau& t, int order, bool symplectic_expected,
+               const std::string& symplectic_what, std::vector<CoefficientCheck>& out);
+void prk_checks(const ButcherTableau& q, const ButcherTableau& p, int order, bool expected,
+                std::vector<CoefficientCheck>& out);
+void glm_order_checks(const GlmCoefficients& m, int order, std::vector<CoefficientCheck>& out);
+void glm_checks(const GlmCoefficients& m, bool g_expected, std::vector<CoefficientCheck>& out);
 
 // The exponential families' checks (methods/exponential_checks.cpp): the γh = 0 limit's row sums
 // and order conditions, and for a conformal symplectic claim B(2.30)/(2.31) resp. B(2.23)/Thm 2.10
