@@ -12,7 +12,8 @@ evaluations and CPU time of the bare loop (minimum over the repetitions). This s
 solve_ivp(DOP853) and solve_ivp(Radau, analytic Jacobian) on the same problems in the same
 process run, over rtol = 1e-3 ... 1e-12 with atol = 1e-3 rtol like the C++ adaptive solvers, and
 times each solve_ivp call (CPU time, minimum of up to 3 calls; this includes scipy's Python
-overhead per step). Every error, C++ or scipy, is computed here by final_error: the relative error
+overhead per step); a scipy ladder stops after a solve that took more than SOLVE_BUDGET (1 s) of
+CPU. Every error, C++ or scipy, is computed here by final_error: the relative error
 at t_end, |z - z_ref|_2 / |z_ref|_2 (dampsym's error.final_rel). The figure is drawn from the JSON
 by tools/figures/work_precision_plot.py.
 
