@@ -90,5 +90,7 @@ bool kernel_ends_at(std::string_view method, double q, double p);
 void register_reference_benchmark(); // bench_reference.cpp: certified GSL reference
 void register_overhead_benchmarks(); // bench_overhead.cpp: run_cases vs bare integrate()
 void register_pde_benchmarks();      // bench_pde.cpp: B ch. 5 schemes, M = 256 ... 8192
+// bench_workprecision.cpp: wp/<problem>/<solver>/<k>, dampsym's methods beside Boost.Odeint and GSL
+void register_workprecision_benchmarks();
 
 } // namespace dampsym::bench

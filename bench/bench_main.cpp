@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     register_reference_benchmark();
     register_overhead_benchmarks();
     register_pde_benchmarks();
+    register_workprecision_benchmarks();
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;

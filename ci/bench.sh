@@ -4,7 +4,9 @@
 # bench/bench_report.py, which writes reports/bench.json and reports/bench.md and prints the
 # acceptance table, then bench/run_timing.py (the kernel ratios through `dampsym run`) and
 # bench/figures_cost.py (the default suite with --figures against without), then
-# bench/python_api.py (the Python API against the CLI), then the coefficient mutants
+# bench/python_api.py (the Python API against the CLI), then the work-precision comparison
+# (dampsym_bench's wp/ benchmarks and scipy, bench/work_precision.py:
+# reports/work-precision.{json,png}, about a minute), then the coefficient mutants
 # (ci/mutants.py, docs/mutation.md). Exits 1 if an acceptance row fails (2 on a usage or input
 # error). Takes several minutes; run it on a quiet machine.
 # Environment: DAMPSYM_BUILD_DIR (default build), DAMPSYM_BUILD_JOBS (default nproc).
@@ -25,7 +27,9 @@ for j in 1 2; do
   "$build/dampsym" run --out "$tmp/suite-jobs$j" --jobs "$j" >/dev/null || s=$?
   if [ "$s" -eq 2 ]; then echo "ci/bench.sh: dampsym run --jobs $j: bad input" >&2; exit 2; fi
 done
-"$build/dampsym_bench" --benchmark_out=reports/bench-raw.json --benchmark_out_format=json
+# The work-precision benchmarks (wp/) have their own run below.
+"$build/dampsym_bench" --benchmark_filter='-^wp/' --benchmark_out=reports/bench-raw.json \
+  --benchmark_out_format=json
 status=0
 /usr/bin/python3 bench/bench_report.py reports/bench-raw.json \
   --suite-jobs1 "$tmp/suite-jobs1/report.json" --suite-jobs2 "$tmp/suite-jobs2/report.json" \
@@ -56,6 +60,22 @@ for r in json.load(open("reports/pde-scipy.json")):
 PYTHONPATH="$build/python" /usr/bin/python3 bench/python_api.py "$build/dampsym" \
   --out-json reports/python-api.json || {
   s=$?; if [ "$s" -eq 2 ]; then exit 2; fi; status=1; }
+# Work-precision (docs/benchmarks.md "Work-precision"): dampsym's conformal methods beside
+# Boost.Odeint and GSL (the wp/ benchmarks) and scipy's DOP853 and Radau (bench/work_precision.py),
+# one after the other on this machine: reports/work-precision.json and reports/work-precision.png
+# (docs/img/work-precision.png is a committed copy).
+"$build/dampsym_bench" --benchmark_filter='^wp/' --benchmark_out=reports/wp-raw.json \
+  --benchmark_out_format=json >/dev/null
+s=0
+/usr/bin/python3 bench/work_precision.py reports/wp-raw.json --out-json reports/work-precision.json ||
+  s=$?
+if [ "$s" -eq 2 ]; then exit 2; fi
+if [ "$s" -eq 0 ]; then
+  /usr/bin/python3 tools/figures/work_precision_plot.py reports/work-precision.json \
+    --out reports/work-precision.png || s=$?
+  if [ "$s" -eq 2 ]; then exit 2; fi
+fi
+if [ "$s" -ne 0 ]; then status=1; fi
 # Coefficient mutants (docs/mutation.md): every coefficient of every exportable built-in method
 # multiplied by (1 + 1e-6) must be killed by `methods --check`, the matrix or its default-suite
 # cases (about 3 minutes on 2 cores): reports/mutants/results.json.

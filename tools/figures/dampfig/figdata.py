@@ -10,7 +10,7 @@ import math
 import os
 import re
 import zlib
-from typing import Any, Dict, List, Optional, Sequence, Set, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Set, Tuple, Union
 
 from . import safeio as sio
 from .styles import (GROUP, MARKERS, PALETTE, STYLES, Style, case_styles, groups,  # noqa: F401
@@ -34,7 +34,8 @@ def encode_png(pixels: Any, width: int, height: int, channels: int) -> bytes:
     return png_of_filtered_rows(raw, width, height, channels)
 
 
-def png_of_filtered_rows(raw: bytes, width: int, height: int, channels: int) -> bytes:
+def png_of_filtered_rows(raw: Union[bytes, memoryview], width: int, height: int,
+                         channels: int) -> bytes:
     """A PNG file of rows already prefixed by their filter byte 0 (encode_png; render builds
     them with numpy in one copy)."""
     def chunk(kind: bytes, data: bytes) -> bytes:

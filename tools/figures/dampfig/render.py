@@ -8,7 +8,7 @@ Cost (a run with --figures at most 2x one without): log axes get few ticks (matp
 objects were most of the drawing time), lines are thinned to min/max per pixel column
 (figdata.decimate_columns: the drawn line is the same), legends are placed at fixed spots, dense
 lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and blank figures of a
-layout are reused."""
+layout are reused, and text is laid out once per process (textcache)."""
 
 import io
 import math
@@ -28,6 +28,7 @@ from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa
 
 from . import figdata as fd  # noqa: E402
 from . import safeio as sio  # noqa: E402
+from . import textcache  # noqa: E402
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "figure.dpi": 100, "savefig.dpi": 100, "axes.grid": True, "grid.alpha": 0.3,
@@ -37,6 +38,8 @@ plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      # a fixed title position: matplotlib otherwise measures every axes' tick
                      # labels to place its title (a sixth of the drawing time)
                      "axes.titley": 1.0, "axes.titlepad": 4.0})
+# text measured, drawn and mathtext parsed once per process (textcache: the same pixels)
+textcache.install()
 
 Json = Dict[str, Any]
 # what a figure function returns per file: (file, caption, quantities drawn on its axes)
@@ -183,11 +186,16 @@ def png_bytes(fig: Any) -> bytes:
     fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
     h, w, _ = rgba.shape
-    channels = 4 if (rgba[:, :, 3] != 255).any() else 3
-    # each row prefixed by its filter byte 0, in one copy (figdata.encode_png's rows)
-    raw = np.zeros((h, 1 + w * channels), dtype=np.uint8)
-    raw[:, 1:] = rgba[:, :, :channels].reshape(h, w * channels)
-    return fd.png_of_filtered_rows(raw.tobytes(), w, h, channels)
+    channels = 3 if rgba[:, :, 3].min() == 255 else 4
+    # each row prefixed by its filter byte 0 (figdata.encode_png's rows), the pixels copied once
+    # into place (a reshape of the channel slice, the assignment and tobytes were three copies:
+    # 36 ms for an 800 x 1950 figure, now 8)
+    raw = np.empty((h, 1 + w * channels), dtype=np.uint8)
+    raw[:, 0] = 0
+    pixels = raw[:, 1:]
+    pixels.shape = (h, w, channels)  # a view (raises rather than copy)
+    np.copyto(pixels, rgba[:, :, :channels])
+    return fd.png_of_filtered_rows(raw.data, w, h, channels)
 
 
 def save(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:

@@ -1,0 +1,53 @@
+"""dampfig.textcache: with its caches the figures are the same pixels as matplotlib's own text
+drawing (a figure with tick labels, a rotated label, mathtext and a legend, drawn without the
+caches, then twice with them: the second time from the caches), and the caches are used."""
+
+import functools
+from typing import Any
+
+import matplotlib.mathtext
+import numpy as np
+
+from dampfig import render, textcache  # noqa: F401 - render installs the caches
+
+
+def draw(plt: Any) -> Any:
+    fig, ax = plt.subplots(figsize=(4, 3), dpi=100)
+    ax.plot([1e-3, 1e-2, 1e-1], [1e-8, 1e-6, 1e-4], "o-", label="csv1 (fixed h)")
+    ax.plot([1e-3, 1e-1], [1e-7, 1e-5], "s--", label=r"$\|z - z_{ref}\|$ at $t_{end}$")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_ylabel("relative error at t_end")  # drawn at 90 degrees
+    ax.set_title(r"energy $H(q, p)$  [×10⁻²⁰]")
+    ax.legend()
+    fig.canvas.draw()
+    pixels = np.asarray(fig.canvas.buffer_rgba()).copy()
+    plt.close(fig)
+    return pixels
+
+
+def test_cached_text_draws_the_same_pixels(monkeypatch: Any) -> None:
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import RendererAgg
+    assert textcache.install(), "matplotlib's draw_text changed: check textcache against it"
+    draw_cached, measure_cached = RendererAgg.draw_text, RendererAgg.get_text_width_height_descent
+    monkeypatch.setattr(RendererAgg, "draw_text", draw_cached.__wrapped__)
+    monkeypatch.setattr(RendererAgg, "get_text_width_height_descent",
+                        measure_cached.__wrapped__)
+    parser = matplotlib.mathtext.MathTextParser
+    monkeypatch.setattr(parser, "_parse_cached",  # matplotlib's own: per parser, 50 formulas
+                        functools.lru_cache(50)(parser._parse_cached.__wrapped__))
+    plain = draw(plt)
+    monkeypatch.undo()
+    calls = []
+    prepare = RendererAgg._prepare_font
+
+    def counted(self: Any, prop: Any) -> Any:
+        calls.append(prop)
+        return prepare(self, prop)
+    monkeypatch.setattr(RendererAgg, "_prepare_font", counted)
+    first = draw(plt)
+    n_first = len(calls)
+    second = draw(plt)
+    assert np.array_equal(plain, first) and np.array_equal(plain, second)
+    assert n_first > 0 and len(calls) == n_first  # the second figure's text all from the caches
