@@ -661,8 +661,8 @@ TEST_CASE("bad input: list documents parameters, invariants and metrics", "[bad-
 }
 
 TEST_CASE("bad input: docs/case-keys.md documents every case key", "[bad-input]") {
-    const std::string doc = dampsym_test::read_text(fs::path(dampsym_test::test_data_dir()) / ".." / ".." /
-                                                    "docs" / "case-keys.md");
+    const std::string doc = dampsym_test::read_text(fs::path(dampsym_test::test_data_dir()) / ".." /
+                                                    ".." / "docs" / "case-keys.md");
     for (const char* key : {"id",        "title",     "source",      "notes",  "suites",
                             "problem",   "methods",   "t0",          "t_end",  "dt",
                             "dt_ladder", "output_dt", "diagnostics", "expect", "stability_sweep",
