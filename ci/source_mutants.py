@@ -1,0 +1,459 @@
+#!/usr/bin/python3
+"""Source mutants: one-line changes of dampsym's C++ sources (and of the cross-check's Python),
+each rebuilt in one throwaway clone and scored for the default suite and for the cross-check
+alone (docs/mutation.md, "Source mutants").
+
+    ci/source_mutants.py [--mutants ci/source_mutants.json] [--out DIR] [--clone DIR]
+                         [--only ID ...] [--resume] [--check-only]
+
+A mutant (ci/source_mutants.json) is {id, file, find, replace, class, breaks}: `find` must occur
+exactly once in `file` at HEAD. The script clones HEAD once, configures one Release build (the
+ccache launcher, CCACHE_BASEDIR = the clone, CCACHE_NOHASHDIR=1 as ci/build.sh: objects of an
+unchanged source are cache hits), and runs the baseline: the default suite (`dampsym run --jobs 2
+--shard none`) must exit 0 and `verify.crosscheck REPORT --strict` must exit 0, else exit 1.
+Then per mutant: apply, `cmake --build --target dampsym` (a failing build: invalid mutant), run
+the default suite (killed when it exits 1), run the cross-check on that report alone (killed when
+it exits nonzero), revert. A Python mutant (under verify/) changes only the cross-check: it is run
+on the baseline report, and the suite is "not applicable" (listed apart).
+
+Writes OUT/results.json and OUT/results.md after every mutant; prints the scores and the
+survivors. Exit 0 when the campaign ran (whatever the scores), 1 when the baseline fails, 2 on
+bad input (naming the file and key).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Any, Dict, List, Optional, Sequence
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+KEYS = ("id", "file", "find", "replace", "class", "breaks")
+FIRST = 5          # failing checks / disagreements recorded per mutant
+PY = "/usr/bin/python3"
+NICE = ["nice", "-n", "10"]
+
+Json = Any
+
+
+class BadInput(Exception):
+    pass
+
+
+@dataclass
+class Mutant:
+    id: str
+    file: str
+    find: str
+    replace: str
+    cls: str
+    breaks: str
+
+    @property
+    def kind(self) -> str:
+        return "python" if self.file.endswith(".py") else "cpp"
+
+    @property
+    def header(self) -> bool:
+        return self.file.endswith((".hpp", ".h"))
+
+
+@dataclass
+class Outcome:
+    id: str
+    kind: str
+    cls: str
+    file: str
+    breaks: str
+    valid: bool = True
+    build_seconds: float = 0.0
+    build_error: str = ""
+    suite_exit: Optional[int] = None       # None: not applicable (Python mutant) or invalid
+    suite_killed: Optional[bool] = None
+    failed_checks: List[str] = field(default_factory=list)
+    failed_count: int = 0
+    suite_seconds: float = 0.0
+    xc_exit: Optional[int] = None
+    xc_killed: Optional[bool] = None
+    disagreements: List[str] = field(default_factory=list)
+    disagree_count: int = 0
+    xc_seconds: float = 0.0
+
+
+# ---- the mutant list ------------------------------------------------------------------------
+
+def load_mutants(path: str) -> List[Mutant]:
+    """The list file: {"mutants": [{id, file, find, replace, class, breaks}, ...]}; ids unique."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+    except (OSError, ValueError) as exc:
+        raise BadInput("%s: %s" % (path, exc)) from exc
+    if not isinstance(doc, dict) or not isinstance(doc.get("mutants"), list):
+        raise BadInput("%s: key 'mutants' must be a list" % path)
+    out: List[Mutant] = []
+    seen = set()
+    for k, m in enumerate(doc["mutants"]):
+        if not isinstance(m, dict):
+            raise BadInput("%s: mutants[%d] must be an object" % (path, k))
+        for key in KEYS:
+            if not isinstance(m.get(key), str) or not m[key]:
+                raise BadInput("%s: mutants[%d].%s must be a non-empty string" % (path, k, key))
+        extra = sorted(set(m) - set(KEYS))
+        if extra:
+            raise BadInput("%s: mutants[%d]: unknown key '%s'" % (path, k, extra[0]))
+        if m["id"] in seen:
+            raise BadInput("%s: mutants[%d].id '%s' given twice" % (path, k, m["id"]))
+        if m["find"] == m["replace"]:
+            raise BadInput("%s: mutants[%d].replace equals its find" % (path, k))
+        seen.add(m["id"])
+        out.append(Mutant(m["id"], m["file"], m["find"], m["replace"], m["class"], m["breaks"]))
+    return out
+
+
+def check_finds(root: str, mutants: Sequence[Mutant]) -> None:
+    """Every find occurs exactly once in its file under root (else BadInput naming it)."""
+    for m in mutants:
+        path = os.path.join(root, m.file)
+        try:
+            with open(path, encoding="utf-8") as fh:
+                n = fh.read().count(m.find)
+        except OSError as exc:
+            raise BadInput("mutant %s: file %s: %s" % (m.id, m.file, exc)) from exc
+        if n != 1:
+            raise BadInput("mutant %s: its find occurs %d times in %s (must be exactly once)"
+                           % (m.id, n, m.file))
+
+
+def apply(root: str, m: Mutant) -> str:
+    """Writes the mutant into root; returns the original text (for revert)."""
+    path = os.path.join(root, m.file)
+    with open(path, encoding="utf-8") as fh:
+        text = fh.read()
+    if text.count(m.find) != 1:
+        raise BadInput("mutant %s: find not exactly once in %s" % (m.id, m.file))
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text.replace(m.find, m.replace))
+    return text
+
+
+def revert(root: str, m: Mutant, original: str) -> None:
+    with open(os.path.join(root, m.file), "w", encoding="utf-8") as fh:
+        fh.write(original)
+
+
+# ---- what killed it -------------------------------------------------------------------------
+
+def failed_checks(report_path: str) -> List[str]:
+    """'case: check [method, dt]' of every failed check of a report (not-run checks excluded)."""
+    try:
+        with open(report_path, encoding="utf-8") as fh:
+            report = json.load(fh)
+    except (OSError, ValueError):
+        return []
+    out = []
+    for c in report.get("cases", []):
+        for ch in c.get("checks", []):
+            if ch.get("passed") is False:
+                out.append("%s: %s [%s, dt=%s]" % (c.get("id"), ch.get("name"), ch.get("method"),
+                                                   ch.get("dt")))
+    return out
+
+
+def disagreements(xc_path: str) -> List[str]:
+    """'case/method/dt: quantity' of every cross-check record that disagrees or is not
+    reproduced (--strict), from crosscheck.json."""
+    try:
+        with open(xc_path, encoding="utf-8") as fh:
+            xc = json.load(fh)
+    except (OSError, ValueError):
+        return []
+    out = []
+    for group in ("structure", "runs", "orders", "checks"):
+        for r in xc.get(group, []):
+            if r.get("verdict") not in ("disagree", "not reproduced"):
+                continue
+            qs = [c.get("quantity", "?") for c in r.get("comparisons", [])
+                  if c.get("status") in ("disagree", "not reproduced")]
+            where = "/".join(str(r[k]) for k in ("case", "method", "dt") if k in r)
+            out.append("%s %s: %s" % (group, where, ", ".join(qs[:3]) or r.get("verdict")))
+    return out
+
+
+# ---- running --------------------------------------------------------------------------------
+
+def run(cmd: List[str], cwd: str, log: str, env: Optional[Dict[str, str]] = None,
+        timeout: float = 3600.0) -> int:
+    with open(log, "w", encoding="utf-8") as fh:
+        try:
+            return subprocess.run(cmd, cwd=cwd, stdout=fh, stderr=subprocess.STDOUT, env=env,
+                                  timeout=timeout, check=False).returncode
+        except subprocess.TimeoutExpired:
+            fh.write("\n(timed out after %.0f s)\n" % timeout)
+            return 124
+
+
+def build_env(clone: str) -> Dict[str, str]:
+    env = dict(os.environ)
+    env.update(CCACHE_BASEDIR=clone, CCACHE_NOHASHDIR="1")
+    return env
+
+
+def make_clone(repo: str, clone: str, logdir: str) -> str:
+    """A clone of repo's HEAD at clone (reused if it is already one at HEAD), configured."""
+    head = subprocess.run(["git", "-C", repo, "rev-parse", "HEAD"], capture_output=True,
+                          text=True, check=True).stdout.strip()
+    if not os.path.isdir(os.path.join(clone, ".git")):
+        subprocess.run(["git", "clone", "--quiet", "--shared", "--no-checkout", repo, clone],
+                       check=True)
+    subprocess.run(["git", "-C", clone, "checkout", "--quiet", "--force", "--detach", head],
+                   check=True)
+    cfg = ["cmake", "-S", clone, "-B", os.path.join(clone, "build"), "-DCMAKE_BUILD_TYPE=Release",
+           "-DDAMPSYM_WERROR=ON", "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache",
+           "-DCMAKE_C_COMPILER_LAUNCHER=ccache"]
+    if run(cfg, clone, os.path.join(logdir, "configure.log"), build_env(clone)) != 0:
+        raise RuntimeError("configure failed: %s/configure.log" % logdir)
+    return head
+
+
+def build(clone: str, log: str) -> int:
+    cmd = NICE + ["cmake", "--build", os.path.join(clone, "build"), "-j2", "--target", "dampsym"]
+    return run(cmd, clone, log, build_env(clone))
+
+
+def suite(clone: str, out: str) -> int:
+    cmd = NICE + [os.path.join(clone, "build", "dampsym"), "run", "--out", out, "--jobs", "2",
+                  "--shard", "none"]
+    os.makedirs(out, exist_ok=True)
+    return run(cmd, clone, os.path.join(out, "suite.log"))
+
+
+def crosscheck(clone: str, report: str, out: str) -> int:
+    cmd = NICE + [PY, "-m", "verify.crosscheck", report, "--strict", "--out", out, "--jobs", "2"]
+    os.makedirs(out, exist_ok=True)
+    return run(cmd, clone, os.path.join(out, "crosscheck.log"))
+
+
+def baseline(clone: str, out: str) -> str:
+    """Builds and runs the unmutated clone; returns its report (RuntimeError if not clean)."""
+    os.makedirs(out, exist_ok=True)
+    t = time.perf_counter()
+    if build(clone, os.path.join(out, "build.log")) != 0:
+        raise RuntimeError("baseline build failed: %s/build.log" % out)
+    print("baseline: built in %.0f s" % (time.perf_counter() - t), flush=True)
+    status = suite(clone, out)
+    if status != 0:
+        raise RuntimeError("baseline suite exit %d (must be 0): %s" % (status, out))
+    report = os.path.join(out, "report.json")
+    status = crosscheck(clone, report, out)
+    if status != 0:
+        raise RuntimeError("baseline cross-check --strict exit %d (must be 0): %s" % (status, out))
+    print("baseline: suite and cross-check clean (%.0f s)" % (time.perf_counter() - t), flush=True)
+    return report
+
+
+def score_cpp(clone: str, m: Mutant, out: str, o: Outcome) -> None:
+    """Build, suite and cross-check of one applied C++ mutant into o."""
+    t = time.perf_counter()
+    status = build(clone, os.path.join(out, "build.log"))
+    o.build_seconds = time.perf_counter() - t
+    if status != 0:
+        o.valid = False
+        o.build_error = "build exit %d (%s/build.log)" % (status, out)
+        return
+    t = time.perf_counter()
+    o.suite_exit = suite(clone, out)
+    o.suite_seconds = time.perf_counter() - t
+    o.suite_killed = o.suite_exit == 1
+    fails = failed_checks(os.path.join(out, "report.json"))
+    o.failed_count, o.failed_checks = len(fails), fails[:FIRST]
+    if not os.path.isfile(os.path.join(out, "report.json")):
+        return                                   # no report: nothing to cross-check
+    score_xc(clone, os.path.join(out, "report.json"), out, o)
+
+
+def score_xc(clone: str, report: str, out: str, o: Outcome) -> None:
+    t = time.perf_counter()
+    o.xc_exit = crosscheck(clone, report, out)
+    o.xc_seconds = time.perf_counter() - t
+    o.xc_killed = o.xc_exit != 0
+    dis = disagreements(os.path.join(out, "crosscheck.json"))
+    o.disagree_count, o.disagreements = len(dis), dis[:FIRST]
+
+
+def score_one(clone: str, m: Mutant, out: str, base_report: str) -> Outcome:
+    o = Outcome(m.id, m.kind, m.cls, m.file, m.breaks)
+    os.makedirs(out, exist_ok=True)
+    original = apply(clone, m)
+    try:
+        if m.kind == "python":
+            score_xc(clone, base_report, out, o)
+        else:
+            score_cpp(clone, m, out, o)
+    finally:
+        revert(clone, m, original)
+    return o
+
+
+# ---- scores and tables ----------------------------------------------------------------------
+
+def scores(outcomes: Sequence[Outcome]) -> Dict[str, Json]:
+    """Suite and cross-check scores over the valid C++ mutants; the Python (cross-check-only)
+    mutants apart; survivors by id."""
+    cpp = [o for o in outcomes if o.kind == "cpp" and o.valid]
+    py = [o for o in outcomes if o.kind == "python"]
+
+    def frac(k: int, n: int) -> Optional[float]:
+        return None if n == 0 else k / n
+
+    suite_k = sum(1 for o in cpp if o.suite_killed)
+    xc_k = sum(1 for o in cpp if o.xc_killed)
+    py_k = sum(1 for o in py if o.xc_killed)
+    return {
+        "valid_cpp": len(cpp), "invalid": [o.id for o in outcomes if not o.valid],
+        "suite_killed": suite_k, "suite_score": frac(suite_k, len(cpp)),
+        "crosscheck_killed": xc_k, "crosscheck_score": frac(xc_k, len(cpp)),
+        "either_killed": sum(1 for o in cpp if o.suite_killed or o.xc_killed),
+        "python_mutants": len(py), "python_crosscheck_killed": py_k,
+        "suite_survivors": [o.id for o in cpp if not o.suite_killed],
+        "crosscheck_survivors": [o.id for o in cpp if not o.xc_killed]
+        + [o.id for o in py if not o.xc_killed],
+    }
+
+
+def _pct(x: Optional[float]) -> str:
+    return "n/a" if x is None else "%.1f %%" % (100.0 * x)
+
+
+def _verdict(killed: Optional[bool]) -> str:
+    return "n/a" if killed is None else ("killed" if killed else "**survived**")
+
+
+def markdown(outcomes: Sequence[Outcome], s: Dict[str, Json], head: str) -> str:
+    lines = ["# Source mutants at %s" % head[:12], "",
+             "Default suite: %d of %d valid C++ mutants killed (%s); cross-check alone: %d of %d "
+             "(%s); either: %d. Cross-check mutants (Python, suite not applicable): %d of %d "
+             "killed. Invalid (build failed): %s." % (
+                 s["suite_killed"], s["valid_cpp"], _pct(s["suite_score"]),
+                 s["crosscheck_killed"], s["valid_cpp"], _pct(s["crosscheck_score"]),
+                 s["either_killed"], s["python_crosscheck_killed"], s["python_mutants"],
+                 ", ".join(s["invalid"]) or "none"), ""]
+    cols = "| id | class | file | suite | failed checks (first) | cross-check | disagreements " \
+           "(first) | build / suite / xc s |"
+    for title, kind in (("C++ mutants", "cpp"), ("Cross-check mutants (Python)", "python")):
+        rows = [o for o in outcomes if o.kind == kind]
+        if not rows:
+            continue
+        lines += ["## " + title, "", cols, "|" + "---|" * 8]
+        for o in rows:
+            fc = "%d: %s" % (o.failed_count, "; ".join(o.failed_checks[:2])) if o.failed_count \
+                else ("—" if o.suite_exit is None else "none (exit %s)" % o.suite_exit)
+            dis = "%d: %s" % (o.disagree_count, "; ".join(o.disagreements[:2])) \
+                if o.disagree_count else "none (exit %s)" % o.xc_exit
+            suite_v = "invalid: " + o.build_error if not o.valid else _verdict(o.suite_killed)
+            lines.append("| %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f |" % (
+                o.id, o.cls, o.file, suite_v, fc.replace("|", "\\|"), _verdict(o.xc_killed),
+                dis.replace("|", "\\|"), o.build_seconds, o.suite_seconds, o.xc_seconds))
+        lines.append("")
+    return "\n".join(lines)
+
+
+def write_results(out: str, head: str, outcomes: Sequence[Outcome]) -> Dict[str, Json]:
+    s = scores(outcomes)
+    with open(os.path.join(out, "results.json"), "w", encoding="utf-8") as fh:
+        json.dump({"tool": "ci/source_mutants.py", "commit": head, "scores": s,
+                   "mutants": [asdict(o) for o in outcomes]}, fh, indent=1)
+    with open(os.path.join(out, "results.md"), "w", encoding="utf-8") as fh:
+        fh.write(markdown(outcomes, s, head))
+    return s
+
+
+def load_previous(out: str) -> Dict[str, Outcome]:
+    """Outcomes of an earlier run into out (--resume), by id."""
+    try:
+        with open(os.path.join(out, "results.json"), encoding="utf-8") as fh:
+            doc = json.load(fh)
+        return {m["id"]: Outcome(**m) for m in doc["mutants"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
+# ---- main -----------------------------------------------------------------------------------
+
+def parse_args(argv: Optional[Sequence[str]]) -> argparse.Namespace:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").split("\n")[0])
+    ap.add_argument("--mutants", default=os.path.join(ROOT, "ci", "source_mutants.json"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "build", "source-mutants"))
+    ap.add_argument("--clone", default=None, help="the throwaway clone (default OUT/clone)")
+    ap.add_argument("--only", action="append", default=[], help="run only this mutant id")
+    ap.add_argument("--resume", action="store_true", help="keep the outcomes in OUT/results.json")
+    ap.add_argument("--check-only", action="store_true",
+                    help="validate the list and its finds at HEAD, run nothing")
+    return ap.parse_args(argv)
+
+
+def select(mutants: List[Mutant], only: Sequence[str]) -> List[Mutant]:
+    ids = {m.id for m in mutants}
+    for i in only:
+        if i not in ids:
+            raise BadInput("--only %s: no such mutant" % i)
+    return [m for m in mutants if not only or m.id in only]
+
+
+def campaign(args: argparse.Namespace, mutants: List[Mutant]) -> int:
+    out = os.path.abspath(args.out)
+    clone = os.path.abspath(args.clone or os.path.join(out, "clone"))
+    os.makedirs(out, exist_ok=True)
+    head = make_clone(ROOT, clone, out)
+    check_finds(clone, mutants)
+    try:
+        base = baseline(clone, os.path.join(out, "baseline"))
+    except RuntimeError as exc:
+        print("source mutants: %s" % exc, file=sys.stderr)
+        return 1
+    done = load_previous(out) if args.resume else {}
+    outcomes: List[Outcome] = []
+    for m in mutants:
+        if m.id in done:
+            outcomes.append(done[m.id])
+            continue
+        o = score_one(clone, m, os.path.join(out, m.id), base)
+        outcomes.append(o)
+        print("%-26s %-6s suite %-9s (%d failed) cross-check %-9s (%d disagree)  %.0f/%.0f/%.0f s"
+              % (m.id, m.kind, _verdict(o.suite_killed) if o.valid else "invalid",
+                 o.failed_count, _verdict(o.xc_killed), o.disagree_count, o.build_seconds,
+                 o.suite_seconds, o.xc_seconds), flush=True)
+        write_results(out, head, outcomes)
+    s = write_results(out, head, outcomes)
+    print("default suite: %d/%d (%s); cross-check alone: %d/%d (%s); Python mutants killed by "
+          "the cross-check: %d/%d" % (s["suite_killed"], s["valid_cpp"], _pct(s["suite_score"]),
+                                       s["crosscheck_killed"], s["valid_cpp"],
+                                       _pct(s["crosscheck_score"]), s["python_crosscheck_killed"],
+                                       s["python_mutants"]))
+    print("survivors of the suite: %s" % (", ".join(s["suite_survivors"]) or "none"))
+    print("survivors of the cross-check: %s" % (", ".join(s["crosscheck_survivors"]) or "none"))
+    print("wrote %s/results.{json,md}" % out)
+    return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    args = parse_args(argv)
+    try:
+        mutants = select(load_mutants(args.mutants), args.only)
+        if args.check_only:
+            check_finds(ROOT, mutants)
+            print("source mutants: %d, every find exactly once at %s" % (len(mutants), ROOT))
+            return 0
+        return campaign(args, mutants)
+    except BadInput as exc:
+        print("source mutants: bad input: %s" % exc, file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
