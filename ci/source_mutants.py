@@ -29,6 +29,7 @@ import os
 import subprocess
 import sys
 import time
+from collections import Counter
 from dataclasses import asdict, dataclass, field
 from typing import Any, Dict, List, Optional, Sequence
 
@@ -77,11 +78,13 @@ class Outcome:
     suite_killed: Optional[bool] = None
     failed_checks: List[str] = field(default_factory=list)
     failed_count: int = 0
+    failed_names: List[str] = field(default_factory=list)  # distinct check names, "name ×n"
     suite_seconds: float = 0.0
     xc_exit: Optional[int] = None
     xc_killed: Optional[bool] = None
     disagreements: List[str] = field(default_factory=list)
     disagree_count: int = 0
+    disagree_quantities: List[str] = field(default_factory=list)  # distinct, "quantity ×n"
     xc_seconds: float = 0.0
 
 
@@ -149,20 +152,56 @@ def revert(root: str, m: Mutant, original: str) -> None:
 
 # ---- what killed it -------------------------------------------------------------------------
 
-def failed_checks(report_path: str) -> List[str]:
-    """'case: check [method, dt]' of every failed check of a report (not-run checks excluded)."""
+def _failed(report_path: str) -> List[Dict[str, Any]]:
+    """The failed checks of a report (passed false; not-run checks excluded), each with its
+    case id under 'case'."""
     try:
         with open(report_path, encoding="utf-8") as fh:
             report = json.load(fh)
     except (OSError, ValueError):
         return []
-    out = []
-    for c in report.get("cases", []):
-        for ch in c.get("checks", []):
-            if ch.get("passed") is False:
-                out.append("%s: %s [%s, dt=%s]" % (c.get("id"), ch.get("name"), ch.get("method"),
-                                                   ch.get("dt")))
-    return out
+    return [dict(ch, case=c.get("id")) for c in report.get("cases", [])
+            for ch in c.get("checks", []) if ch.get("passed") is False]
+
+
+def failed_checks(report_path: str) -> List[str]:
+    """'case: check [method, dt]' of every failed check of a report."""
+    return ["%s: %s [%s, dt=%s]" % (f["case"], f.get("name"), f.get("method"), f.get("dt"))
+            for f in _failed(report_path)]
+
+
+def _most_common(names: List[str]) -> List[str]:
+    return ["%s ×%d" % (k, n) for k, n in Counter(names).most_common(FIRST)]
+
+
+def failed_names(report_path: str) -> List[str]:
+    """Distinct names of the failed checks, most frequent first ('name ×count')."""
+    return _most_common([str(f.get("name")) for f in _failed(report_path)])
+
+
+def disagree_quantities(xc_path: str) -> List[str]:
+    """Distinct quantities of the comparisons that disagree or are not reproduced, most frequent
+    first ('quantity ×count')."""
+    try:
+        with open(xc_path, encoding="utf-8") as fh:
+            xc = json.load(fh)
+    except (OSError, ValueError):
+        return []
+    return _most_common([c.get("quantity", "?")
+                         for g in ("structure", "runs", "orders", "checks") for r in xc.get(g, [])
+                         for c in r.get("comparisons", [])
+                         if c.get("status") in ("disagree", "not reproduced")])
+
+
+def record_kills(o: Outcome, out: str, suite_ran: bool) -> None:
+    """What killed o, from the report and crosscheck.json saved in out."""
+    if suite_ran:
+        fails = failed_checks(os.path.join(out, "report.json"))
+        o.failed_count, o.failed_checks = len(fails), fails[:FIRST]
+        o.failed_names = failed_names(os.path.join(out, "report.json"))
+    dis = disagreements(os.path.join(out, "crosscheck.json"))
+    o.disagree_count, o.disagreements = len(dis), dis[:FIRST]
+    o.disagree_quantities = disagree_quantities(os.path.join(out, "crosscheck.json"))
 
 
 def disagreements(xc_path: str) -> List[str]:
@@ -204,8 +243,9 @@ def build_env(clone: str) -> Dict[str, str]:
     return env
 
 
-def make_clone(repo: str, clone: str, logdir: str) -> str:
-    """A clone of repo's HEAD at clone (reused if it is already one at HEAD), configured."""
+def make_clone(repo: str, clone: str, logdir: str, configure: bool) -> str:
+    """A clone of repo's HEAD at clone (reused if it is already one at HEAD), configured unless
+    nothing is to be built."""
     head = subprocess.run(["git", "-C", repo, "rev-parse", "HEAD"], capture_output=True,
                           text=True, check=True).stdout.strip()
     if not os.path.isdir(os.path.join(clone, ".git")):
@@ -216,7 +256,8 @@ def make_clone(repo: str, clone: str, logdir: str) -> str:
     cfg = ["cmake", "-S", clone, "-B", os.path.join(clone, "build"), "-DCMAKE_BUILD_TYPE=Release",
            "-DDAMPSYM_WERROR=ON", "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache",
            "-DCMAKE_C_COMPILER_LAUNCHER=ccache"]
-    if run(cfg, clone, os.path.join(logdir, "configure.log"), build_env(clone)) != 0:
+    if configure and run(cfg, clone, os.path.join(logdir, "configure.log"),
+                         build_env(clone)) != 0:
         raise RuntimeError("configure failed: %s/configure.log" % logdir)
     return head
 
@@ -239,20 +280,38 @@ def crosscheck(clone: str, report: str, out: str) -> int:
     return run(cmd, clone, os.path.join(out, "crosscheck.log"))
 
 
-def baseline(clone: str, out: str) -> str:
-    """Builds and runs the unmutated clone; returns its report (RuntimeError if not clean)."""
+def kept_baseline(out: str, head: str) -> bool:
+    """A clean baseline of commit head recorded in out (out/clean holds the commit)."""
+    marker = os.path.join(out, "clean")
+    if not (os.path.isfile(marker) and os.path.isfile(os.path.join(out, "report.json"))):
+        return False
+    with open(marker, encoding="utf-8") as fh:
+        return fh.read().strip() == head
+
+
+def baseline(clone: str, out: str, head: str, reuse: bool, need_build: bool) -> str:
+    """Builds and runs the unmutated clone; returns its report (RuntimeError if not clean). With
+    reuse, a clean baseline of the same commit (--resume) is kept, and only Python mutants left
+    to run need no build."""
     os.makedirs(out, exist_ok=True)
-    t = time.perf_counter()
-    if build(clone, os.path.join(out, "build.log")) != 0:
-        raise RuntimeError("baseline build failed: %s/build.log" % out)
-    print("baseline: built in %.0f s" % (time.perf_counter() - t), flush=True)
+    report, marker = os.path.join(out, "report.json"), os.path.join(out, "clean")
+    keep = reuse and kept_baseline(out, head)
+    if need_build or not keep:
+        t = time.perf_counter()
+        if build(clone, os.path.join(out, "build.log")) != 0:
+            raise RuntimeError("baseline build failed: %s/build.log" % out)
+        print("baseline: built in %.0f s" % (time.perf_counter() - t), flush=True)
+    if keep:
+        print("baseline: clean at %s (kept from %s)" % (head[:12], marker), flush=True)
+        return report
     status = suite(clone, out)
     if status != 0:
         raise RuntimeError("baseline suite exit %d (must be 0): %s" % (status, out))
-    report = os.path.join(out, "report.json")
     status = crosscheck(clone, report, out)
     if status != 0:
         raise RuntimeError("baseline cross-check --strict exit %d (must be 0): %s" % (status, out))
+    with open(marker, "w", encoding="utf-8") as fh:
+        fh.write(head + "\n")
     print("baseline: suite and cross-check clean (%.0f s)" % (time.perf_counter() - t), flush=True)
     return report
 
@@ -270,8 +329,6 @@ def score_cpp(clone: str, m: Mutant, out: str, o: Outcome) -> None:
     o.suite_exit = suite(clone, out)
     o.suite_seconds = time.perf_counter() - t
     o.suite_killed = o.suite_exit == 1
-    fails = failed_checks(os.path.join(out, "report.json"))
-    o.failed_count, o.failed_checks = len(fails), fails[:FIRST]
     if not os.path.isfile(os.path.join(out, "report.json")):
         return                                   # no report: nothing to cross-check
     score_xc(clone, os.path.join(out, "report.json"), out, o)
@@ -282,8 +339,7 @@ def score_xc(clone: str, report: str, out: str, o: Outcome) -> None:
     o.xc_exit = crosscheck(clone, report, out)
     o.xc_seconds = time.perf_counter() - t
     o.xc_killed = o.xc_exit != 0
-    dis = disagreements(os.path.join(out, "crosscheck.json"))
-    o.disagree_count, o.disagreements = len(dis), dis[:FIRST]
+    record_kills(o, out, o.kind == "cpp")
 
 
 def score_one(clone: str, m: Mutant, out: str, base_report: str) -> Outcome:
@@ -343,17 +399,17 @@ def markdown(outcomes: Sequence[Outcome], s: Dict[str, Json], head: str) -> str:
                  s["crosscheck_killed"], s["valid_cpp"], _pct(s["crosscheck_score"]),
                  s["either_killed"], s["python_crosscheck_killed"], s["python_mutants"],
                  ", ".join(s["invalid"]) or "none"), ""]
-    cols = "| id | class | file | suite | failed checks (first) | cross-check | disagreements " \
-           "(first) | build / suite / xc s |"
+    cols = "| id | class | file | suite | failed checks: count, names | cross-check | " \
+           "disagreements: count, quantities | build / suite / xc s |"
     for title, kind in (("C++ mutants", "cpp"), ("Cross-check mutants (Python)", "python")):
         rows = [o for o in outcomes if o.kind == kind]
         if not rows:
             continue
         lines += ["## " + title, "", cols, "|" + "---|" * 8]
         for o in rows:
-            fc = "%d: %s" % (o.failed_count, "; ".join(o.failed_checks[:2])) if o.failed_count \
+            fc = "%d: %s" % (o.failed_count, "; ".join(o.failed_names[:3])) if o.failed_count \
                 else ("—" if o.suite_exit is None else "none (exit %s)" % o.suite_exit)
-            dis = "%d: %s" % (o.disagree_count, "; ".join(o.disagreements[:2])) \
+            dis = "%d: %s" % (o.disagree_count, "; ".join(o.disagree_quantities[:3])) \
                 if o.disagree_count else "none (exit %s)" % o.xc_exit
             suite_v = "invalid: " + o.build_error if not o.valid else _verdict(o.suite_killed)
             lines.append("| %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f |" % (
@@ -390,7 +446,8 @@ def parse_args(argv: Optional[Sequence[str]]) -> argparse.Namespace:
     ap.add_argument("--mutants", default=os.path.join(ROOT, "ci", "source_mutants.json"))
     ap.add_argument("--out", default=os.path.join(ROOT, "build", "source-mutants"))
     ap.add_argument("--clone", default=None, help="the throwaway clone (default OUT/clone)")
-    ap.add_argument("--only", action="append", default=[], help="run only this mutant id")
+    ap.add_argument("--only", action="append", default=[],
+                    help="run only this mutant id (repeatable; run in the order given)")
     ap.add_argument("--resume", action="store_true", help="keep the outcomes in OUT/results.json")
     ap.add_argument("--check-only", action="store_true",
                     help="validate the list and its finds at HEAD, run nothing")
@@ -398,28 +455,31 @@ def parse_args(argv: Optional[Sequence[str]]) -> argparse.Namespace:
 
 
 def select(mutants: List[Mutant], only: Sequence[str]) -> List[Mutant]:
-    ids = {m.id for m in mutants}
+    """The mutants named by --only, in that order (each once), or all in the list's order."""
+    by_id = {m.id: m for m in mutants}
     for i in only:
-        if i not in ids:
+        if i not in by_id:
             raise BadInput("--only %s: no such mutant" % i)
-    return [m for m in mutants if not only or m.id in only]
+    return [by_id[i] for i in dict.fromkeys(only)] if only else list(mutants)
 
 
 def campaign(args: argparse.Namespace, mutants: List[Mutant]) -> int:
     out = os.path.abspath(args.out)
     clone = os.path.abspath(args.clone or os.path.join(out, "clone"))
     os.makedirs(out, exist_ok=True)
-    head = make_clone(ROOT, clone, out)
+    done = load_previous(out) if args.resume else {}
+    need_build = any(m.kind == "cpp" and m.id not in done for m in mutants)
+    head = make_clone(ROOT, clone, out, need_build or not args.resume)
     check_finds(clone, mutants)
     try:
-        base = baseline(clone, os.path.join(out, "baseline"))
+        base = baseline(clone, os.path.join(out, "baseline"), head, args.resume, need_build)
     except RuntimeError as exc:
         print("source mutants: %s" % exc, file=sys.stderr)
         return 1
-    done = load_previous(out) if args.resume else {}
     outcomes: List[Outcome] = []
     for m in mutants:
         if m.id in done:
+            record_kills(done[m.id], os.path.join(out, m.id), done[m.id].suite_exit is not None)
             outcomes.append(done[m.id])
             continue
         o = score_one(clone, m, os.path.join(out, m.id), base)

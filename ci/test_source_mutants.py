@@ -100,6 +100,11 @@ class WhatKilled(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             self.assertEqual(sm.failed_checks(_write(d, "r.json", report)),
                              ["c1: bad [rk4, dt=0.1]"])
+            report["cases"].append({"id": "c2: x", "checks": [
+                {"name": "bad", "method": "rk3", "dt": 0.2, "passed": False},
+                {"name": "worse [sic]", "method": "rk3", "dt": 0.2, "passed": False}]})
+            self.assertEqual(sm.failed_names(_write(d, "r.json", report)),
+                             ["bad ×2", "worse [sic] ×1"])
             self.assertEqual(sm.failed_checks(os.path.join(d, "missing.json")), [])
 
     def test_disagreements(self) -> None:
@@ -115,6 +120,7 @@ class WhatKilled(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             self.assertEqual(sm.disagreements(_write(d, "x.json", xc)),
                              ["runs c/m/0.2: final_state", "runs d/m: not reproduced"])
+            self.assertEqual(sm.disagree_quantities(os.path.join(d, "x.json")), ["final_state ×1"])
 
 
 def _o(i: str, kind: str = "cpp", suite: bool = True, xc: bool = True,
