@@ -280,13 +280,18 @@ def crosscheck(clone: str, report: str, out: str) -> int:
     return run(cmd, clone, os.path.join(out, "crosscheck.log"))
 
 
-def kept_baseline(out: str, head: str) -> bool:
-    """A clean baseline of commit head recorded in out (out/clean holds the commit)."""
+def kept_baseline(clone: str, out: str, head: str) -> bool:
+    """A clean baseline recorded in out (out/clean holds its commit) of head, or of a commit that
+    differs from head only in ci/ and docs/ (the campaign's own files: same binary, same suite,
+    same cross-check)."""
     marker = os.path.join(out, "clean")
     if not (os.path.isfile(marker) and os.path.isfile(os.path.join(out, "report.json"))):
         return False
     with open(marker, encoding="utf-8") as fh:
-        return fh.read().strip() == head
+        commit = fh.read().strip()
+    return commit == head or subprocess.run(
+        ["git", "-C", clone, "diff", "--quiet", commit, head, "--", ".", ":!ci", ":!docs"],
+        check=False).returncode == 0
 
 
 def baseline(clone: str, out: str, head: str, reuse: bool, need_build: bool) -> str:
@@ -295,14 +300,14 @@ def baseline(clone: str, out: str, head: str, reuse: bool, need_build: bool) -> 
     to run need no build."""
     os.makedirs(out, exist_ok=True)
     report, marker = os.path.join(out, "report.json"), os.path.join(out, "clean")
-    keep = reuse and kept_baseline(out, head)
+    keep = reuse and kept_baseline(clone, out, head)
     if need_build or not keep:
         t = time.perf_counter()
         if build(clone, os.path.join(out, "build.log")) != 0:
             raise RuntimeError("baseline build failed: %s/build.log" % out)
         print("baseline: built in %.0f s" % (time.perf_counter() - t), flush=True)
     if keep:
-        print("baseline: clean at %s (kept from %s)" % (head[:12], marker), flush=True)
+        print("baseline: clean (kept from %s)" % marker, flush=True)
         return report
     status = suite(clone, out)
     if status != 0:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -121,6 +122,37 @@ class WhatKilled(unittest.TestCase):
             self.assertEqual(sm.disagreements(_write(d, "x.json", xc)),
                              ["runs c/m/0.2: final_state", "runs d/m: not reproduced"])
             self.assertEqual(sm.disagree_quantities(os.path.join(d, "x.json")), ["final_state ×1"])
+
+
+def _git(d: str, *args: str) -> str:
+    env = dict(os.environ, GIT_AUTHOR_NAME="t", GIT_AUTHOR_EMAIL="t@t", GIT_COMMITTER_NAME="t",
+               GIT_COMMITTER_EMAIL="t@t")
+    return subprocess.run(["git", "-C", d] + list(args), env=env, check=True,
+                          capture_output=True, text=True).stdout.strip()
+
+
+class KeptBaseline(unittest.TestCase):
+    def test_only_ci_and_docs_may_differ(self) -> None:
+        with tempfile.TemporaryDirectory() as d:
+            repo, out = os.path.join(d, "r"), os.path.join(d, "out")
+            for sub in ("r/src", "r/ci", "out"):
+                os.makedirs(os.path.join(d, sub))
+            _git(d, "init", "-q", repo)
+            _write(repo, "src/a.cpp", "1")
+            _write(repo, "ci/m.json", "1")
+            _git(repo, "add", "-A")
+            _git(repo, "commit", "-qm", "a")
+            a = _git(repo, "rev-parse", "HEAD")
+            self.assertFalse(sm.kept_baseline(repo, out, a))       # no marker, no report
+            _write(out, "report.json", "{}")
+            _write(out, "clean", a + "\n")
+            self.assertTrue(sm.kept_baseline(repo, out, a))
+            _write(repo, "ci/m.json", "2")
+            _git(repo, "commit", "-qam", "b")
+            self.assertTrue(sm.kept_baseline(repo, out, _git(repo, "rev-parse", "HEAD")))
+            _write(repo, "src/a.cpp", "2")
+            _git(repo, "commit", "-qam", "c")
+            self.assertFalse(sm.kept_baseline(repo, out, _git(repo, "rev-parse", "HEAD")))
 
 
 def _o(i: str, kind: str = "cpp", suite: bool = True, xc: bool = True,
