@@ -80,6 +80,7 @@ class Outcome:
     failed_count: int = 0
     failed_names: List[str] = field(default_factory=list)  # distinct check names, "name ×n"
     suite_seconds: float = 0.0
+    same_as_baseline: Optional[bool] = None  # the report equal to the baseline's but for clocks
     xc_exit: Optional[int] = None
     xc_killed: Optional[bool] = None
     disagreements: List[str] = field(default_factory=list)
@@ -168,6 +169,21 @@ def failed_checks(report_path: str) -> List[str]:
     """'case: check [method, dt]' of every failed check of a report."""
     return ["%s: %s [%s, dt=%s]" % (f["case"], f.get("name"), f.get("method"), f.get("dt"))
             for f in _failed(report_path)]
+
+
+def same_results(base_report: str, report: str) -> bool:
+    """Whether two reports are equal in everything but `provenance` (commit, dirty flag, command
+    line, start time) and `timings` (clocks): every final state, metric, fit, check value and
+    verdict bit for bit (JSON numbers round-trip doubles exactly)."""
+    try:
+        docs = []
+        for path in (base_report, report):
+            with open(path, encoding="utf-8") as fh:
+                d = json.load(fh)
+            docs.append({k: v for k, v in d.items() if k not in ("provenance", "timings")})
+    except (OSError, ValueError):
+        return False
+    return bool(docs[0] == docs[1])
 
 
 def _most_common(names: List[str]) -> List[str]:
@@ -321,7 +337,7 @@ def baseline(clone: str, out: str, head: str, reuse: bool, need_build: bool) -> 
     return report
 
 
-def score_cpp(clone: str, m: Mutant, out: str, o: Outcome) -> None:
+def score_cpp(clone: str, m: Mutant, out: str, o: Outcome, base_report: str) -> None:
     """Build, suite and cross-check of one applied C++ mutant into o."""
     t = time.perf_counter()
     status = build(clone, os.path.join(out, "build.log"))
@@ -334,6 +350,7 @@ def score_cpp(clone: str, m: Mutant, out: str, o: Outcome) -> None:
     o.suite_exit = suite(clone, out)
     o.suite_seconds = time.perf_counter() - t
     o.suite_killed = o.suite_exit == 1
+    o.same_as_baseline = same_results(base_report, os.path.join(out, "report.json"))
     if not os.path.isfile(os.path.join(out, "report.json")):
         return                                   # no report: nothing to cross-check
     score_xc(clone, os.path.join(out, "report.json"), out, o)
@@ -355,7 +372,7 @@ def score_one(clone: str, m: Mutant, out: str, base_report: str) -> Outcome:
         if m.kind == "python":
             score_xc(clone, base_report, out, o)
         else:
-            score_cpp(clone, m, out, o)
+            score_cpp(clone, m, out, o, base_report)
     finally:
         revert(clone, m, original)
     return o
@@ -366,7 +383,11 @@ def score_one(clone: str, m: Mutant, out: str, base_report: str) -> Outcome:
 def scores(outcomes: Sequence[Outcome]) -> Dict[str, Json]:
     """Suite and cross-check scores over the valid C++ mutants; the Python (cross-check-only)
     mutants apart; survivors by id."""
-    cpp = [o for o in outcomes if o.kind == "cpp" and o.valid]
+    valid = [o for o in outcomes if o.kind == "cpp" and o.valid]
+    # Equivalent on the default suite: a survivor whose report equals the baseline's (no check
+    # of the default suite, nor the cross-check of its report, can see it; listed apart).
+    equiv = [o for o in valid if o.same_as_baseline and not o.suite_killed]
+    cpp = [o for o in valid if o not in equiv]
     py = [o for o in outcomes if o.kind == "python"]
 
     def frac(k: int, n: int) -> Optional[float]:
@@ -377,6 +398,7 @@ def scores(outcomes: Sequence[Outcome]) -> Dict[str, Json]:
     py_k = sum(1 for o in py if o.xc_killed)
     return {
         "valid_cpp": len(cpp), "invalid": [o.id for o in outcomes if not o.valid],
+        "equivalent_on_suite": [o.id for o in equiv],
         "suite_killed": suite_k, "suite_score": frac(suite_k, len(cpp)),
         "crosscheck_killed": xc_k, "crosscheck_score": frac(xc_k, len(cpp)),
         "either_killed": sum(1 for o in cpp if o.suite_killed or o.xc_killed),
@@ -399,11 +421,13 @@ def markdown(outcomes: Sequence[Outcome], s: Dict[str, Json], head: str) -> str:
     lines = ["# Source mutants at %s" % head[:12], "",
              "Default suite: %d of %d valid C++ mutants killed (%s); cross-check alone: %d of %d "
              "(%s); either: %d. Cross-check mutants (Python, suite not applicable): %d of %d "
-             "killed. Invalid (build failed): %s." % (
+             "killed. Invalid (build failed): %s. Equivalent on the default suite (report equal "
+             "to the baseline's but for clocks; not in the scores): %s." % (
                  s["suite_killed"], s["valid_cpp"], _pct(s["suite_score"]),
                  s["crosscheck_killed"], s["valid_cpp"], _pct(s["crosscheck_score"]),
                  s["either_killed"], s["python_crosscheck_killed"], s["python_mutants"],
-                 ", ".join(s["invalid"]) or "none"), ""]
+                 ", ".join(s["invalid"]) or "none", ", ".join(s["equivalent_on_suite"]) or "none"),
+             ""]
     cols = "| id | class | file | suite | failed checks: count, names | cross-check | " \
            "disagreements: count, quantities | build / suite / xc s |"
     for title, kind in (("C++ mutants", "cpp"), ("Cross-check mutants (Python)", "python")):
@@ -417,6 +441,8 @@ def markdown(outcomes: Sequence[Outcome], s: Dict[str, Json], head: str) -> str:
             dis = "%d: %s" % (o.disagree_count, "; ".join(o.disagree_quantities[:3])) \
                 if o.disagree_count else "none (exit %s)" % o.xc_exit
             suite_v = "invalid: " + o.build_error if not o.valid else _verdict(o.suite_killed)
+            if o.id in s["equivalent_on_suite"]:
+                suite_v = "equivalent on the suite"
             lines.append("| %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f |" % (
                 o.id, o.cls, o.file, suite_v, fc.replace("|", "\\|"), _verdict(o.xc_killed),
                 dis.replace("|", "\\|"), o.build_seconds, o.suite_seconds, o.xc_seconds))
@@ -484,7 +510,10 @@ def campaign(args: argparse.Namespace, mutants: List[Mutant]) -> int:
     outcomes: List[Outcome] = []
     for m in mutants:
         if m.id in done:
-            record_kills(done[m.id], os.path.join(out, m.id), done[m.id].suite_exit is not None)
+            o = done[m.id]
+            record_kills(o, os.path.join(out, m.id), o.suite_exit is not None)
+            if o.suite_exit is not None:
+                o.same_as_baseline = same_results(base, os.path.join(out, m.id, "report.json"))
             outcomes.append(done[m.id])
             continue
         o = score_one(clone, m, os.path.join(out, m.id), base)
@@ -500,6 +529,8 @@ def campaign(args: argparse.Namespace, mutants: List[Mutant]) -> int:
                                        s["crosscheck_killed"], s["valid_cpp"],
                                        _pct(s["crosscheck_score"]), s["python_crosscheck_killed"],
                                        s["python_mutants"]))
+    print("equivalent on the default suite (report equal to the baseline's; not scored): %s"
+          % (", ".join(s["equivalent_on_suite"]) or "none"))
     print("survivors of the suite: %s" % (", ".join(s["suite_survivors"]) or "none"))
     print("survivors of the cross-check: %s" % (", ".join(s["crosscheck_survivors"]) or "none"))
     print("wrote %s/results.{json,md}" % out)

@@ -179,6 +179,27 @@ class Scores(unittest.TestCase):
         self.assertIn("## Cross-check mutants (Python)", md)
         self.assertIn("| b | k | f | **survived** |", md)
 
+    def test_equivalent_on_the_suite(self) -> None:
+        e = _o("e", suite=False, xc=False)
+        e.same_as_baseline = True
+        k = _o("k")
+        k.same_as_baseline = False
+        s = sm.scores([e, k])
+        self.assertEqual((s["valid_cpp"], s["equivalent_on_suite"]), (1, ["e"]))
+        self.assertEqual((s["suite_survivors"], s["crosscheck_survivors"]), ([], []))
+        self.assertIn("| e | k | f | equivalent on the suite |", sm.markdown([e, k], s, "x"))
+
+    def test_same_results_ignores_only_clocks(self) -> None:
+        base = {"cases": [{"id": "c", "runs": [{"final_state": [0.1, 0.2]}]}],
+                "provenance": {"start_utc": "a"}, "timings": {"wall_seconds": 1.0}}
+        with tempfile.TemporaryDirectory() as d:
+            a = _write(d, "a.json", base)
+            clocks = dict(base, provenance={"start_utc": "b"}, timings={"wall_seconds": 2.0})
+            self.assertTrue(sm.same_results(a, _write(d, "b.json", clocks)))
+            moved = dict(base, cases=[{"id": "c", "runs": [{"final_state": [0.1, 0.2000000000000001]}]}])
+            self.assertFalse(sm.same_results(a, _write(d, "c.json", moved)))
+            self.assertFalse(sm.same_results(a, os.path.join(d, "missing.json")))
+
     def test_empty_is_not_applicable(self) -> None:
         s = sm.scores([])
         self.assertIsNone(s["suite_score"])
