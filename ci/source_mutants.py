@@ -375,6 +375,8 @@ def score_one(clone: str, m: Mutant, out: str, base_report: str) -> Outcome:
             score_cpp(clone, m, out, o, base_report)
     finally:
         revert(clone, m, original)
+    with open(os.path.join(out, "outcome.json"), "w", encoding="utf-8") as fh:
+        json.dump(asdict(o), fh, indent=1)
     return o
 
 
@@ -460,14 +462,17 @@ def write_results(out: str, head: str, outcomes: Sequence[Outcome]) -> Dict[str,
     return s
 
 
-def load_previous(out: str) -> Dict[str, Outcome]:
-    """Outcomes of an earlier run into out (--resume), by id."""
-    try:
-        with open(os.path.join(out, "results.json"), encoding="utf-8") as fh:
-            doc = json.load(fh)
-        return {m["id"]: Outcome(**m) for m in doc["mutants"]}
-    except (OSError, ValueError, KeyError, TypeError):
-        return {}
+def load_previous(out: str, ids: Sequence[str]) -> Dict[str, Outcome]:
+    """Outcomes of earlier runs into out (--resume), by id: each mutant's OUT/ID/outcome.json
+    (written as soon as it is scored, so an interrupted campaign loses none)."""
+    done: Dict[str, Outcome] = {}
+    for i in ids:
+        try:
+            with open(os.path.join(out, i, "outcome.json"), encoding="utf-8") as fh:
+                done[i] = Outcome(**json.load(fh))
+        except (OSError, ValueError, TypeError):
+            pass
+    return done
 
 
 # ---- main -----------------------------------------------------------------------------------
@@ -498,7 +503,7 @@ def campaign(args: argparse.Namespace, mutants: List[Mutant]) -> int:
     out = os.path.abspath(args.out)
     clone = os.path.abspath(args.clone or os.path.join(out, "clone"))
     os.makedirs(out, exist_ok=True)
-    done = load_previous(out) if args.resume else {}
+    done = load_previous(out, [m.id for m in mutants]) if args.resume else {}
     need_build = any(m.kind == "cpp" and m.id not in done for m in mutants)
     head = make_clone(ROOT, clone, out, need_build or not args.resume)
     check_finds(clone, mutants)
@@ -508,13 +513,15 @@ def campaign(args: argparse.Namespace, mutants: List[Mutant]) -> int:
         print("source mutants: %s" % exc, file=sys.stderr)
         return 1
     outcomes: List[Outcome] = []
-    for m in mutants:
+    for m in mutants:                            # kept outcomes first: every write lists them
         if m.id in done:
             o = done[m.id]
             record_kills(o, os.path.join(out, m.id), o.suite_exit is not None)
             if o.suite_exit is not None:
                 o.same_as_baseline = same_results(base, os.path.join(out, m.id, "report.json"))
-            outcomes.append(done[m.id])
+            outcomes.append(o)
+    for m in mutants:
+        if m.id in done:
             continue
         o = score_one(clone, m, os.path.join(out, m.id), base)
         outcomes.append(o)
