@@ -443,10 +443,11 @@ def markdown(outcomes: Sequence[Outcome], s: Dict[str, Json], head: str) -> str:
             dis = "%d: %s" % (o.disagree_count, "; ".join(o.disagree_quantities[:3])) \
                 if o.disagree_count else "none (exit %s)" % o.xc_exit
             suite_v = "invalid: " + o.build_error if not o.valid else _verdict(o.suite_killed)
+            xc_v = _verdict(o.xc_killed)
             if o.id in s["equivalent_on_suite"]:
-                suite_v = "equivalent on the suite"
+                suite_v = xc_v = "equivalent on the suite"
             lines.append("| %s | %s | %s | %s | %s | %s | %s | %.0f / %.0f / %.0f |" % (
-                o.id, o.cls, o.file, suite_v, fc.replace("|", "\\|"), _verdict(o.xc_killed),
+                o.id, o.cls, o.file, suite_v, fc.replace("|", "\\|"), xc_v,
                 dis.replace("|", "\\|"), o.build_seconds, o.suite_seconds, o.xc_seconds))
         lines.append("")
     return "\n".join(lines)

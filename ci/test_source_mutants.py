@@ -187,7 +187,8 @@ class Scores(unittest.TestCase):
         s = sm.scores([e, k])
         self.assertEqual((s["valid_cpp"], s["equivalent_on_suite"]), (1, ["e"]))
         self.assertEqual((s["suite_survivors"], s["crosscheck_survivors"]), ([], []))
-        self.assertIn("| e | k | f | equivalent on the suite |", sm.markdown([e, k], s, "x"))
+        self.assertIn("| e | k | f | equivalent on the suite | — | equivalent on the "
+                      "suite |", sm.markdown([e, k], s, "x"))
 
     def test_same_results_ignores_only_clocks(self) -> None:
         base = {"cases": [{"id": "c", "runs": [{"final_state": [0.1, 0.2]}]}],
