@@ -197,7 +197,8 @@ class Scores(unittest.TestCase):
             a = _write(d, "a.json", base)
             clocks = dict(base, provenance={"start_utc": "b"}, timings={"wall_seconds": 2.0})
             self.assertTrue(sm.same_results(a, _write(d, "b.json", clocks)))
-            moved = dict(base, cases=[{"id": "c", "runs": [{"final_state": [0.1, 0.2000000000000001]}]}])
+            one_ulp = [0.1, 0.20000000000000004]                  # 0.2 + 1 ulp
+            moved = dict(base, cases=[{"id": "c", "runs": [{"final_state": one_ulp}]}])
             self.assertFalse(sm.same_results(a, _write(d, "c.json", moved)))
             self.assertFalse(sm.same_results(a, os.path.join(d, "missing.json")))
 
