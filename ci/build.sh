@@ -26,7 +26,11 @@ case "$kind" in
   # The sanitizer build with clang 14 (the fuzz targets' compiler, ci/setup.sh): with every check
   # of -fsanitize=address,undefined it compiles this code base in about 45 % of g++ 12's time
   # (a library batch: 11.3 s against 25.1 s of CPU), and it adds a second compiler's -Werror.
+  # -ffile-prefix-map: __FILE__ (assert, Catch2) and the debug information name files relative to
+  # the checkout; a unity batch includes its files by absolute path, and without the map their
+  # __FILE__ strings made each checkout's objects differ (no compiler cache between checkouts).
   asan)    cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O0 -g1" \
+             "-DCMAKE_CXX_FLAGS=-ffile-prefix-map=$PWD=." \
              -DCMAKE_CXX_COMPILER="${CXX_ASAN:-clang++-14}" -DCMAKE_C_COMPILER="${CC_ASAN:-clang-14}" \
              -DDAMPSYM_SANITIZE=ON -DDAMPSYM_WERROR=ON -DDAMPSYM_UNIT_TESTS_PER_FILE=ON "${launcher[@]}" >/dev/null
            cmake --build build-asan -j"$jobs" "${targets[@]}" ;;
