@@ -20,8 +20,13 @@ if [ -n "$cache_dir" ] && mkdir -p "$cache_dir" 2>/dev/null && [ -w "$cache_dir"
   export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 fi
+# mypy's cache for the type-check tests, outside the checkout like the compiler cache (ci/test.sh
+# sets DAMPSYM_MYPY_CACHE; mypy re-checks whatever differs from what it recorded, by content hash).
+mypy_cache=()
+if [ -n "${DAMPSYM_MYPY_CACHE:-}" ]; then mypy_cache=("-DDAMPSYM_MYPY_CACHE=$DAMPSYM_MYPY_CACHE"); fi
 case "$kind" in
-  release) cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDAMPSYM_WERROR=ON "${launcher[@]}" >/dev/null
+  release) cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDAMPSYM_WERROR=ON "${launcher[@]}" \
+             "${mypy_cache[@]}" >/dev/null
            cmake --build build -j"$jobs" "${targets[@]}" ;;
   # The sanitizer build with clang 14 (the fuzz targets' compiler, ci/setup.sh): with every check
   # of -fsanitize=address,undefined it compiles this code base in about 45 % of g++ 12's time
