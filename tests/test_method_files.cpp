@@ -141,6 +141,13 @@ TEST_CASE("method files: every bad file is exit 2 naming the file and the key", 
         CHECK(dampsym::find_method(json::parse(b.text)["id"].get<std::string>()) ==
               (std::string(b.name) == "shadows-builtin" ? dampsym::find_method("rk4") : nullptr));
     }
+}
+
+TEST_CASE("method files: an id repeated by a second file is exit 2, the same file twice is not",
+          "[method-files]") {
+    TempDir dir;
+    const std::string rk = R"("family": "rk", "order": 1, "tableau": )";
+    const std::string good_tab = R"({"A": [["0"]], "b": ["1"], "c": ["0"]})";
     // Duplicate id: the same id in a second file (the first file is loaded, the second refused).
     write_text(dir / "dup1.json", "{\"id\": \"dup-id\", " + rk + good_tab + "}");
     write_text(dir / "dup2.json", "{\"id\": \"dup-id\", " + rk + good_tab + "}");

@@ -99,20 +99,9 @@ std::vector<std::vector<double>> final_states_in_text(const std::string& text) {
     return out;
 }
 
-} // namespace
-
-TEST_CASE("report.json carries the conventions §7 fields at full precision", "[report]") {
-    TempDir cases, out;
-    copy_data("cases/cli-pass.json", cases.path());
-    copy_data("cases/cli-wrong-order.json", cases.path());
-    const std::vector<std::string> args{"--cases",         cases.str(), "run",    "cli-pass",
-                                        "cli-wrong-order", "--out",     out.str()};
-    const auto r = run(args);
-    INFO(describe(args, r));
-    REQUIRE(r.status == 1);
-    const std::string text = read_text(out / "report.json");
-    const json rep = json::parse(text);
-
+// The top of report.json: schema version, timings and provenance last, the cases in command-line
+// order (cli-pass, cli-wrong-order).
+void check_report_layout(const json& rep, const std::string& text) {
     CHECK(rep["schema_version"] == 2);
     // clock values live in the timings section, one entry per case and run, in report order
     REQUIRE(rep["timings"]["cases"].size() == rep["cases"].size());
@@ -128,114 +117,151 @@ TEST_CASE("report.json carries the conventions §7 fields at full precision", "[
     REQUIRE(rep["cases"].size() == 2);
     CHECK(rep["cases"][0]["id"] == "cli-pass"); // command-line order
     CHECK(rep["cases"][1]["id"] == "cli-wrong-order");
+}
 
-    const auto text_states = final_states_in_text(text);
-    std::size_t state_index = 0;
+// problem: id and every parameter with its value
+void check_problem(const json& c, const json& spec) {
+    REQUIRE(c["problem"].is_object());
+    CHECK(c["problem"]["id"] == "oscillator");
+    const json& params = c["problem"]["params"];
+    REQUIRE(params.is_object());
+    for (const char* k : {"omega", "gamma", "q0", "p0"}) {
+        REQUIRE(params.contains(k));
+        CHECK(params[k].is_number());
+    }
+    for (const char* k : {"omega", "gamma", "q0", "p0"})
+        if (spec["problem"].contains(k)) CHECK(params[k] == spec["problem"][k]);
+}
+
+// The final_state arrays of the report text, consumed in file order by check_run.
+struct StatesInText {
+    std::vector<std::vector<double>> states;
+    std::size_t next = 0;
+};
+
+// One run of case c: its fields, its timing entry, its final state (the text parses back to the
+// bits of an independent re-integration with the same kernel), its cost and its error metric.
+void check_run(const json& rep, const json& c, const json& run_j, const json& spec,
+               const std::vector<double>& dts, StatesInText& text_states) {
+    const json& params = c["problem"]["params"];
+    const double t_end = spec["t_end"];
+    INFO(run_j.dump());
+    REQUIRE(run_j["method"].is_string());
+    const std::string m = run_j["method"];
+    CHECK(std::find(spec["methods"].begin(), spec["methods"].end(), m) != spec["methods"].end());
+    REQUIRE(run_j["dt"].is_number());
+    const double dt = run_j["dt"];
+    CHECK(std::find(dts.begin(), dts.end(), dt) != dts.end());
+    REQUIRE(run_j["steps"].is_number_integer());
+    const std::int64_t steps = run_j["steps"];
+    CHECK(steps == std::llround(t_end / dt));
+    REQUIRE(run_j["final_time"].is_number());
+    CHECK_THAT(run_j["final_time"].get<double>(), Catch::Matchers::WithinRel(t_end, 1e-14));
+    REQUIRE(run_j["rhs_evals"].is_number_integer());
+    CHECK_FALSE(run_j.contains("wall_seconds"));
+    const std::size_t ci = static_cast<std::size_t>(&c - &rep["cases"][0]);
+    const std::size_t ri = static_cast<std::size_t>(&run_j - &c["runs"][0]);
+    const json& t = rep["timings"]["cases"][ci]["runs"][ri];
+    CHECK(t["method"] == run_j["method"]);
+    CHECK(t["dt"] == run_j["dt"]);
+    REQUIRE(t["wall_seconds"].is_number());
+    CHECK(t["wall_seconds"].get<double>() >= 0.0);
+    REQUIRE(run_j["metrics"].is_object());
+    REQUIRE(run_j["metrics"].contains("error"));
+    for (const char* k : {"final_abs", "final_rel", "max_abs", "max_rel"})
+        CHECK(run_j["metrics"]["error"][k].is_number());
+
+    // final_state: [q, p] at full precision — the text parses back to exactly the bits
+    // of an independent re-integration with the same kernel
+    REQUIRE(run_j["final_state"].is_array());
+    REQUIRE(run_j["final_state"].size() == 2);
+    const Reintegrated re = reintegrate(params, m, dt, steps);
+    REQUIRE(text_states.next < text_states.states.size());
+    const std::vector<double>& from_text = text_states.states[text_states.next++];
+    REQUIRE(from_text.size() == 2);
+    for (int i = 0; i < 2; ++i) {
+        INFO("component " << i << ": report " << run_j["final_state"][i].dump()
+                          << ", re-integrated " << re.z[i]);
+        CHECK(bits(from_text[static_cast<std::size_t>(i)]) == bits(re.z[i]));
+        CHECK(bits(run_j["final_state"][i].get<double>()) == bits(re.z[i]));
+    }
+    // cost: the kernel's own count (2 force evaluations per csv1 step, 3 per rk3 step)
+    CHECK(run_j["rhs_evals"].get<std::int64_t>() == re.rhs_evals);
+    if (m == "csv1") CHECK(re.rhs_evals == 2 * steps);
+    if (m == "rk3") CHECK(re.rhs_evals == 3 * steps);
+    if (m == "cimp") CHECK(re.rhs_evals >= steps);
+    // the error metric is the distance to the exact solution at final_time
+    const auto ex = dampsym::oscillator_exact(params["omega"], params["gamma"], params["q0"],
+                                              params["p0"], t_end);
+    const double err = std::hypot(re.z[0] - ex.q, re.z[1] - ex.p);
+    CHECK_THAT(run_j["metrics"]["error"]["final_abs"].get<double>(),
+               Catch::Matchers::WithinRel(err, 1e-12));
+}
+
+// runs: one per method and step size
+void check_runs(const json& rep, const json& c, const json& spec, StatesInText& text_states) {
+    std::vector<double> dts;
+    if (spec.contains("dt"))
+        dts.push_back(spec["dt"].get<double>());
+    else
+        for (const auto& d : spec["dt_ladder"]) dts.push_back(d.get<double>());
+    REQUIRE(c["runs"].is_array());
+    CHECK(c["runs"].size() == spec["methods"].size() * dts.size());
+    for (const json& run_j : c["runs"]) check_run(rep, c, run_j, spec, dts, text_states);
+}
+
+// checks: one per (expectation, method); counts the passed and the failed ones
+void check_checks(const json& c, const json& spec, std::int64_t& passed, std::int64_t& failed) {
+    REQUIRE(c["checks"].is_array());
+    std::size_t expected_checks = 0; // one per (expectation, method)
+    for (const auto& e : spec["expect"])
+        expected_checks += e["methods"].is_string() ? spec["methods"].size() : e["methods"].size();
+    CHECK(c["checks"].size() == expected_checks);
+    for (const json& ck : c["checks"]) {
+        INFO(ck.dump());
+        CHECK(ck["name"].is_string());
+        CHECK(ck["method"].is_string());
+        REQUIRE(ck["passed"].is_boolean());
+        CHECK((ck["value"].is_number() || ck["value"].is_null()));
+        CHECK(ck["expected"].is_number());
+        const json& e = spec["expect"][ck["name"].get<std::string>()];
+        if (e.contains("near")) {
+            REQUIRE(ck.contains("tolerance"));
+            CHECK(ck["tolerance"] == e["tol"]);
+            CHECK(ck["expected"] == e["near"]);
+        }
+        (ck["passed"].get<bool>() ? passed : failed) += 1;
+    }
+}
+
+} // namespace
+
+TEST_CASE("report.json carries the conventions §7 fields at full precision", "[report]") {
+    TempDir cases, out;
+    copy_data("cases/cli-pass.json", cases.path());
+    copy_data("cases/cli-wrong-order.json", cases.path());
+    const std::vector<std::string> args{"--cases",         cases.str(), "run",    "cli-pass",
+                                        "cli-wrong-order", "--out",     out.str()};
+    const auto r = run(args);
+    INFO(describe(args, r));
+    REQUIRE(r.status == 1);
+    const std::string text = read_text(out / "report.json");
+    const json rep = json::parse(text);
+
+    check_report_layout(rep, text);
+
+    StatesInText text_states{final_states_in_text(text)};
     std::int64_t passed = 0, failed = 0;
     for (const json& c : rep["cases"]) {
         const std::string id = c["id"];
         INFO("case " << id);
         const json spec = read_json(cases / (id + ".json"));
-        // problem: id and every parameter with its value
-        REQUIRE(c["problem"].is_object());
-        CHECK(c["problem"]["id"] == "oscillator");
-        const json& params = c["problem"]["params"];
-        REQUIRE(params.is_object());
-        for (const char* k : {"omega", "gamma", "q0", "p0"}) {
-            REQUIRE(params.contains(k));
-            CHECK(params[k].is_number());
-        }
-        for (const char* k : {"omega", "gamma", "q0", "p0"})
-            if (spec["problem"].contains(k)) CHECK(params[k] == spec["problem"][k]);
+        check_problem(c, spec);
 
-        // runs: one per method and step size
-        std::vector<double> dts;
-        if (spec.contains("dt"))
-            dts.push_back(spec["dt"].get<double>());
-        else
-            for (const auto& d : spec["dt_ladder"]) dts.push_back(d.get<double>());
-        const double t_end = spec["t_end"];
-        REQUIRE(c["runs"].is_array());
-        CHECK(c["runs"].size() == spec["methods"].size() * dts.size());
-        for (const json& run_j : c["runs"]) {
-            INFO(run_j.dump());
-            REQUIRE(run_j["method"].is_string());
-            const std::string m = run_j["method"];
-            CHECK(std::find(spec["methods"].begin(), spec["methods"].end(), m) !=
-                  spec["methods"].end());
-            REQUIRE(run_j["dt"].is_number());
-            const double dt = run_j["dt"];
-            CHECK(std::find(dts.begin(), dts.end(), dt) != dts.end());
-            REQUIRE(run_j["steps"].is_number_integer());
-            const std::int64_t steps = run_j["steps"];
-            CHECK(steps == std::llround(t_end / dt));
-            REQUIRE(run_j["final_time"].is_number());
-            CHECK_THAT(run_j["final_time"].get<double>(), Catch::Matchers::WithinRel(t_end, 1e-14));
-            REQUIRE(run_j["rhs_evals"].is_number_integer());
-            CHECK_FALSE(run_j.contains("wall_seconds"));
-            const std::size_t ci = static_cast<std::size_t>(&c - &rep["cases"][0]);
-            const std::size_t ri = static_cast<std::size_t>(&run_j - &c["runs"][0]);
-            const json& t = rep["timings"]["cases"][ci]["runs"][ri];
-            CHECK(t["method"] == run_j["method"]);
-            CHECK(t["dt"] == run_j["dt"]);
-            REQUIRE(t["wall_seconds"].is_number());
-            CHECK(t["wall_seconds"].get<double>() >= 0.0);
-            REQUIRE(run_j["metrics"].is_object());
-            REQUIRE(run_j["metrics"].contains("error"));
-            for (const char* k : {"final_abs", "final_rel", "max_abs", "max_rel"})
-                CHECK(run_j["metrics"]["error"][k].is_number());
-
-            // final_state: [q, p] at full precision — the text parses back to exactly the bits
-            // of an independent re-integration with the same kernel
-            REQUIRE(run_j["final_state"].is_array());
-            REQUIRE(run_j["final_state"].size() == 2);
-            const Reintegrated re = reintegrate(params, m, dt, steps);
-            REQUIRE(state_index < text_states.size());
-            const std::vector<double>& from_text = text_states[state_index++];
-            REQUIRE(from_text.size() == 2);
-            for (int i = 0; i < 2; ++i) {
-                INFO("component " << i << ": report " << run_j["final_state"][i].dump()
-                                  << ", re-integrated " << re.z[i]);
-                CHECK(bits(from_text[static_cast<std::size_t>(i)]) == bits(re.z[i]));
-                CHECK(bits(run_j["final_state"][i].get<double>()) == bits(re.z[i]));
-            }
-            // cost: the kernel's own count (2 force evaluations per csv1 step, 3 per rk3 step)
-            CHECK(run_j["rhs_evals"].get<std::int64_t>() == re.rhs_evals);
-            if (m == "csv1") CHECK(re.rhs_evals == 2 * steps);
-            if (m == "rk3") CHECK(re.rhs_evals == 3 * steps);
-            if (m == "cimp") CHECK(re.rhs_evals >= steps);
-            // the error metric is the distance to the exact solution at final_time
-            const auto ex = dampsym::oscillator_exact(params["omega"], params["gamma"],
-                                                      params["q0"], params["p0"], t_end);
-            const double err = std::hypot(re.z[0] - ex.q, re.z[1] - ex.p);
-            CHECK_THAT(run_j["metrics"]["error"]["final_abs"].get<double>(),
-                       Catch::Matchers::WithinRel(err, 1e-12));
-        }
-
-        // checks
-        REQUIRE(c["checks"].is_array());
-        std::size_t expected_checks = 0; // one per (expectation, method)
-        for (const auto& e : spec["expect"])
-            expected_checks +=
-                e["methods"].is_string() ? spec["methods"].size() : e["methods"].size();
-        CHECK(c["checks"].size() == expected_checks);
-        for (const json& ck : c["checks"]) {
-            INFO(ck.dump());
-            CHECK(ck["name"].is_string());
-            CHECK(ck["method"].is_string());
-            REQUIRE(ck["passed"].is_boolean());
-            CHECK((ck["value"].is_number() || ck["value"].is_null()));
-            CHECK(ck["expected"].is_number());
-            const json& e = spec["expect"][ck["name"].get<std::string>()];
-            if (e.contains("near")) {
-                REQUIRE(ck.contains("tolerance"));
-                CHECK(ck["tolerance"] == e["tol"]);
-                CHECK(ck["expected"] == e["near"]);
-            }
-            (ck["passed"].get<bool>() ? passed : failed) += 1;
-        }
+        check_runs(rep, c, spec, text_states);
+        check_checks(c, spec, passed, failed);
     }
-    CHECK(state_index == text_states.size());
+    CHECK(text_states.next == text_states.states.size());
     // summary
     const json& s = rep["summary"];
     CHECK(s["cases"] == 2);

@@ -218,7 +218,8 @@ TEST_CASE("rk3 is not conformal symplectic: det M != e^{-2 gamma h} (negative co
     CHECK(std::abs(ht - csv1_half_trace_closed(1.3, 0.3, 0.1)) > 1e-9);
 }
 
-TEST_CASE("analyse_one_step: F's condition and power-boundedness on hand-made matrices",
+TEST_CASE("analyse_one_step: F's condition and power-boundedness of rotations, Jordan blocks and "
+          "the identity",
           "[stability]") {
     using Catch::Matchers::WithinAbs;
     using Catch::Matchers::WithinRel;
@@ -272,6 +273,16 @@ TEST_CASE("analyse_one_step: F's condition and power-boundedness on hand-made ma
     SECTION("the identity (lambda = 1 twice, not defective) is power bounded") {
         CHECK(dampsym::analyse_one_step(Mat::Identity(2, 2), 0.0, h).power_bounded);
     }
+}
+
+TEST_CASE("analyse_one_step: F's condition and power-boundedness with real eigenvalues, spectral "
+          "radius > 1 and a non-finite matrix",
+          "[stability]") {
+    using Catch::Matchers::WithinAbs;
+    using Catch::Matchers::WithinRel;
+    const double g = 0.3, h = 0.1;
+    const double r = std::exp(-g * h);
+
     SECTION("real eigenvalues with e^{-gamma h} < |lambda| <= 1: F fails, yet power bounded") {
         // det = e^{−2γh} like a conformal method, but the eigenvalues are real and distinct, so
         // |½trM| > e^{−γh} (AM > GM): F calls it unstable, while ρ(M) = 0.99 < 1.
