@@ -52,7 +52,7 @@ double rel_diff(const Vec& a, const Vec& b) {
 } // namespace
 
 TEST_CASE("nls-driven: B's IF, ETD, IMP by FFT are cimp, etdrk2, implicit-midpoint with the "
-          "forcing at the midpoint time; the forcing matters",
+          "forcing at the midpoint time, the forcing matters",
           "[attractor]") {
     const auto p = driven(0.45);
     const Vec z0 = p.initial_state();

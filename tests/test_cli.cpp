@@ -377,7 +377,7 @@ TEST_CASE("cli: the dampsym executable returns run_cli's exit status", "[cli]") 
 }
 
 TEST_CASE("cli: output paths: an empty --out or --junit, or --junit naming another output of the "
-          "run, exit 2; a symbolic link in place of an output is refused (exit 3), not replaced",
+          "run, exit 2, a symbolic link in place of an output is refused (exit 3), not replaced",
           "[cli]") {
     TempDir cases, root;
     copy_data("cases/cli-pass.json", cases.path());

@@ -289,7 +289,7 @@ TEST_CASE("glm4 is G-symplectic, stable, pre-consistent and consistent (BS, BD D
     }
 }
 
-TEST_CASE("general-linear kernel: Gauss as a one-value GLM equals implicit-rk; failed solves "
+TEST_CASE("general-linear kernel: Gauss as a one-value GLM equals implicit-rk, failed solves "
           "change nothing",
           "[coefficients]") {
     const RigidBody prob = bs_rigid_body();
@@ -378,7 +378,7 @@ TEST_CASE("glm4 on BS's rigid body: order 4 against the exact solution", "[coeff
     }
 }
 
-TEST_CASE("glm4 keeps E_n/E_0 and F_n/F_0 near 1 without drift over 10 000 steps; rk4 drifts (BS)",
+TEST_CASE("glm4 keeps E_n/E_0 and F_n/F_0 near 1 without drift over 10 000 steps, rk4 drifts (BS)",
           "[coefficients]") {
     const RigidBody prob = bs_rigid_body();
     const double h = 0.1;

@@ -370,7 +370,7 @@ TEST_CASE("catalog rows of the exponential families", "[exponential]") {
     CHECK(method("etdprk2").claims == dampsym::claim_none);
 }
 
-TEST_CASE("csv1-perk == csv1 and csv2-perk == csv2 per step; IF-Gauss ERK == glifrk",
+TEST_CASE("csv1-perk == csv1 and csv2-perk == csv2 per step, IF-Gauss ERK == glifrk",
           "[exponential]") {
     const auto check = [](const auto& prob, const char* what, double h, int n) {
         using P = std::decay_t<decltype(prob)>;

@@ -30,7 +30,7 @@ dampsym::CaseFacts facts() {
 }
 } // namespace field_drift_test
 
-TEST_CASE("field-drift: a field decaying at the damping rate has no drift; another rate drifts",
+TEST_CASE("field-drift: a field decaying at the damping rate has no drift, another rate drifts",
           "[field-drift]") {
     const double gamma = 0.375;
     auto Gamma = [gamma](double t) { return gamma * t; };

@@ -169,7 +169,7 @@ TEST_CASE("limits: a time budget stops the loop at a step boundary", "[limits]")
     CHECK(all.steps_done == 100000);
 }
 
-TEST_CASE("limits: --case-timeout stops a 2e9-step case within 3 s; the other case is intact",
+TEST_CASE("limits: --case-timeout stops a 2e9-step case within 3 s, the other case is intact",
           "[limits]") {
     const std::vector<CaseSpec> ok_only{spec(small_case("small", 2.0, 0.01))};
     const std::vector<CaseSpec> both{spec(small_case("small", 2.0, 0.01)),
@@ -218,7 +218,7 @@ TEST_CASE("limits: timeout_seconds is validated (exit 2 naming the key)", "[limi
     }
 }
 
-TEST_CASE("limits: faults planted in one run give their status; the rest finishes",
+TEST_CASE("limits: faults planted in one run give their status, the rest finishes",
           "[limits][faults]") {
     const std::vector<CaseSpec> cases{spec(small_case("faulty", 2.0, 0.01)),
                                       spec(small_case("clean", 2.0, 0.01))};
@@ -543,7 +543,7 @@ TEST_CASE("limits: I/O errors exit 3 from the executable with one message", "[li
     }
 }
 
-TEST_CASE("limits: SIGINT/SIGTERM write the report marked interrupted; a second signal exits at "
+TEST_CASE("limits: SIGINT/SIGTERM write the report marked interrupted, a second signal exits at "
           "once and the previous report stays whole",
           "[limits][signals]") {
     TempDir dir;

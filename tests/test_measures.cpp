@@ -110,7 +110,7 @@ TEST_CASE("measures: component, norm and statistic as stated, recomputed from th
     CHECK_THAT(m["H_final"].get<double>(), WithinRel(std::abs(H - Hu), 1e-10));
 }
 
-TEST_CASE("measures: ratio and spread checks use the listed methods' values; a wrong one fails",
+TEST_CASE("measures: ratio and spread checks use the listed methods' values, a wrong one fails",
           "[measures]") {
     const json c = run_measures_case(two_point_case());
     auto value_of = [&](const std::string& method, const char* measure) {

@@ -88,7 +88,7 @@ TEST_CASE("fit_order: a ladder that does not halve, given in any order", "[order
     for (double lo : fit.local_orders) CHECK_THAT(lo, WithinRel(3.0, 1e-12));
 }
 
-TEST_CASE("fit_order drops points at the floor and on a plateau; the slope stays exact",
+TEST_CASE("fit_order drops points at the floor and on a plateau, the slope stays exact",
           "[order]") {
     const auto hs = halving_ladder(0.1, 9);
     SECTION("errors clamped at 1e-13 with floor 1e-12 are dropped as at the floor") {

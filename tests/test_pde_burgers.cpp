@@ -119,7 +119,7 @@ TEST_CASE("pde burgers: time orders before the shock against fine references", "
     }
 }
 
-TEST_CASE("pde burgers: Theorem 5.2, Casimir residual (5.15); NSFD is the negative control",
+TEST_CASE("pde burgers: Theorem 5.2, Casimir residual (5.15), NSFD is the negative control",
           "[pde]") {
     const double gamma = 0.1, h = 0.01;
     const int n = 600; // to t = 6, past the steepening of Fig 5.4

@@ -84,7 +84,7 @@ TEST_CASE("pde-error: the shock time of the Gaussian, and no solution from it on
     CHECK(dampsym::pde::burgers_characteristic_solution(g, 0.1, 0.99 * tb, u));
 }
 
-TEST_CASE("pde-error: metrics on an output grid; exact, perturbed, after a shock", "[pde-error]") {
+TEST_CASE("pde-error: metrics on an output grid, exact, perturbed, after a shock", "[pde-error]") {
     const PeriodicGrid g(16, std::numbers::pi);
     const double gamma = 0.1;
     dampsym::CaseFacts c;

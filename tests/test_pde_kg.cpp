@@ -291,7 +291,7 @@ TEST_CASE("pde kg: box scheme (5.5) consistency, time order 2 and space order 2"
     CHECK_THAT(ss, WithinAbs(2.0, 0.1));
 }
 
-TEST_CASE("pde kg: Theorem 5.1, conformal momentum residual r^i of (5.3), (5.4), (5.5); rk4 and "
+TEST_CASE("pde kg: Theorem 5.1, conformal momentum residual r^i of (5.3), (5.4), (5.5), rk4 and "
           "heun are negative controls",
           "[pde]") {
     const KleinGordon p = kg(64, 1.0, 0.375, 1);

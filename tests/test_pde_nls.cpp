@@ -84,7 +84,7 @@ TEST_CASE("pde nls: plane waves (5.3.2.1, 5.3.2.2): time order 2 and space order
     }
 }
 
-TEST_CASE("pde nls: residuals R_k (5.29): IF and ETD keep e^{4γt}I_k (§5.3.1 (ii)-(iii)); IMP "
+TEST_CASE("pde nls: residuals R_k (5.29): IF and ETD keep e^{4γt}I_k (§5.3.1 (ii)-(iii)), IMP "
           "does not",
           "[pde]") {
     const PeriodicGrid g(64, std::numbers::pi);

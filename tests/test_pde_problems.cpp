@@ -179,7 +179,7 @@ TEST_CASE("pde problems: Burgers N_jacobian and the Casimir law with rate factor
     CHECK(std::abs(c1 - std::exp(-2 * 0.1 * h) * c0) >= 1e-8 * c0);
 }
 
-TEST_CASE("pde problems: burgers-box and burgers-upwind (the dt -> 0 limits of B (5.12), (4.18)); "
+TEST_CASE("pde problems: burgers-box and burgers-upwind (the dt -> 0 limits of B (5.12), (4.18)), "
           "B's Burgers schemes as kernels are pde::BurgersStepper",
           "[pde]") {
     dampsym::ParamMap m;

@@ -34,7 +34,7 @@ const json& sensitivity_row(const json& matrix, const std::string& id) {
 
 } // namespace
 
-TEST_CASE("sensitivity: Kutta 3/8 off by 1e-6 fails its order check on the pendulum; the exact "
+TEST_CASE("sensitivity: Kutta 3/8 off by 1e-6 fails its order check on the pendulum, the exact "
           "rule passes",
           "[sensitivity]") {
     TempDir dir;

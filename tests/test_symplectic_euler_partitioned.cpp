@@ -81,7 +81,7 @@ TEST_CASE("HLW (1.8): step_jacobian advances z like step() and matches central d
 }
 
 TEST_CASE("on a separable system HLW (1.8) with (u, v) = (q, p) is the adjoint symplectic Euler "
-          "HLW (1.9) and symplectic; explicit Euler is not",
+          "HLW (1.9) and symplectic, explicit Euler is not",
           "[symplectic-euler-partitioned]") {
     const Pendulum prob = pendulum(0.0);
     const double h = 0.1;
