@@ -10,10 +10,10 @@
 #include "bench/bench_common.hpp"
 
 #include "core/integrate.hpp"
-#include "harness/method_files.hpp"
-#include "harness/plugins.hpp"
-#include "harness/provenance.hpp"
 #include "harness/registry.hpp"
+#include "harness/report/provenance.hpp"
+#include "harness/user_methods/method_files.hpp"
+#include "harness/user_methods/plugins.hpp"
 
 #include <bit>
 #include <cmath>

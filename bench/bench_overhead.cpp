@@ -19,9 +19,9 @@
 #include "bench/bench_common.hpp"
 
 #include "core/integrate.hpp"
-#include "harness/case.hpp"
+#include "harness/case/case.hpp"
 #include "harness/registry.hpp"
-#include "harness/runner.hpp"
+#include "harness/run/runner.hpp"
 
 #include <algorithm>
 #include <memory>

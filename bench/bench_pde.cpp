@@ -15,8 +15,8 @@
 
 #include "core/integrate.hpp"
 #include "harness/registry.hpp"
-#include "pde/klein_gordon.hpp"
-#include "pde/nls.hpp"
+#include "pde/klein_gordon/schemes.hpp"
+#include "pde/nls/schemes.hpp"
 
 #include <cmath>
 #include <memory>

@@ -3,7 +3,7 @@
 // 1e-15, the reference of the pendulum Table 4.1 cases; t_end = 100, output_dt = 1) loaded through
 // load_case with --set problem.gamma=0.1 so that it is the pendulum of every other benchmark. The
 // output times, the ReferenceRequest and its rhs are built by the helpers TypedCase<P>::prepare()
-// and numerical_reference() use (src/harness/case_job.hpp), and certified_reference() is called
+// and numerical_reference() use (src/harness/run/case_job.hpp), and certified_reference() is called
 // directly (run_cases would answer repeated calls from its reference cache).
 //
 //   reference/pendulum/certified   certified_reference(): main solve + rk8pd certifying solve at
@@ -13,8 +13,8 @@
 // Counters record the problem, tolerances and final time, which bench_report.py hands to scipy.
 #include "bench/bench_common.hpp"
 
-#include "harness/case.hpp"
-#include "harness/case_job.hpp"
+#include "harness/case/case.hpp"
+#include "harness/run/case_job.hpp"
 #include "problems/pendulum.hpp"
 #include "reference/gsl_reference.hpp"
 
@@ -27,7 +27,7 @@ namespace {
 const char* const kCaseFile = DAMPSYM_BENCH_DIR "/../verify/cases/pend-table41-g0.05.json";
 
 // The request TypedCase<Pendulum>::prepare()/numerical_reference() builds for case c (the same
-// helpers, src/harness/case_job.hpp).
+// helpers, src/harness/run/case_job.hpp).
 ReferenceRequest harness_request(const CaseSpec& c) {
     const std::int64_t points = detail::output_points(c);
     return detail::reference_request(

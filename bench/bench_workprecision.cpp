@@ -22,9 +22,9 @@
 #include "bench/workprecision.hpp"
 
 #include "core/integrate.hpp"
-#include "harness/case.hpp"
-#include "harness/case_job.hpp"
+#include "harness/case/case.hpp"
 #include "harness/registry.hpp"
+#include "harness/run/case_job.hpp"
 #include "reference/gsl_reference.hpp"
 
 #include <cstdio>

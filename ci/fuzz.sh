@@ -22,11 +22,13 @@ flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
        -fno-sanitize-recover=all -I"$root/src" -I"$root" -I"$root/include" -isystem /usr/include/eigen3
        -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
 # The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
-lib=(src/harness/case.cpp src/harness/case_json.cpp src/harness/case_parse.cpp src/harness/case_expect.cpp
-     src/harness/case_util.cpp src/harness/case_figures.cpp src/harness/method_files.cpp
-     src/harness/method_file_parse.cpp src/harness/limits.cpp src/harness/memory_limits.cpp
-     src/harness/registry.cpp src/harness/compare.cpp src/harness/compare_input.cpp src/harness/shard.cpp
-     src/harness/report.cpp src/harness/report_tables.cpp src/harness/junit.cpp
+lib=(src/harness/case/case.cpp src/harness/case/json.cpp src/harness/case/parse.cpp
+     src/harness/case/expect.cpp src/harness/case/util.cpp src/harness/case/figures_key.cpp
+     src/harness/user_methods/method_files.cpp src/harness/user_methods/method_file_parse.cpp
+     src/harness/run/limits.cpp src/harness/run/memory_limits.cpp src/harness/registry.cpp
+     src/harness/report/compare.cpp src/harness/report/compare_input.cpp
+     src/harness/report/report.cpp src/harness/report/tables.cpp
+     src/harness/ci/shard.cpp src/harness/ci/junit.cpp
      src/diagnostics/*.cpp
      src/methods/catalog.cpp src/methods/tableaux.cpp src/methods/exponential_tableaux.cpp
      src/methods/glm_coefficients.cpp src/methods/coefficient_checks.cpp

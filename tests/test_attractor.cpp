@@ -1,13 +1,13 @@
 // B Fig 5.10 (damped driven NLS): the nls-driven problem's forcing, B's own schemes
-// nls-if/-etd/-imp (src/methods/nls_b.hpp) against dampsym's cimp/etdrk2/implicit-midpoint on the
+// nls-if/-etd/-imp (src/pde/nls/methods.hpp) against dampsym's cimp/etdrk2/implicit-midpoint on the
 // same problem, and the `attractor` diagnostic's statistics on signals with known answers.
 #include "core/method.hpp"
 #include "diagnostics/attractor_diagnostic.hpp"
 #include "methods/cimp.hpp"
 #include "methods/exponential_rk.hpp"
 #include "methods/implicit_rk.hpp"
-#include "methods/nls_b.hpp"
-#include "problems/pde/nls.hpp"
+#include "pde/nls/methods.hpp"
+#include "pde/nls/problem.hpp"
 
 #include "support/helpers.hpp"
 

@@ -6,7 +6,7 @@
 // the messages, and what `dampsym list` documents. Each rejection must be an InputError (exit
 // status 2) naming the file and the key; none may crash, hang or read unbounded data.
 #include "cli_support.hpp"
-#include "harness/case.hpp"
+#include "harness/case/case.hpp"
 #include "harness/registry.hpp"
 #include "reference/oscillator_exact.hpp"
 

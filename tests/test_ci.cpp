@@ -1,14 +1,14 @@
-// dampsym in CI (src/harness/{shard,compare,junit,provenance}.cpp, src/cli/cli.cpp): shard
-// assignment and the engines' shard variables, merge, compare, JUnit, selection, exit status 3
-// for an unwritable --out, --version and the help footers. Small cases from tests/data/cases;
-// the suite-sized tests (schemas, 3 shards + merge of the default suite) are in
-// verify/test_reports.py.
+// dampsym in CI (src/harness/ci/{shard,junit}.cpp, src/harness/report/{compare,provenance}.cpp,
+// src/cli/cli.cpp): shard assignment and the engines' shard variables, merge, compare, JUnit,
+// selection, exit status 3 for an unwritable --out, --version and the help footers. Small cases
+// from tests/data/cases; the suite-sized tests (schemas, 3 shards + merge of the default suite) are
+// in verify/test_reports.py.
 #include "cli_support.hpp"
 #include "harness/bounded_read.hpp"
-#include "harness/case.hpp"
-#include "harness/compare.hpp"
-#include "harness/junit.hpp"
-#include "harness/shard.hpp"
+#include "harness/case/case.hpp"
+#include "harness/ci/junit.hpp"
+#include "harness/ci/shard.hpp"
+#include "harness/report/compare.hpp"
 
 #include <catch2/catch.hpp>
 #include <map>

@@ -79,7 +79,7 @@ const BadInput bad_inputs[] = {
     {"bad-diagnostic.json", "diagnostics[1]", "eror"},
     {"bad-no-checks.json", "expect", "no_checks_because"},
     {"bad-measure.json", "measures.theta.component", "out of range"},
-    {"bad-figures.json", "figures[1]", "orbits"}, // harness/case_figures.hpp
+    {"bad-figures.json", "figures[1]", "orbits"}, // harness/case/figures_key.hpp
 };
 
 void check_bad(const std::vector<std::string>& args, const fs::path& out, const std::string& file,

@@ -12,8 +12,8 @@
 // default (redrawn until from_params accepts it); random states around initial_state().
 #include "diagnostics/capabilities.hpp"
 #include "diagnostics/maxima.hpp"
-#include "harness/case_job.hpp"
 #include "harness/registry.hpp"
+#include "harness/run/case_job.hpp"
 #include "reference/gsl_reference.hpp"
 
 #include <catch2/catch.hpp>

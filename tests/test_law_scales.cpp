@@ -10,8 +10,8 @@
 //  - metrics that are undefined (a state at 0, a vanishing Σp for the measured factor, maxima of q
 //    below 0 for d(t)): null, with a reason, and every check on them fails with that reason,
 //    negative controls included.
-#include "harness/case.hpp"
-#include "harness/runner.hpp"
+#include "harness/case/case.hpp"
+#include "harness/run/runner.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

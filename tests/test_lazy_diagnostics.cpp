@@ -7,8 +7,8 @@
 //  - invariants / conformal-symplectic: the recorder / the step-Jacobian pass only when asked;
 //  - work-precision timing only for step ladders, only when the time budget is on, never for a
 //    failed run; the local error only when asked.
-#include "harness/case.hpp"
-#include "harness/runner.hpp"
+#include "harness/case/case.hpp"
+#include "harness/run/runner.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

@@ -1,17 +1,17 @@
-// Hostile input and numerical faults (src/harness/limits.hpp): the chunked, guarded step loop is
-// bitwise the bare loop; a case's time budget stops it (status timeout, the step reached, the case
-// fails, the others are intact); SIGINT/SIGTERM stop a run, write the report marked interrupted
-// and exit 130/143, a second signal exits at once and the previous report is never truncated; the
-// memory estimate refuses a case above --max-memory (exit 2 naming the key); faults planted in
-// one run (NaN, inf, a failed solve, an exception) give their status while the other runs and
-// cases finish; I/O errors exit 3.
+// Hostile input and numerical faults (src/harness/run/limits.hpp): the chunked, guarded step loop
+// is bitwise the bare loop; a case's time budget stops it (status timeout, the step reached, the
+// case fails, the others are intact); SIGINT/SIGTERM stop a run, write the report marked
+// interrupted and exit 130/143, a second signal exits at once and the previous report is never
+// truncated; the memory estimate refuses a case above --max-memory (exit 2 naming the key); faults
+// planted in one run (NaN, inf, a failed solve, an exception) give their status while the other
+// runs and cases finish; I/O errors exit 3.
 #include "cli_support.hpp"
 #include "support/sanitizers.hpp"
 
-#include "harness/case_job.hpp"
-#include "harness/limits.hpp"
 #include "harness/problem_info.hpp"
-#include "harness/runner.hpp"
+#include "harness/run/case_job.hpp"
+#include "harness/run/limits.hpp"
+#include "harness/run/runner.hpp"
 #include "methods/newton.hpp"
 
 #include <catch2/catch.hpp>

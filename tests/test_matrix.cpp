@@ -1,12 +1,12 @@
-// The method × property matrix (docs/matrix.md, src/harness/matrix.hpp): the
+// The method × property matrix (docs/matrix.md, src/harness/matrix/matrix.hpp): the
 // battery run on a few methods through the command line, with the perturbed glifrk2 of
 // examples/methods/ as a negative control that must show failing E_n cells (exit 1); the verdict
 // rules on hand-made reports (a claimed failure, a passing control, a failed run); bad input.
 #include "cli_support.hpp"
 
 #include "core/method.hpp"
-#include "harness/matrix.hpp"
-#include "harness/provenance.hpp"
+#include "harness/matrix/matrix.hpp"
+#include "harness/report/provenance.hpp"
 
 #include <catch2/catch.hpp>
 #include <string>

@@ -2,8 +2,8 @@
 // the "measures" of a case (component, norm, statistic over the output grid, growth rate) against
 // values recomputed here from the exact oscillator solution; ratio, spread and across_dt checks
 // against their inputs; a check that must fail does; no case without a check or a stated reason.
-#include "harness/case.hpp"
-#include "harness/runner.hpp"
+#include "harness/case/case.hpp"
+#include "harness/run/runner.hpp"
 #include "problems/oscillator.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Method files (docs/method-files.md, src/harness/method_files.hpp): the coefficient
+// Method files (docs/method-files.md, src/harness/user_methods/method_files.hpp): the coefficient
 // expression parser, the bad-file corpus (each defect = exit 2 naming the file and the key), the
 // three ways to load a file, and the acceptance: the example files of examples/methods/ reproduce
 // the built-in methods' final states, and the perturbed negative controls fail their coefficient
@@ -6,10 +6,10 @@
 #include "cli_support.hpp"
 
 #include "core/method.hpp"
-#include "harness/case.hpp"
-#include "harness/method_file_reader.hpp"
-#include "harness/method_files.hpp"
-#include "harness/provenance.hpp"
+#include "harness/case/case.hpp"
+#include "harness/report/provenance.hpp"
+#include "harness/user_methods/method_file_reader.hpp"
+#include "harness/user_methods/method_files.hpp"
 #include "methods/coefficient_expr.hpp"
 #include "methods/exponential_tableaux.hpp"
 #include "methods/families.hpp"

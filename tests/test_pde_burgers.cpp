@@ -3,7 +3,7 @@
 // semi-discretisation, the Casimir law (5.14)–(5.15) of Theorem 5.2 with NSFD as negative
 // control, and the handling of the kernel of A_x (even M) in the box scheme (5.12).
 #include "harness/registry.hpp"
-#include "pde/burgers.hpp"
+#include "pde/burgers/schemes.hpp"
 
 #include "support/helpers.hpp"
 #include "support/sanitizers.hpp"
@@ -155,8 +155,8 @@ TEST_CASE("pde burgers: Theorem 5.2, Casimir residual (5.15), NSFD is the negati
 
 TEST_CASE("pde burgers: kernel of A_x in the box scheme (5.12) for even M is detected", "[pde]") {
     // Zero-mass data: Σ W = 0 and the alternating mode makes the Newton Jacobian singular for
-    // even M (burgers.hpp); the step fails with a message instead of returning garbage. Odd M
-    // solves the same data.
+    // even M (src/pde/burgers/schemes.hpp); the step fails with a message instead of returning
+    // garbage. Odd M solves the same data.
     for (int M : {64, 65}) {
         const PeriodicGrid g(M, std::numbers::pi);
         Vec u(M);

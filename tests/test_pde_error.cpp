@@ -1,7 +1,7 @@
 // Diagnostic "pde-error" (B Fig 5.4; docs/conventions.md §5) and the solution of B's modified
-// Burgers (4.5) by characteristics it compares with (src/pde/burgers.hpp).
+// Burgers (4.5) by characteristics it compares with (src/pde/burgers/schemes.hpp).
 #include "diagnostics/pde_error_diagnostic.hpp"
-#include "pde/burgers.hpp"
+#include "pde/burgers/schemes.hpp"
 
 #include <catch2/catch.hpp>
 

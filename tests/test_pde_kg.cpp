@@ -6,8 +6,8 @@
 #include "methods/csv1.hpp"
 #include "methods/csv2.hpp"
 #include "methods/explicit_rk.hpp"
-#include "pde/klein_gordon.hpp"
-#include "problems/pde/klein_gordon.hpp"
+#include "pde/klein_gordon/problem.hpp"
+#include "pde/klein_gordon/schemes.hpp"
 
 #include "support/helpers.hpp"
 

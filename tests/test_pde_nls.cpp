@@ -1,7 +1,7 @@
 // Linear Schrödinger and damped NLS (B (4.7), (5.19), §5.3; docs/pde.md): IF (4.15), ETD (5.27),
 // IMP (5.28); plane-wave exact solutions, time and space orders, the invariant residuals R_k
 // (5.29) of §5.3.1 (ii)–(iii) with IMP as negative control, and the soliton collision of Fig 5.9.
-#include "pde/nls.hpp"
+#include "pde/nls/schemes.hpp"
 
 #include "support/helpers.hpp"
 

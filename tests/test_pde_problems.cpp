@@ -1,16 +1,17 @@
-// The damped Burgers and NLS problems registered for dampsym's methods (src/problems/pde/,
-// docs/pde.md): dampsym's kernels on them are B's schemes — cimp = IF (4.15), etdrk2 = ETD (5.27),
-// implicit-midpoint = IMP (5.28) on the NLS (the library's NLSStepper, src/pde/nls.hpp, solves
-// B's printed equations); the forms' Jacobians are the derivatives of N; the Burgers Casimir law
-// uses the rate factor ½ and the NLS invariants agree with pde::nls_invariants (B (5.29)).
+// The damped Burgers and NLS problems registered for dampsym's methods
+// (src/pde/{burgers,nls}/problem.hpp, docs/pde.md): dampsym's kernels on them are B's schemes —
+// cimp = IF (4.15), etdrk2 = ETD (5.27), implicit-midpoint = IMP (5.28) on the NLS (the library's
+// NLSStepper, src/pde/nls/schemes.hpp, solves B's printed equations); the forms' Jacobians are the
+// derivatives of N; the Burgers Casimir law uses the rate factor ½ and the NLS invariants agree
+// with pde::nls_invariants (B (5.29)).
 #include "core/method.hpp"
-#include "methods/burgers_b.hpp"
 #include "methods/cimp.hpp"
 #include "methods/exponential_rk.hpp"
 #include "methods/implicit_rk.hpp"
-#include "pde/nls.hpp"
-#include "problems/pde/burgers.hpp"
-#include "problems/pde/nls.hpp"
+#include "pde/burgers/methods.hpp"
+#include "pde/burgers/problem.hpp"
+#include "pde/nls/problem.hpp"
+#include "pde/nls/schemes.hpp"
 
 #include "support/helpers.hpp"
 

@@ -1,8 +1,8 @@
 // MinMaxDecimator and StrideSampler (src/diagnostics/series.hpp): the series a figure
 // draws keep every bucket's extremes, so the maxima the report states are in the series file.
 #include "diagnostics/series.hpp"
-#include "harness/case.hpp"
-#include "harness/runner.hpp"
+#include "harness/case/case.hpp"
+#include "harness/run/runner.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -6,7 +6,7 @@
 // go stale silently. Also: the stability function R(z) behind the stress maps' RK comparison.
 #include "core/method.hpp"
 #include "diagnostics/stability.hpp"
-#include "harness/provenance.hpp"
+#include "harness/report/provenance.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>

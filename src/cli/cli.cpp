@@ -4,11 +4,11 @@
 
 #include "cli/cli_detail.hpp"
 
-#include "harness/case.hpp"
-#include "harness/figures.hpp"
-#include "harness/limits.hpp"
-#include "harness/provenance.hpp"
-#include "harness/report.hpp"
+#include "harness/case/case.hpp"
+#include "harness/figures/figures.hpp"
+#include "harness/report/provenance.hpp"
+#include "harness/report/report.hpp"
+#include "harness/run/limits.hpp"
 #include "harness/suggest.hpp"
 
 #include <CLI/CLI.hpp>
@@ -43,7 +43,7 @@ void add_selection_options(CLI::App& sub, Selection& sel) {
     sub.add_option("--costs", sel.costs,
                    "measured case costs for --shard (default: case_costs.json beside the "
                    "cases directory)");
-    // method files (harness/method_files.hpp), loaded by select_cases.
+    // method files (harness/user_methods/method_files.hpp), loaded by select_cases.
     sub.add_option("--methods", sel.method_files,
                    "method file(s) (.json, docs/method-files.md) to load before the cases; "
                    "repeatable")
@@ -65,7 +65,7 @@ namespace {
 
 using namespace cli_detail;
 
-// `dampsym plot REPORT_DIR` (harness/figures.hpp): the figures of an existing report.
+// `dampsym plot REPORT_DIR` (harness/figures/figures.hpp): the figures of an existing report.
 Command add_plot_command(CLI::App& app, CliContext& ctx) {
     struct State {
         std::string dir;

@@ -1,11 +1,11 @@
 // `dampsym compare BASE NEW`: final states, metrics, order fits and check verdicts of two
-// reports (harness/compare.hpp).
+// reports (harness/report/compare.hpp).
 #include "cli/cli_detail.hpp"
 
 #include "harness/bounded_read.hpp"
-#include "harness/case.hpp"
-#include "harness/compare.hpp"
+#include "harness/case/case.hpp"
 #include "harness/finite_option.hpp"
+#include "harness/report/compare.hpp"
 
 #include <filesystem>
 

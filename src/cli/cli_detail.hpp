@@ -5,8 +5,8 @@
 // and one line in run_cli.
 #pragma once
 
-#include "harness/case.hpp"
-#include "harness/shard.hpp"
+#include "harness/case/case.hpp"
+#include "harness/ci/shard.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -29,8 +29,8 @@ struct Selection {
     std::vector<std::string> targets, filters, suites, methods, problems;
     std::string shard; // "K/N", "none", or "" (read the CI engines' variables)
     std::string costs; // measured case costs for sharding ("" = next to the cases directory)
-    std::vector<std::string> method_files; // --methods (harness/method_files.hpp)
-    std::vector<std::string> plugins;      // --plugin (harness/plugins.hpp)
+    std::vector<std::string> method_files; // --methods (harness/user_methods/method_files.hpp)
+    std::vector<std::string> plugins;      // --plugin (harness/user_methods/plugins.hpp)
     std::vector<std::string> substitutes;  // run --substitute OLD=NEW (docs/case-keys.md)
 };
 
@@ -55,7 +55,7 @@ nlohmann::json measured_case_costs(const Selection& sel, const std::string& case
 // The --suite, --filter, --problem, --method, --shard and --costs options of list and run.
 void add_selection_options(CLI::App& sub, Selection& sel);
 
-// --figure-format's check (harness/figures.hpp figure_formats_error), for run and plot.
+// --figure-format's check (harness/figures/figures.hpp figure_formats_error), for run and plot.
 CLI::Validator figure_format_validator();
 
 // What every subcommand sees: the global options (bound before parsing, read by the actions

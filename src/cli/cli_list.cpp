@@ -2,13 +2,13 @@
 // their coefficient-level checks).
 #include "cli/cli_detail.hpp"
 
-#include "harness/case.hpp"
-#include "harness/method_coefficients.hpp"
-#include "harness/method_export.hpp"
-#include "harness/method_files.hpp"
-#include "harness/plugins.hpp"
+#include "harness/case/case.hpp"
 #include "harness/problem_info.hpp"
-#include "harness/report.hpp"
+#include "harness/report/report.hpp"
+#include "harness/user_methods/method_coefficients.hpp"
+#include "harness/user_methods/method_export.hpp"
+#include "harness/user_methods/method_files.hpp"
+#include "harness/user_methods/plugins.hpp"
 #include "methods/coefficient_checks.hpp"
 #include "methods/runtime_methods.hpp"
 
@@ -173,9 +173,10 @@ int cmd_list(bool as_json, const Selection& sel, const std::string& cases_dir, s
 // passes when the coefficients agree with the declaration (order, claims), including the expected
 // failures (order conditions beyond the declared order, symplecticity of a non-symplectic method).
 // Exit status 1 if any check disagrees.
-// With --methods FILE (harness/method_files.hpp): the methods of those files instead of
-// the built-in ones, each with its file, checked by the same method_checks as a built-in method of
-// its family.
+// With --methods FILE (harness/user_methods/method_files.hpp): the methods of those files instead
+// of the built-in ones, each with its file, checked by the same method_checks as a built-in method
+// of its family. With --plugin LIB (C plugins, harness/user_methods/plugins.hpp): its methods, with
+// no coefficients to check.
 int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
                 const std::vector<std::string>& plugins, std::ostream& out) {
     json methods = json::array();
@@ -184,7 +185,7 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
     for (const auto& f : files)
         for (const MethodInfo* m : load_method_file(f))
             if (std::find(rows.begin(), rows.end(), m) == rows.end()) rows.push_back(m);
-    for (const auto& lib : plugins) // C plugins (harness/plugins.hpp): no coefficients to check
+    for (const auto& lib : plugins)
         for (const MethodInfo* m : load_plugin(lib))
             if (std::find(rows.begin(), rows.end(), m) == rows.end()) rows.push_back(m);
     if (files.empty() && plugins.empty())
@@ -258,7 +259,8 @@ int cmd_methods(bool check, bool as_json, const std::vector<std::string>& files,
 }
 
 // `dampsym methods --export ID --as NEW_ID [--out FILE]`: the built-in's method file
-// (harness/method_export.hpp), validated by the method-file parser before it is written.
+// (harness/user_methods/method_export.hpp), validated by the method-file parser before it is
+// written.
 int cmd_export(const std::string& id, const std::string& new_id, const std::string& out_file,
                std::ostream& out) {
     if (new_id.empty())

@@ -3,13 +3,13 @@
 // ordinary report (DIR/report.json, DIR/report.md).
 #include "cli/cli_detail.hpp"
 
-#include "harness/limits.hpp"
-#include "harness/matrix.hpp"
-#include "harness/method_files.hpp"
-#include "harness/plugins.hpp"
-#include "harness/provenance.hpp"
-#include "harness/report.hpp"
-#include "harness/runner.hpp"
+#include "harness/matrix/matrix.hpp"
+#include "harness/report/provenance.hpp"
+#include "harness/report/report.hpp"
+#include "harness/run/limits.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/user_methods/method_files.hpp"
+#include "harness/user_methods/plugins.hpp"
 
 #include <chrono>
 #include <memory>

@@ -1,7 +1,7 @@
 // The progress line of `dampsym run` on stderr (cli.cpp's cmd_run).
 #pragma once
 
-#include "harness/progress.hpp"
+#include "harness/run/progress.hpp"
 
 #include <chrono>
 #include <condition_variable>

@@ -3,17 +3,17 @@
 #include "cli/cli_detail.hpp"
 #include "cli/cli_progress.hpp"
 
-#include "harness/case.hpp"
-#include "harness/figures.hpp"
+#include "harness/case/case.hpp"
+#include "harness/ci/junit.hpp"
+#include "harness/ci/shard.hpp"
+#include "harness/figures/figures.hpp"
 #include "harness/finite_option.hpp"
-#include "harness/junit.hpp"
-#include "harness/limits.hpp"
-#include "harness/progress.hpp"
-#include "harness/provenance.hpp"
-#include "harness/report.hpp"
-#include "harness/report_tables.hpp"
-#include "harness/runner.hpp"
-#include "harness/shard.hpp"
+#include "harness/report/provenance.hpp"
+#include "harness/report/report.hpp"
+#include "harness/report/tables.hpp"
+#include "harness/run/limits.hpp"
+#include "harness/run/progress.hpp"
+#include "harness/run/runner.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -33,7 +33,7 @@ struct OutputOptions {
     bool junit_given = false; // --junit was on the command line (an empty FILE is an error)
     std::string annotations;  // "" or "github"
     bool quiet = false;
-    bool figures = false;              // run --figures (harness/figures.hpp)
+    bool figures = false;              // run --figures (harness/figures/figures.hpp)
     std::string figure_format = "png"; // --figure-format png|svg|pdf[,...]
 };
 
@@ -150,7 +150,7 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     if (!o.junit.empty()) check_output_file(o.junit);
     if (o.figures)
         if (const std::string e = figure_dirs_error(o.out_dir); !e.empty()) throw OutputError(e);
-    // memory limit (the grid is stored with --figures), SIGINT/SIGTERM (harness/limits.hpp)
+    // memory limit (the grid is stored with --figures), SIGINT/SIGTERM (harness/run/limits.hpp)
     before_run(selected.cases, jobs, limits, o.figures);
     print_shard(selected, o, out);
     note_other_cases_dir(cases_dir, err);
@@ -265,7 +265,7 @@ Command add_run_command(CLI::App& app, CliContext& ctx) {
                     "0 = off; default 0.02)")
         ->check(finite_number())
         ->check(CLI::Range(0.0, 60.0));
-    add_limit_options(*run, s->limits); // --case-timeout, --max-memory (harness/limits.hpp)
+    add_limit_options(*run, s->limits); // --case-timeout, --max-memory (harness/run/limits.hpp)
     run->add_option("--set", s->sets, "override a case field, e.g. --set problem.gamma=0.3")
         ->take_all();
     run->add_option("--substitute", s->sel.substitutes,

@@ -2,18 +2,18 @@
 
 #include "core/method.hpp"
 #include "harness/bounded_read.hpp"
-#include "harness/case.hpp"
-#include "harness/compare.hpp"
-#include "harness/junit.hpp"
-#include "harness/method_files.hpp"
-#include "harness/plugins.hpp"
+#include "harness/case/case.hpp"
+#include "harness/ci/junit.hpp"
+#include "harness/ci/shard.hpp"
 #include "harness/problem_info.hpp"
-#include "harness/progress.hpp"
-#include "harness/provenance.hpp"
-#include "harness/report.hpp"
-#include "harness/runner.hpp"
-#include "harness/shard.hpp"
+#include "harness/report/compare.hpp"
+#include "harness/report/provenance.hpp"
+#include "harness/report/report.hpp"
+#include "harness/run/progress.hpp"
+#include "harness/run/runner.hpp"
 #include "harness/suggest.hpp"
+#include "harness/user_methods/method_files.hpp"
+#include "harness/user_methods/plugins.hpp"
 #include "methods/coefficient_checks.hpp"
 
 #include <algorithm>
@@ -343,7 +343,8 @@ Selected select_cases(const Selection& sel, const std::vector<std::string>& sets
     // a case's own "method_files" are loaded by parse_case.
     load_method_folder(method_folder_beside(cases_dir));
     for (const auto& f : sel.method_files) load_method_file(f);
-    for (const auto& lib : sel.plugins) load_plugin(lib); // C plugins (harness/plugins.hpp)
+    // C plugins (harness/user_methods/plugins.hpp)
+    for (const auto& lib : sel.plugins) load_plugin(lib);
     const Substitutes subs = parse_substitutes(sel.substitutes);
     const std::vector<std::string> paths = selected_paths(sel, cases_dir, default_suite);
     std::vector<CaseSpec> loaded = load_selected(paths, sets, subs);

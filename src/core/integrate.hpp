@@ -13,7 +13,7 @@ namespace dampsym {
 struct NoObserver {};
 
 // timeout and interrupted: stopped at a step boundary by the case's time budget or by
-// SIGINT/SIGTERM (src/harness/limits.hpp); z is the state at the step reached.
+// SIGINT/SIGTERM (src/harness/run/limits.hpp); z is the state at the step reached.
 enum class RunStatus { ok, diverged, solve_failed, timeout, interrupted };
 
 inline const char* to_string(RunStatus s) {

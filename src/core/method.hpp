@@ -106,8 +106,8 @@ struct GeneralLinearCoefficients {
     const GlmCoefficients* glm;
 };
 // A hand-written scheme: its kernel is the code (src/methods/cimp.hpp, csv1.hpp, csv2.hpp).
-// burgers_*: B's Burgers schemes (5.10), (5.12), (4.18) (src/methods/burgers_b.hpp).
-// nls_*: B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) by FFT (src/methods/nls_b.hpp).
+// burgers_*: B's Burgers schemes (5.10), (5.12), (4.18) (src/pde/burgers/methods.hpp).
+// nls_*: B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) by FFT (src/pde/nls/methods.hpp).
 // symplectic_euler_partitioned: HLW (1.8) on a partitioned system (1.7)
 // (src/methods/symplectic_euler_partitioned.hpp).
 enum class Scheme {
@@ -127,10 +127,11 @@ struct HandWrittenScheme {
 };
 
 // A hand-written step of a C plugin loaded with --plugin (src/methods/plugin_kernel.hpp,
-// src/harness/plugins.hpp); the row's form says which problem form it steps.
+// src/harness/user_methods/plugins.hpp); the row's form says which problem form it steps.
 struct PluginStep {
     const dampsym_method* method;
-    const char* library = nullptr; // the --plugin path (stable storage in harness/plugins.cpp)
+    // The --plugin path (stable storage in harness/user_methods/plugins.cpp).
+    const char* library = nullptr;
 };
 
 // The method families, one typed coefficient set each. MethodData is generated from this list,

@@ -19,7 +19,7 @@ struct ConformalSymplecticDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = true; // not canonical: a reason, not a rejection
-    // Its metrics of one run from a separate pass of the run's kernel K (harness/run_view.hpp).
+    // Its metrics of one run from a separate pass of the run's kernel K (harness/run/view.hpp).
     template <class K, class V>
     static json produce_pass(const V& run);
 };

@@ -24,7 +24,7 @@ struct DiagnosticNeeds {
     bool grid_if_points = false; // ... only when the grid has more than one point (error)
     // Its pass over the grid is a running reduction: the runner feeds it each grid point on the
     // fly and stores no trajectory when nothing else reads the grid (error;
-    // harness/limits.hpp grid_plan).
+    // harness/run/limits.hpp grid_plan).
     bool streams = false;
     // Reads the reference on the output grid when the case has one (dissipation-drift's reference
     // maxima): the reference is then stored, never evaluated on the fly.
@@ -37,8 +37,8 @@ struct DiagnosticNeeds {
     std::size_t min_dts = 0;    // the dt ladder needs at least this many step sizes
 };
 
-// A column of the report's per-run metrics table (harness/report.cpp): the metric `key` of the
-// diagnostic, or, per part, "<part> <key> (scale <scale_key>)" for each of `parts` (every
+// A column of the report's per-run metrics table (harness/report/report.cpp): the metric `key` of
+// the diagnostic, or, per part, "<part> <key> (scale <scale_key>)" for each of `parts` (every
 // sub-object of the diagnostic's metrics when `parts` is empty).
 struct ReportColumn {
     std::string key{};

@@ -15,15 +15,15 @@ struct ErrorDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = true;
-    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // Its metrics of one run from the run's view (harness/run/view.hpp: the problem, the case's
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
 };
 
 // The running reduction of the error over the output grid t_1..t_end: fed one grid point
-// at a time, either on the fly during the run (harness/grid_stream.hpp: no trajectory stored) or
-// from a stored grid (error_metrics); the same operations in the same order either way, so the
+// at a time, either on the fly during the run (harness/run/grid_stream.hpp: no trajectory stored)
+// or from a stored grid (error_metrics); the same operations in the same order either way, so the
 // metrics are bitwise the same.
 class ErrorAccumulator {
 public:

@@ -21,7 +21,7 @@ inline bool scale_defined(double s) {
 }
 
 // A metric with no defined value here: null, and its reason under "undefined" in the same object;
-// a check on it fails with that reason (harness/checks.cpp).
+// a check on it fails with that reason (harness/run/checks.cpp).
 inline void set_undefined(json& o, const std::string& key, const std::string& reason) {
     o[key] = nullptr;
     o["undefined"][key] = reason;
@@ -33,7 +33,7 @@ inline void set_undefined(json& o, const std::string& key, const std::string& re
 // "order drops at small h", ...) and how much it measured ("steps_measured"); a check on any
 // metric of a pass that is not "ok", or that measured nothing, fails with this reason, whatever
 // the check's direction (a negative control too: a measurement that did not happen shows no
-// defect either) — harness/checks.cpp, and the matrix's cells alike.
+// defect either) — harness/run/checks.cpp, and the matrix's cells alike.
 inline std::string incomplete_measurement(const json& metrics, const std::string& diag) {
     if (!metrics.is_object() || !metrics.contains(diag) || !metrics[diag].is_object()) return {};
     const json& d = metrics[diag];

@@ -1,9 +1,9 @@
 // Diagnostic "pde-error": the error of a scheme against the PDE's own solution, sampled on the
 // problem's grid at the output times (not the semi-discrete system's solution, so it holds the
 // space error too), for a problem that declares pde_solution(t0, t, out). B's modified Burgers
-// (4.5) declares the solution by characteristics before its shock (src/pde/burgers.hpp), so B
-// Fig 5.4's "(5.10) and (5.12) are more accurate than NSFD (4.18)" is a comparison of this
-// metric (docs/conventions.md §5 "pde-error", docs/pde.md).
+// (4.5) declares the solution by characteristics before its shock (src/pde/burgers/schemes.hpp), so
+// B Fig 5.4's "(5.10) and (5.12) are more accurate than NSFD (4.18)" is a comparison of this metric
+// (docs/conventions.md §5 "pde-error", docs/pde.md).
 #pragma once
 
 #include "diagnostics/diagnostic.hpp"
@@ -26,7 +26,7 @@ struct PdeErrorDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasPdeSolution<P>;
-    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // Its metrics of one run from the run's view (harness/run/view.hpp: the problem, the case's
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);

@@ -16,7 +16,7 @@ struct PoincareDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = HasForcingPeriod<P>;
-    // Its metrics of one run from the run's view (harness/run_view.hpp: the problem, the case's
+    // Its metrics of one run from the run's view (harness/run/view.hpp: the problem, the case's
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);

@@ -4,7 +4,7 @@
 // and oscillation maxima of q for d(t) = ln(max U(t)) + Γ(t) (dissipation-drift, F(4.4)).
 // Everything is streamed; nothing grows with the number of steps except the requested grid, and
 // not even that when the grid's only readers reduce it on the fly (a GridSink:
-// harness/grid_stream.hpp).
+// harness/run/grid_stream.hpp).
 #pragma once
 
 #include "core/types.hpp"
@@ -88,8 +88,8 @@ struct EnergyBalanceStats {
     std::int64_t count = 0;
 };
 
-// A reader of the output grid that reduces it on the fly (harness/grid_stream.hpp): given each grid
-// point i >= 1 (the state at step i × stride) as the run reaches it, instead of a stored grid.
+// A reader of the output grid that reduces it on the fly (harness/run/grid_stream.hpp): given each
+// grid point i >= 1 (the state at step i × stride) as the run reaches it, instead of a stored grid.
 class GridSink {
 public:
     virtual void point(Eigen::Index i, const Vec& z) = 0;

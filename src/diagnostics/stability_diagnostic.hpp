@@ -22,7 +22,7 @@ struct StabilityDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;
-    // Its metrics of one run from a separate pass of the run's kernel K (harness/run_view.hpp).
+    // Its metrics of one run from a separate pass of the run's kernel K (harness/run/view.hpp).
     template <class K, class V>
     static json produce_pass(const V& run);
 };

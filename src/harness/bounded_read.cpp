@@ -1,6 +1,6 @@
 #include "harness/bounded_read.hpp"
 
-#include "harness/case.hpp"
+#include "harness/case/case.hpp"
 
 #include <algorithm>
 #include <cerrno>

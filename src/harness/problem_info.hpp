@@ -31,7 +31,7 @@ struct ProblemInfo {
     // problem rejects them) and reports its facts.
     ProblemFacts (*facts)(const ParamMap&) = nullptr;
     // Whether its figures draw the orbit (`static constexpr OrbitFigure figure_orbit`,
-    // core/problem.hpp; the case key "figures": harness/case_figures.hpp).
+    // core/problem.hpp; the case key "figures": harness/case/figures_key.hpp).
     OrbitFigure figure_orbit = OrbitFigure::none;
     // Its probe is a point of a plane (HasProbePlane, diagnostics/attractor_diagnostic.hpp): the
     // case can draw the `portrait` figure.

@@ -20,9 +20,9 @@
 #include "problems/outer_solar_system.hpp"
 #include "problems/pendulum.hpp"
 // Damped PDEs of B ch. 4-5, semi-discretised (docs/pde.md).
-#include "problems/pde/burgers.hpp"
-#include "problems/pde/klein_gordon.hpp"
-#include "problems/pde/nls.hpp"
+#include "pde/burgers/problem.hpp"
+#include "pde/klein_gordon/problem.hpp"
+#include "pde/nls/problem.hpp"
 #include "problems/rigid_body.hpp"
 
 #include <stdexcept>

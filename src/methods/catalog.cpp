@@ -38,8 +38,8 @@ constexpr unsigned csv_claims =
     claim_conformal_symplectic | claim_angular_momentum; // + linear momentum for csv1 (below)
 
 // Hand-written schemes (src/methods/cimp.hpp, csv1.hpp, csv2.hpp; B's Burgers schemes, each on
-// its own semi-discretisation, burgers_b.hpp; B's NLS schemes by FFT, nls_b.hpp; HLW (1.8) on
-// (1.7), symplectic_euler_partitioned.hpp).
+// its own semi-discretisation, pde/burgers/methods.hpp; B's NLS schemes by FFT,
+// pde/nls/methods.hpp; HLW (1.8) on (1.7), symplectic_euler_partitioned.hpp).
 std::vector<MethodInfo> hand_written_rows() {
     using enum Form;
     return {
@@ -150,7 +150,7 @@ const std::vector<MethodInfo>& method_catalog() {
 const MethodInfo* find_method(std::string_view id) {
     for (const auto& m : method_catalog())
         if (m.id == id) return &m;
-    return find_loaded_method(id); // method files (src/harness/method_files.hpp)
+    return find_loaded_method(id); // method files (src/harness/user_methods/method_files.hpp)
 }
 
 } // namespace dampsym

@@ -4,8 +4,8 @@
 //   kernels        the kernel templates that step its rows (KernelList; the registry chooses the
 //                  first of them whose Data is D and that accepts the row, harness/registry.hpp);
 //   file_family    the "family" key of a method file that holds such rows ("" for none: the
-//                  method-file reader and writer, docs/method-files.md, harness/method_file_*.cpp);
-//   stages(d)      the stage count (the memory model of --max-memory, harness/memory_limits.cpp);
+//                  method-file reader and writer, docs/method-files.md, harness/user_methods/);
+//   stages(d)      the stage count (--max-memory's memory model, harness/run/memory_limits.cpp);
 //   checks(m, d, out)  every coefficient condition of the family (order conditions to the row's
 //                  order, the structure its claims assert), for built-in rows and method files
 //                  alike (coefficient_checks.hpp, exponential_checks.cpp).
@@ -15,7 +15,6 @@
 #pragma once
 
 #include "core/method.hpp"
-#include "methods/burgers_b.hpp" // B's Burgers schemes (5.10), (5.12), (4.18)
 #include "methods/cimp.hpp"
 #include "methods/coefficient_checks.hpp"
 #include "methods/csv1.hpp"
@@ -25,11 +24,12 @@
 #include "methods/general_linear.hpp"
 #include "methods/ifrk.hpp"
 #include "methods/implicit_rk.hpp"
-#include "methods/nls_b.hpp" // B's NLS schemes (4.15), (5.27), (5.28) by FFT
 #include "methods/partitioned_exponential_rk.hpp"
 #include "methods/partitioned_rk.hpp"
 #include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md)
 #include "methods/symplectic_euler_partitioned.hpp"
+#include "pde/burgers/methods.hpp" // B's Burgers schemes (5.10), (5.12), (4.18)
+#include "pde/nls/methods.hpp"     // B's NLS schemes (4.15), (5.27), (5.28) by FFT
 
 #include <algorithm>
 #include <string_view>

@@ -1,9 +1,9 @@
 // Which plugin code the current thread is running (docs/plugins.md "Containment"). The host marks
 // every call into a plugin — its entry at load, its step and step Jacobian, the probe step at load
 // — with a PluginCall on the thread's stack, so that the process-exit and crash handlers installed
-// by load_plugin (harness/plugins.cpp) can tell an exit() or a fault inside a plugin from one of
-// dampsym's own, and name the plugin: a plugin that ends the process can then never end it with
-// status 0 and no report. Marking costs two thread-local stores per call.
+// by load_plugin (harness/user_methods/plugins.cpp) can tell an exit() or a fault inside a plugin
+// from one of dampsym's own, and name the plugin: a plugin that ends the process can then never end
+// it with status 0 and no report. Marking costs two thread-local stores per call.
 #pragma once
 
 namespace dampsym {

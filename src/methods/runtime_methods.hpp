@@ -1,4 +1,4 @@
-// Methods added at run time (method files, src/harness/method_files.hpp): find_method
+// Methods added at run time (method files, src/harness/user_methods/method_files.hpp): find_method
 // (src/methods/catalog.cpp) looks here after the built-in catalog. Rows live in stable storage
 // until the process ends; loading happens before any case runs (single-threaded), lookups after.
 #pragma once

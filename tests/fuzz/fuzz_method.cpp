@@ -1,4 +1,4 @@
-// libFuzzer target: the method-file reader (src/harness/method_files.cpp) and the
+// libFuzzer target: the method-file reader (src/harness/user_methods/method_files.cpp) and the
 // coefficient expressions it evaluates (src/methods/coefficient_expr.cpp). The input is the text
 // of a method file; it goes through check_method_text, which validates it exactly as
 // load_method_file validates a file's contents but registers nothing (so the global method
@@ -8,7 +8,7 @@
 // is also fed the raw input. Run by ci/fuzz.sh; tests/fuzz/corpus/method is replayed in CI.
 #include "fuzz_support.hpp"
 
-#include "harness/method_files.hpp"
+#include "harness/user_methods/method_files.hpp"
 #include "methods/coefficient_expr.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -7,8 +7,8 @@
 // must be an InputError; anything else is a finding.
 #include "fuzz_support.hpp"
 
-#include "harness/compare.hpp"
-#include "harness/shard.hpp"
+#include "harness/ci/shard.hpp"
+#include "harness/report/compare.hpp"
 
 #include <utility>
 

@@ -3,7 +3,7 @@
 // is one --set argument. Rejection must be an InputError; anything else is a finding.
 #include "fuzz_support.hpp"
 
-#include "harness/case.hpp"
+#include "harness/case/case.hpp"
 
 namespace {
 

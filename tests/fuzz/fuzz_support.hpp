@@ -5,7 +5,7 @@
 // reported here as a finding by aborting with its message.
 #pragma once
 
-#include "harness/case.hpp"
+#include "harness/case/case.hpp"
 
 #include <cstdint>
 #include <cstdio>

@@ -217,7 +217,7 @@ def fig_trace(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
               "stability_map.half_trace_error"])]
 
 
-# codes of the stability map (figure_series.hpp stability_map_series) and the equality cells
+# codes of the stability map (figures/series.hpp stability_map_series) and the equality cells
 MAP_COLOURS = ["#cfe8cf", "#f6d7a7", "#a6cee3", "#e66f5c"]
 MAP_NAMES = ["F's condition holds, M power-bounded", "F fails, M power-bounded",
              "F holds, M not power-bounded", "F fails, M not power-bounded"]

@@ -23,11 +23,11 @@ REPORT_LIMIT = 256 << 20
 SERIES_LIMIT = 64 << 20
 MANIFEST_LIMIT = 4 << 20
 
-TMP_SUFFIX = ".dampsym-tmp"  # as write_file_atomic (src/harness/report.cpp)
-MANIFEST = ".dampsym-manifest"  # as src/harness/figures.cpp
+TMP_SUFFIX = ".dampsym-tmp"  # as write_file_atomic (src/harness/report/report.cpp)
+MANIFEST = ".dampsym-manifest"  # as src/harness/figures/figures.cpp
 MANIFEST_HEADER = "# dampsym: the files it wrote here; its next run into this directory removes them\n"
 
-# A case id (valid_case_id, src/harness/case.cpp): at most 100 characters of A-Z a-z 0-9 . _ -,
+# A case id (valid_case_id, src/harness/case/case.cpp): at most 100 characters of A-Z a-z 0-9 . _ -,
 # the first a letter or digit. A plain file name: the same characters, any length up to 255.
 CASE_ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 PLAIN_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,254}")
