@@ -143,10 +143,13 @@ def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
 
 def subplots(ctx: Ctx, nrows: int, ncols: int, figsize: Tuple[float, float],
              sharex: bool = False, sharey: Union[bool, str] = False) -> Tuple[Any, Any]:
-    """A blank figure of this layout (reused from ctx.blank when one was recycled)."""
-    key = (nrows, ncols, tuple(round(x, 3) for x in figsize), sharex, sharey)
+    """A blank figure of this layout (reused from ctx.blank when one was recycled, resized to
+    figsize: every figure sets its margins in figure fractions after drawing, layout())."""
+    key = (nrows, ncols, sharex, sharey)
     if ctx.blank.get(key):
-        return ctx.blank[key].pop()
+        fig, axs = ctx.blank[key].pop()
+        fig.set_size_inches(figsize)
+        return fig, axs
     fig, axs = plt.subplots(nrows, ncols, figsize=figsize, sharex=sharex, sharey=sharey,
                             squeeze=False)
     fig._dampsym_key = (key, axs)
@@ -172,6 +175,7 @@ def recycle(ctx: Ctx, fig: Any) -> None:
         ax.set_yscale("linear")
         ax.set_aspect("auto")
         ax.axis("on")
+        ax.grid(True)  # the default (rcParams above); the stability maps turn it off
         ax.set_autoscale_on(True)
         ax.relim()
         ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
