@@ -64,6 +64,8 @@ class Ctx:
     blank: Dict[Any, List[Any]] = field(default_factory=dict)
     # x ticks fixed by a figure (a convergence panel's step sizes), by id of their axes
     xticks: Dict[int, List[float]] = field(default_factory=dict)
+    # the byte buffers png_bytes reuses from figure to figure
+    scratch: List[Any] = field(default_factory=list)
 
     def style(self, m: str) -> fd.Style:
         """(colour, marker, line style) of method m in the case being drawn."""
@@ -188,19 +190,27 @@ def recycle(ctx: Ctx, fig: Any) -> None:
     ctx.blank.setdefault(key, []).append((fig, axs))
 
 
-def png_bytes(fig: Any) -> bytes:
-    """The figure as savefig draws it, encoded by figdata.encode_png: RGB when opaque."""
+def png_bytes(fig: Any, scratch: Optional[List[Any]] = None) -> bytes:
+    """The figure as savefig draws it, encoded by figdata.encode_png: RGB when opaque. scratch
+    (a list, kept by the caller across figures) holds two byte buffers reused for the copies:
+    fresh 2-8 MB arrays for every figure cost their pages' faults again (a tenth of the process's
+    page faults)."""
     fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
     h, w, _ = rgba.shape
     channels = 3 if rgba[:, :, 3].min() == 255 else 4
+    size = h * (1 + w * channels)
+    if scratch is None:
+        scratch = []
+    if not scratch or scratch[0].size < size:
+        scratch[:] = [np.empty(size, dtype=np.uint8), np.empty(size, dtype=np.uint8)]
     # each row prefixed by its filter byte 0 (figdata.encode_png's rows). numpy copies the
     # RGB(A) slice of the buffer slowly (an inner loop of 3 bytes: 10 ms for 2 million pixels);
     # one channel at a time into a packed image, then whole rows into place, takes 2 ms
-    packed = np.empty((h, w, channels), dtype=np.uint8)
+    packed = scratch[1][:h * w * channels].reshape(h, w, channels)
     for k in range(channels):
         packed[:, :, k] = rgba[:, :, k]
-    raw = np.empty((h, 1 + w * channels), dtype=np.uint8)
+    raw = scratch[0][:size].reshape(h, 1 + w * channels)
     raw[:, 0] = 0
     raw[:, 1:] = packed.reshape(h, w * channels)
     return fd.png_of_filtered_rows(raw.data, w, h, channels)
@@ -216,7 +226,7 @@ def save(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:
     for ext in ctx.formats:
         sio.note_written(figdir, f"{name}.{ext}")
         if ext == "png":
-            data = png_bytes(fig)
+            data = png_bytes(fig, ctx.scratch)
         else:
             buf = io.BytesIO()
             fig.savefig(buf, format=ext)
