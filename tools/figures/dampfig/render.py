@@ -7,8 +7,9 @@ state, so two contexts never share a figure.
 Cost (a run with --figures at most 2x one without): log axes get few ticks (matplotlib's tick
 objects were most of the drawing time), lines are thinned to min/max per pixel column
 (figdata.decimate_columns: the drawn line is the same), legends are placed at fixed spots, dense
-lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and blank figures of a
-layout are reused, and text is laid out once per process (textcache)."""
+lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png from buffers reused across
+figures, blank figures of a grid are reused (resized), text is laid out once per process
+(textcache) and an axis's ticks are updated once per draw (tickmemo)."""
 
 import io
 import math
