@@ -166,6 +166,9 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
                                  : "rough estimate, diagnostics and references extra");
         err << line << std::flush;
     }
+    // the figure script imports matplotlib while the cases run; it draws when told (figures.hpp)
+    std::unique_ptr<EarlyFigureScript> early;
+    if (o.figures) early = std::make_unique<EarlyFigureScript>(o.out_dir, jobs, o.figure_format);
     const auto start = std::chrono::system_clock::now();
     json report;
     std::vector<std::string> output_errors; // streaming outputs that failed (limits.hpp)
@@ -203,7 +206,9 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     if (o.figures && !stop_requested()) {
         // figures hook: draw, then report.md again with the figures; a signal while
         // drawing stops the script and gives 130/143 (make_figures)
-        if (const int rc = make_figures(o.out_dir, jobs, o.figure_format, err); rc != 0) return rc;
+        if (const int rc = make_figures(o.out_dir, jobs, o.figure_format, err, early.get());
+            rc != 0)
+            return rc;
         if (!o.quiet)
             out << "Figures: " << o.out_dir << "/figures/, " << o.out_dir << "/figures.md\n";
     }

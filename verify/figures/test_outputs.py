@@ -393,10 +393,13 @@ def test_signal_during_runs_of_run_figures() -> None:
     long = write_case(case("sig-long", t_end=1e6, dt_ladder=[2e-3, 1e-3], output_dt=1e5))
     for sig in (signal.SIGINT, signal.SIGTERM):
         out = fresh(f"sig-runs-{sig}")
-        code, err, _ = signal_when(["run", long, "--figures", "--out", out, "--shard", "none",
-                                    "--time-budget", "0"],
-                                   stderr_says("predicted duration"), [sig])
+        code, err, groups = signal_when(["run", long, "--figures", "--out", out, "--shard",
+                                         "none", "--time-budget", "0"],
+                                        stderr_says("predicted duration"), [sig])
         assert code == 128 + sig and "internal error" not in err, (code, err)
+        # the figure script started with the run (to import matplotlib meanwhile) is gone too
+        assert groups and not any(group_alive(g) for g in groups), \
+            [group_members(g) for g in groups]
         with open(os.path.join(out, "report.json")) as f:
             rep = json.load(f)
         assert rep["interrupted"]["signal"] == signal.Signals(sig).name, rep.get("interrupted")

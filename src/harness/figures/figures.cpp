@@ -18,6 +18,7 @@
 #include <memory>
 #include <set>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -186,10 +187,9 @@ std::string figure_formats_part(const std::string& formats, std::size_t start, s
     return formats.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
 }
 
-// Runs argv (argv[0] looked up in PATH) in a process group of its own, so that a terminal's
-// Ctrl-C reaches dampsym alone and dampsym's stop handlers forward it (set_stop_child_group).
-// Returns the wait status, or -1 with `error` set when it cannot start.
-int run_in_own_group(const std::vector<std::string>& args, std::string& error) {
+// Starts argv (argv[0] looked up in PATH) in a process group of its own, with `stdin_fd` as its
+// standard input when >= 0. Returns its pid, or -1 with `error` set.
+pid_t spawn_in_own_group(const std::vector<std::string>& args, int stdin_fd, std::string& error) {
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -204,19 +204,57 @@ int run_in_own_group(const std::vector<std::string>& args, std::string& error) {
     posix_spawnattr_setsigdefault(&attr, &set);
     posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK |
                                         POSIX_SPAWN_SETSIGDEF);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    if (stdin_fd >= 0) posix_spawn_file_actions_adddup2(&actions, stdin_fd, STDIN_FILENO);
     pid_t pid = 0;
-    const int rc = posix_spawnp(&pid, argv[0], nullptr, &attr, argv.data(), environ);
+    const int rc = posix_spawnp(&pid, argv[0], &actions, &attr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attr);
     if (rc != 0) {
         error = args[0] + ": cannot start: " + std::strerror(rc);
         return -1;
     }
-    set_stop_child_group(pid);
+    return pid;
+}
+
+int wait_for(pid_t pid) {
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
+    return status;
+}
+
+// Runs argv in a process group of its own, so that a terminal's Ctrl-C reaches dampsym alone and
+// dampsym's stop handlers forward it (set_stop_child_group). Returns the wait status, or -1 with
+// `error` set when it cannot start.
+int run_in_own_group(const std::vector<std::string>& args, std::string& error) {
+    const pid_t pid = spawn_in_own_group(args, -1, error);
+    if (pid < 0) return -1;
+    set_stop_child_group(pid);
+    const int status = wait_for(pid);
     set_stop_child_group(0);
     return status;
+}
+
+std::string python_for_figures() {
+    const char* py_env = std::getenv("DAMPSYM_PYTHON");
+    return py_env && *py_env ? py_env : "/usr/bin/python3";
+}
+
+fs::path figure_script() {
+    return fs::path(source_dir()) / "tools" / "figures" / "plot.py";
+}
+
+std::vector<std::string> figure_script_args(const std::string& dir, int jobs,
+                                            const std::string& formats) {
+    return {python_for_figures(),
+            figure_script().string(),
+            dir,
+            "--jobs",
+            std::to_string(std::max(1, jobs)),
+            "--format",
+            formats};
 }
 
 } // namespace
@@ -237,13 +275,58 @@ std::string figure_formats_error(const std::string& formats) {
     }
 }
 
-int make_figures(const std::string& dir, int jobs, const std::string& formats, std::ostream& err) {
+EarlyFigureScript::EarlyFigureScript(const std::string& dir, int jobs, const std::string& formats) {
+    std::error_code ec;
+    if (!fs::exists(figure_script(), ec)) return; // make_figures says so
+    int sv[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) return;
+    std::vector<std::string> args = figure_script_args(dir, jobs, formats);
+    args.push_back("--after-go");
+    std::string error;
+    const pid_t pid = spawn_in_own_group(args, sv[1], error);
+    ::close(sv[1]);
+    if (pid < 0) { // make_figures tries again and reports why it cannot
+        ::close(sv[0]);
+        return;
+    }
+    pid_ = pid;
+    fd_ = sv[0];
+    set_stop_child_group(pid_);
+}
+
+int EarlyFigureScript::draw() {
+    static const char go[] = "go\n";
+    // a script that has ended already (a signal) reads nothing: its wait status says so
+    (void)!::send(fd_, go, sizeof go - 1, MSG_NOSIGNAL);
+    ::close(fd_);
+    fd_ = -1;
+    const int status = wait_for(pid_);
+    set_stop_child_group(0);
+    pid_ = -1;
+    return status;
+}
+
+void EarlyFigureScript::finish() noexcept {
+    if (fd_ >= 0) ::close(fd_); // end of input without "go": the script exits, drawing nothing
+    fd_ = -1;
+    if (pid_ > 0) {
+        ::kill(-pid_, SIGTERM); // at once, even while it imports (it exits 143 quietly)
+        wait_for(pid_);
+        set_stop_child_group(0);
+    }
+    pid_ = -1;
+}
+
+EarlyFigureScript::~EarlyFigureScript() {
+    finish();
+}
+
+int make_figures(const std::string& dir, int jobs, const std::string& formats, std::ostream& err,
+                 EarlyFigureScript* early) {
     if (dir.empty()) throw InputError("REPORT_DIR: empty path");
     load_figure_report(dir); // InputError (exit 2) before the script starts
     if (const std::string e = figure_dirs_error(dir); !e.empty()) throw InputError(e);
-    const char* py_env = std::getenv("DAMPSYM_PYTHON");
-    const std::string python = py_env && *py_env ? py_env : "/usr/bin/python3";
-    const fs::path script = fs::path(source_dir()) / "tools" / "figures" / "plot.py";
+    const fs::path script = figure_script();
     if (!fs::exists(script)) {
         err << "dampsym: " << script.string() << ": figure script not found\n";
         return 3;
@@ -254,9 +337,9 @@ int make_figures(const std::string& dir, int jobs, const std::string& formats, s
     std::cerr.flush();
     err.flush();
     std::string error;
-    const int st = run_in_own_group({python, script.string(), dir, "--jobs",
-                                     std::to_string(std::max(1, jobs)), "--format", formats},
-                                    error);
+    const int st = early && early->started()
+                       ? early->draw()
+                       : run_in_own_group(figure_script_args(dir, jobs, formats), error);
     if (stop_requested()) { // forwarded to the script, which stopped; report.md stays as it was
         err << "dampsym: figures stopped by a signal (" << dir << "/figures/ is incomplete)\n";
         return 128 + stop_signal();

@@ -58,6 +58,33 @@ std::string figure_formats_error(const std::string& formats);
 // the figure script cannot run, fails or cannot write (the message names it); 130/143 when a
 // SIGINT/SIGTERM stopped it (the stop handlers must be installed: install_stop_handlers).
 // Throws InputError for an empty DIR or a report it cannot draw from (load_figure_report).
-int make_figures(const std::string& dir, int jobs, const std::string& formats, std::ostream& err);
+// EarlyFigureScript: the figure script of `run --figures` started before the cases run, so that
+// its second of importing matplotlib overlaps them (the cost of --figures, docs/reports.md
+// "Cost"). It waits for one line "go" on its standard input before it reads anything; make_figures
+// sends it once report.json is written, and the drawing is then exactly that of a script started
+// at that moment. Destroyed without it (an early return, a signal), it closes the script's input,
+// on which the script exits without drawing, and waits for it. While it lives, a SIGINT/SIGTERM
+// is forwarded to it (set_stop_child_group), as to a drawing script.
+class EarlyFigureScript {
+public:
+    // Starts the script (DAMPSYM_PYTHON or /usr/bin/python3) when it exists and can start; else
+    // started() is false and make_figures starts one itself (and reports why it cannot).
+    EarlyFigureScript(const std::string& dir, int jobs, const std::string& formats);
+    ~EarlyFigureScript();
+    EarlyFigureScript(const EarlyFigureScript&) = delete;
+    EarlyFigureScript& operator=(const EarlyFigureScript&) = delete;
+    bool started() const { return pid_ > 0; }
+    // Tells the script to draw and waits for it: its wait status.
+    int draw();
+
+private:
+    int pid_ = -1;
+    int fd_ = -1; // our end of the script's standard input (a socket: no SIGPIPE)
+    void finish() noexcept;
+};
+
+// `early`: a script started with the run (used instead of starting one when it started).
+int make_figures(const std::string& dir, int jobs, const std::string& formats, std::ostream& err,
+                 EarlyFigureScript* early = nullptr);
 
 } // namespace dampsym

@@ -284,6 +284,10 @@ def main(argv: Optional[List[str]] = None) -> int:
     ap.add_argument("--format", default="png",
                     help="png, svg or pdf, or a comma list (the first of png/svg is embedded)")
     ap.add_argument("--filter", default="", help="only cases whose id contains this")
+    ap.add_argument("--after-go", action="store_true",
+                    help="read nothing until a line 'go' arrives on standard input; exit 0 "
+                         "without drawing at its end (dampsym run --figures starts the script "
+                         "with the run so that matplotlib is imported while the cases run)")
     a = ap.parse_args(argv)
     formats = a.format.split(",")
     if [f for f in formats if f not in ("png", "svg", "pdf")] or len(set(formats)) != len(formats):
@@ -292,6 +296,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     workers: List[int] = []
     signal.signal(signal.SIGINT, stop_handler(workers))
     signal.signal(signal.SIGTERM, stop_handler(workers))
+    if a.after_go and sys.stdin.readline() != "go\n":
+        return 0  # dampsym ended (or stopped) before report.json was written: nothing to draw
     try:
         return run(a, formats, workers)
     except sio.InputProblem as e:

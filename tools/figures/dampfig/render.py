@@ -7,8 +7,9 @@ state, so two contexts never share a figure.
 Cost (a run with --figures at most 2x one without): log axes get few ticks (matplotlib's tick
 objects were most of the drawing time), lines are thinned to min/max per pixel column
 (figdata.decimate_columns: the drawn line is the same), legends are placed at fixed spots, dense
-lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png and blank figures of a
-layout are reused, and text is laid out once per process (textcache)."""
+lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png from buffers reused across
+figures, blank figures of a grid are reused (resized), text is laid out once per process
+(textcache) and an axis's ticks are updated once per draw (tickmemo)."""
 
 import io
 import math
@@ -29,6 +30,7 @@ from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa
 from . import figdata as fd  # noqa: E402
 from . import safeio as sio  # noqa: E402
 from . import textcache  # noqa: E402
+from . import tickmemo  # noqa: E402
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "figure.dpi": 100, "savefig.dpi": 100, "axes.grid": True, "grid.alpha": 0.3,
@@ -40,6 +42,8 @@ plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "axes.titley": 1.0, "axes.titlepad": 4.0})
 # text measured, drawn and mathtext parsed once per process (textcache: the same pixels)
 textcache.install()
+# an axis's ticks updated and measured once per draw, not twice (tickmemo: the same pixels)
+tickmemo.install()
 
 Json = Dict[str, Any]
 # what a figure function returns per file: (file, caption, quantities drawn on its axes)
@@ -61,6 +65,8 @@ class Ctx:
     blank: Dict[Any, List[Any]] = field(default_factory=dict)
     # x ticks fixed by a figure (a convergence panel's step sizes), by id of their axes
     xticks: Dict[int, List[float]] = field(default_factory=dict)
+    # the byte buffers png_bytes reuses from figure to figure
+    scratch: List[Any] = field(default_factory=list)
 
     def style(self, m: str) -> fd.Style:
         """(colour, marker, line style) of method m in the case being drawn."""
@@ -140,10 +146,13 @@ def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
 
 def subplots(ctx: Ctx, nrows: int, ncols: int, figsize: Tuple[float, float],
              sharex: bool = False, sharey: Union[bool, str] = False) -> Tuple[Any, Any]:
-    """A blank figure of this layout (reused from ctx.blank when one was recycled)."""
-    key = (nrows, ncols, tuple(round(x, 3) for x in figsize), sharex, sharey)
+    """A blank figure of this layout (reused from ctx.blank when one was recycled, resized to
+    figsize: every figure sets its margins in figure fractions after drawing, layout())."""
+    key = (nrows, ncols, sharex, sharey)
     if ctx.blank.get(key):
-        return ctx.blank[key].pop()
+        fig, axs = ctx.blank[key].pop()
+        fig.set_size_inches(figsize)
+        return fig, axs
     fig, axs = plt.subplots(nrows, ncols, figsize=figsize, sharex=sharex, sharey=sharey,
                             squeeze=False)
     fig._dampsym_key = (key, axs)
@@ -169,6 +178,7 @@ def recycle(ctx: Ctx, fig: Any) -> None:
         ax.set_yscale("linear")
         ax.set_aspect("auto")
         ax.axis("on")
+        ax.grid(True)  # the default (rcParams above); the stability maps turn it off
         ax.set_autoscale_on(True)
         ax.relim()
         ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
@@ -181,20 +191,29 @@ def recycle(ctx: Ctx, fig: Any) -> None:
     ctx.blank.setdefault(key, []).append((fig, axs))
 
 
-def png_bytes(fig: Any) -> bytes:
-    """The figure as savefig draws it, encoded by figdata.encode_png: RGB when opaque."""
+def png_bytes(fig: Any, scratch: Optional[List[Any]] = None) -> bytes:
+    """The figure as savefig draws it, encoded by figdata.encode_png: RGB when opaque. scratch
+    (a list, kept by the caller across figures) holds two byte buffers reused for the copies:
+    fresh 2-8 MB arrays for every figure cost their pages' faults again (a tenth of the process's
+    page faults)."""
     fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
     h, w, _ = rgba.shape
     channels = 3 if rgba[:, :, 3].min() == 255 else 4
-    # each row prefixed by its filter byte 0 (figdata.encode_png's rows), the pixels copied once
-    # into place (a reshape of the channel slice, the assignment and tobytes were three copies:
-    # 36 ms for an 800 x 1950 figure, now 8)
-    raw = np.empty((h, 1 + w * channels), dtype=np.uint8)
+    size = h * (1 + w * channels)
+    if scratch is None:
+        scratch = []
+    if not scratch or scratch[0].size < size:
+        scratch[:] = [np.empty(size, dtype=np.uint8), np.empty(size, dtype=np.uint8)]
+    # each row prefixed by its filter byte 0 (figdata.encode_png's rows). numpy copies the
+    # RGB(A) slice of the buffer slowly (an inner loop of 3 bytes: 10 ms for 2 million pixels);
+    # one channel at a time into a packed image, then whole rows into place, takes 2 ms
+    packed = scratch[1][:h * w * channels].reshape(h, w, channels)
+    for k in range(channels):
+        packed[:, :, k] = rgba[:, :, k]
+    raw = scratch[0][:size].reshape(h, 1 + w * channels)
     raw[:, 0] = 0
-    pixels = raw[:, 1:]
-    pixels.shape = (h, w, channels)  # a view (raises rather than copy)
-    np.copyto(pixels, rgba[:, :, :channels])
+    raw[:, 1:] = packed.reshape(h, w * channels)
     return fd.png_of_filtered_rows(raw.data, w, h, channels)
 
 
@@ -208,7 +227,7 @@ def save(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:
     for ext in ctx.formats:
         sio.note_written(figdir, f"{name}.{ext}")
         if ext == "png":
-            data = png_bytes(fig)
+            data = png_bytes(fig, ctx.scratch)
         else:
             buf = io.BytesIO()
             fig.savefig(buf, format=ext)

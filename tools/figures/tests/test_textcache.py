@@ -51,3 +51,26 @@ def test_cached_text_draws_the_same_pixels(monkeypatch: Any) -> None:
     second = draw(plt)
     assert np.array_equal(plain, first) and np.array_equal(plain, second)
     assert n_first > 0 and len(calls) == n_first  # the second figure's text all from the caches
+
+
+def test_a_string_measured_and_drawn_is_laid_out_once(monkeypatch: Any) -> None:
+    """Measuring a string and then drawing it (what Text.draw does) lays it out once."""
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.font_manager import FontProperties
+    layouts = []
+    lay_out = textcache.lay_out
+
+    def counted(renderer: Any, s: str, prop: Any) -> Any:
+        layouts.append(s)
+        return lay_out(renderer, s, prop)
+    monkeypatch.setattr(textcache, "lay_out", counted)
+    fig = plt.figure(figsize=(2, 1), dpi=100)
+    renderer = fig.canvas.get_renderer()
+    assert isinstance(renderer, RendererAgg)
+    prop = FontProperties(size=8.25)
+    text = "laid out once: 2×10⁻³ (a string no other test draws)"
+    w, h, d = renderer.get_text_width_height_descent(text, prop, False)
+    renderer.draw_text(renderer.new_gc(), 10.0, 20.0, text, prop, 0.0)
+    plt.close(fig)
+    assert w > 0 and h > 0 and layouts == [text]
