@@ -1,5 +1,5 @@
 // DAMPSYM_TEST_ASAN: 1 when this test build runs under AddressSanitizer (the sanitizer build of
-// ci/build.sh, -O0: its numerics run about 30 times slower, so a few tests take smaller sizes
+// ci/build.sh, -O1: its numerics run several times slower, so a few tests take smaller sizes
 // there). GCC defines __SANITIZE_ADDRESS__; clang 14 only answers __has_feature.
 #pragma once
 
