@@ -105,3 +105,30 @@ def test_the_window_case_is_decided_by_the_band() -> None:
     le = chk["slope over the window <= its closed form + 1e-9 relative"]["le"]
     assert ge < slope < le and le - ge < 2.1e-9 * slope
     assert not ge <= slope * (1 + 1e-7) <= le and not ge <= slope * (1 - 1e-7) <= le
+
+
+KEPLER_CASE = os.path.join(os.path.dirname(__file__), "..", "cases", "kepler-angular-momentum.json")
+
+
+def test_kepler_angular_momentum_sees_a_1e6_coefficient(dampsym_bin: str, workdir: str) -> None:
+    """kepler-angular-momentum's bound 1e-14 on q x p's law residual is tight: Stormer-Verlet
+    exported with one coefficient of its p tableau x (1 + 1e-6) (not symplectic: HLW IV.2) fails
+    it where the export itself passes."""
+    src = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "methods", "stormer-verlet.json")
+    with open(src, encoding="utf-8") as f:
+        method = json.load(f)
+    name = "angular momentum kept to round-off at every step"
+    for tag, coef, want in (("export", "1/2", True), ("planted", "(1/2)*(1000001/1000000)", False)):
+        method["id"] = "sv-" + tag
+        method["p"]["A"][1][0] = coef
+        method.pop("claims", None)      # the planted file claims nothing a check could refute
+        path = os.path.join(workdir, "sv-%s.json" % tag)
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(method, f)
+        out = os.path.join(workdir, "kepler-" + tag)
+        subprocess.run([dampsym_bin, "run", KEPLER_CASE, "--out", out, "--quiet", "--methods", path,
+                        "--substitute", "stormer-verlet=sv-" + tag], capture_output=True, check=False)
+        with open(os.path.join(out, "report.json"), encoding="utf-8") as f:
+            checks = json.load(f)["cases"][0]["checks"]
+        mine = [c for c in checks if c["name"] == name and c["method"] == "sv-" + tag]
+        assert len(mine) == 1 and mine[0]["passed"] is want, (tag, mine)
