@@ -8,8 +8,9 @@ N = A + gI, the conformal form (F (2.3)). The exact flow is e^{At} = e^{-gt}[cos
 (A + gI)], b = sqrt(w^2 - g^2) (g < w). So every error metric and measure of dampsym's error
 diagnostic (docs/case-keys.md) over the output grid has a value computed here in 40-digit
 arithmetic, independently of dampsym's step loop, its error accumulator and its measures: the
-case verify/cases/osc-closed-form*.json checks them with `near`, and verify/tests/test_closed_form.py
-checks that the case's numbers are these and that its tolerances see a 1e-7 relative change.
+case verify/cases/osc-closed-form.json checks them with `near` (osc-order-window: a local-order
+fit), and verify/tests/test_closed_form.py checks that the cases' numbers are these and that their
+tolerances see a 1e-7 relative change.
 
     python3 -m verify.closed_form verify/cases/osc-closed-form.json   # print the expect block
 """
