@@ -36,9 +36,9 @@ class TheList(unittest.TestCase):
         sm.check_finds(sm.ROOT, mutants)          # raises BadInput on 0 or >= 2 occurrences
         kinds = {m.kind for m in mutants}
         self.assertEqual(kinds, {"cpp", "python"})
-        # headers (a full rebuild each) are few and come last
+        # headers (a full rebuild each, ~10 min) are few and come last
         headers = [k for k, m in enumerate(mutants) if m.header]
-        self.assertLessEqual(len(headers), 5)
+        self.assertLessEqual(len(headers), 6)
         self.assertEqual(headers, list(range(len(mutants) - len(headers), len(mutants))))
 
 

@@ -153,7 +153,7 @@ def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, T
     comps = rec["comparisons"]
     span = math.log(max(dts) / min(dts)) if len(dts) > 1 else 1.0
     dlt = max([errs[d][2] / errs[d][0] for d in dts if errs[d][0] > floor] or [0.0])
-    b_slope, b_r2 = 1e-6 + 2 * dlt / span, 1e-5 + 2 * dlt
+    b_slope, b_r2 = 1e-9 + 2 * dlt / span, 1e-5 + 2 * dlt
     t_ok = theirs.get("ok")
     if "status" in theirs:
         t_ok = bool(t_ok) and theirs.get("status") == "ok"
@@ -172,7 +172,7 @@ def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, T
             window = fit.get("window_dt") or []
         mine = _fit_window(dts, es, window)
         comps.append(cmp_abs(kind + ".slope", mine["slope"], theirs.get("slope"), 0.0, b_slope,
-                             "our errors over the report's window; 1e-6 + 2 max(our error band / error) / "
+                             "our errors over the report's window; 1e-9 + 2 max(our error band / error) / "
                              "log span"))
         if theirs.get("r2") is not None:
             comps.append(cmp_abs(kind + ".r2", mine["r2"], theirs.get("r2"), 0.0, b_r2,

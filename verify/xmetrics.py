@@ -361,6 +361,9 @@ def metric_momentum(prob: Any, traj: Any, h: float, method: str) -> Dict[str, An
     law = math.exp(-2.0 * prob.g * h)
     for kind, fn, sfn in (("linear", prob.linear_momentum, prob.linear_momentum_scale),
                           ("angular", prob.angular_momentum, prob.angular_momentum_scale)):
+        if kind == "linear" and not getattr(prob, "linear_momentum_law", True):
+            out[kind] = {"reason": "no linear momentum law"}     # Kepler: a fixed centre
+            continue
         P = fn(traj)
         S = sfn(traj)[:-1]
         okS = scale_ok(S)

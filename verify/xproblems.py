@@ -405,6 +405,23 @@ class Kepler(Problem):
     def invariants(self) -> Any:   # angular momentum L = q1 p2 - q2 p1 (HLW (2.4))
         return {"angular_momentum": lambda z: z[..., 0] * z[..., 3] - z[..., 1] * z[..., 2]}
 
+    # The momentum diagnostic: L = q x p has the law (central force); p has none (the fixed
+    # centre exerts a force on the body). Scales |p| and |q||p| (docs/conventions.md).
+    linear_momentum_law = False
+    n = 1   # one body (the momentum round-off floors count bodies)
+
+    def linear_momentum(self, z: Any) -> Any:
+        return z[..., 2:4]
+
+    def linear_momentum_scale(self, z: Any) -> Any:
+        return np.hypot(z[..., 2], z[..., 3])
+
+    def angular_momentum(self, z: Any) -> Any:
+        return (z[..., 0] * z[..., 3] - z[..., 1] * z[..., 2])[..., None]
+
+    def angular_momentum_scale(self, z: Any) -> Any:
+        return np.hypot(z[..., 0], z[..., 1]) * np.hypot(z[..., 2], z[..., 3])
+
     def invariant_scales(self) -> Any:   # |q1 p2| + |q2 p1|, the magnitudes of L's terms
         return {"angular_momentum": lambda z: np.abs(z[..., 0] * z[..., 3]) + np.abs(z[..., 1] * z[..., 2])}
 

@@ -20,7 +20,11 @@ def fit_record(mc: MethodCtx, kind: str, errs: Errors, ref_norm: float) -> Rec:
     fit = rec.pop("fit", None) or {}
     mc.mine[kind + ".slope"] = fit.get("slope") if fit.get("ok") else xmt.Undef("no fit")
     mc.mine[kind + ".r2"] = fit.get("r2") if fit.get("ok") else xmt.Undef("no fit")
-    mc.unc.update({kind + ".slope": fit.get("band_slope", 1e-4), kind + ".r2": fit.get("band_r2", 1e-5)})
+    # the window's size from OUR window rule (refmath.fit_order), exact: a check on it sees a window
+    # rule of the C++ fit that differs from the documented one (docs/conventions.md §5)
+    mc.mine[kind + ".points"] = len(fit.get("window_dt") or []) if fit.get("ok") else xmt.Undef("no fit")
+    mc.unc.update({kind + ".slope": fit.get("band_slope", 1e-4), kind + ".r2": fit.get("band_r2", 1e-5),
+                   kind + ".points": 0.0})
     return rec
 
 

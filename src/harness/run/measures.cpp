@@ -2,52 +2,40 @@
 // absolute or relative to the reference pointwise, reduced over the output grid t_1..t_end (the
 // initial point is exact) as the paper states it.
 #include "diagnostics/order_fit.hpp"
-#include "harness/run/case_run.hpp"
+#include "harness/case_run.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace dampsym::detail {
 
 namespace {
 
+// The two statistics that are not running sums: "final" (the last point) and "growth" (a fit
+// over every point). max, mean and rms are only the running reductions of add() and finish(): they
+// need an output grid of >= 2 points (case_expect.cpp parse_over), so every such run feeds them.
 double reduce(const MeasureSpec& m, const std::vector<double>& t, const std::vector<double>& v,
               double t0, bool& produced) {
     produced = true;
-    switch (m.over) {
-    case MeasureStat::final_value:
-        return v.back();
-    case MeasureStat::max:
-        return *std::max_element(v.begin(), v.end());
-    case MeasureStat::mean:
-    case MeasureStat::rms: {
-        double sum = 0.0;
-        for (double e : v) sum += m.over == MeasureStat::rms ? e * e : e;
-        double x = sum / static_cast<double>(v.size());
-        if (m.over == MeasureStat::rms) x = std::sqrt(x);
-        return x;
-    }
-    case MeasureStat::growth: {
-        // log–log slope of the running maximum against t − t0: ≈ 0 for a bounded error, 1 for
-        // linear growth (O(th)), 2 for quadratic growth (O(t²h)).
-        std::vector<double> lx, ly;
-        double running = 0.0;
-        for (std::size_t i = 0; i < v.size(); ++i) {
-            running = std::max(running, v[i]);
-            if (t[i] >= m.growth_from && running > 0.0) {
-                lx.push_back(std::log(t[i] - t0));
-                ly.push_back(std::log(running));
-            }
+    if (m.over != MeasureStat::growth) return v.back();
+    // log–log slope of the running maximum against t − t0: ≈ 0 for a bounded error, 1 for linear
+    // growth (O(th)), 2 for quadratic growth (O(t²h)).
+    std::vector<double> lx, ly;
+    double running = 0.0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        running = std::max(running, v[i]);
+        if (t[i] >= m.growth_from && running > 0.0) {
+            lx.push_back(std::log(t[i] - t0));
+            ly.push_back(std::log(running));
         }
-        if (lx.size() < 3) { // not produced: a check on it fails, naming it
-            produced = false;
-            return 0.0;
-        }
-        return least_squares(lx, ly).slope;
     }
+    if (lx.size() < 3) { // not produced: a check on it fails, naming it
+        produced = false;
+        return 0.0;
     }
-    return 0.0;
+    return least_squares(lx, ly).slope;
 }
 
 } // namespace
@@ -84,9 +72,8 @@ double MeasureAccumulator::pointwise(const MeasureSpec& m, const Vec& u, const V
     return m.relative ? e / scale : e;
 }
 
-// max, mean and rms as running reductions (the same operations in the same order as over a
-// stored vector of the pointwise values); growth keeps its points (never streamed: grid_plan,
-// harness/run/limits.hpp).
+// max, mean and rms as running reductions, fed by a streamed or a stored grid alike (the one
+// implementation of each); growth keeps its points (never streamed: grid_plan, harness/limits.hpp).
 void MeasureAccumulator::add(const Vec& z, const Vec& ref, double t) {
     fed_ = true;
     for (std::size_t k = 0; k < c_.measures.size(); ++k) {
@@ -123,7 +110,9 @@ json MeasureAccumulator::finish(const Vec& z_final, const Vec& ref_final) const 
         const Stat& s = stats_[k];
         bool produced = true;
         double x = 0.0;
-        if (fed_ && m.over != MeasureStat::final_value && m.over != MeasureStat::growth) {
+        if (m.over != MeasureStat::final_value && m.over != MeasureStat::growth) {
+            if (s.count == 0) // parse_over gives max, mean and rms >= 2 grid points
+                throw std::logic_error("measure '" + m.name + "' over an empty output grid");
             // One undefined point makes the whole statistic undefined.
             if (s.undefined) {
                 x = std::numeric_limits<double>::quiet_NaN();
