@@ -2,7 +2,7 @@
 // absolute or relative to the reference pointwise, reduced over the output grid t_1..t_end (the
 // initial point is exact) as the paper states it.
 #include "diagnostics/order_fit.hpp"
-#include "harness/case_run.hpp"
+#include "harness/run/case_run.hpp"
 
 #include <algorithm>
 #include <cmath>
