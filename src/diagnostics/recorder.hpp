@@ -81,6 +81,54 @@ struct VectorLawStats {
     std::int64_t factor_undefined_steps = 0, first_factor_undefined_step = -1;
 };
 
+// The momenta X(z_{n−1}), X(z_n) and the scale S(z_{n−1}) of the step being measured, stepped by
+// the recorder (statistics) and the figure observer (series) alike: one copy of the law's
+// factor e^{−2ΔΓ} over step n, of its residual and of the measured factor.
+template <class P>
+struct MomentumSteps {
+    Vec lin_prev, lin_now, ang_prev, ang_now;
+    double lin_scale_prev = 0.0, ang_scale_prev = 0.0;
+
+    void start(const P& p, const Vec& z0) {
+        const int k = p.space_dim() == 3 ? 3 : 1;
+        lin_prev.resize(p.space_dim());
+        lin_now.resize(p.space_dim());
+        ang_prev.resize(k);
+        ang_now.resize(k);
+        p.linear_momentum(z0, lin_prev);
+        p.angular_momentum(z0, ang_prev);
+        lin_scale_prev = p.linear_momentum_scale(z0);
+        ang_scale_prev = p.angular_momentum_scale(z0);
+    }
+    // The momenta at z_n, the end of step n (from t_{n−1} = t0 + (n−1)h); returns the law's factor
+    // e^{−2ΔΓ} over that step (B Ex. 1.3).
+    double measure(const P& p, double t0, double h, std::int64_t n, const Vec& z) {
+        p.linear_momentum(z, lin_now);
+        p.angular_momentum(z, ang_now);
+        return std::exp(-2.0 * p.dGamma(time_at(t0, h, n - 1), h));
+    }
+    void shift(const P& p, const Vec& z) {
+        lin_prev.swap(lin_now);
+        ang_prev.swap(ang_now);
+        lin_scale_prev = p.linear_momentum_scale(z);
+        ang_scale_prev = p.angular_momentum_scale(z);
+    }
+};
+
+// ‖X_n − f X_{n−1}‖₂, a law's residual before its scale.
+inline double law_residual_abs(const Vec& now, const Vec& prev, double f) {
+    return (now - f * prev).norm();
+}
+
+// The factor X_n·X_{n−1}/‖X_{n−1}‖² a step applied, where ‖X_{n−1}‖ is resolved on the scale
+// (VectorLawStats::factor_floor) and the scale is defined; empty otherwise.
+inline std::optional<double> measured_factor(const Vec& now, const Vec& prev, double scale) {
+    const double norm2 = prev.squaredNorm();
+    if (!(std::sqrt(norm2) >= VectorLawStats::factor_floor * scale) || !scale_defined(scale))
+        return std::nullopt;
+    return now.dot(prev) / norm2;
+}
+
 // Energy balance residual R(t_n) = |D_t H_n − Ḣ_n| with the 8th-order central difference D_t and
 // the exact law Ḣ = −2γ(t) p·∇T(p) (B(3.4): for the pendulum Ḣ = −2γp²).
 struct EnergyBalanceStats {
@@ -155,17 +203,11 @@ public:
         }
         if constexpr (HasMomentum<P>) {
             if (mom_on_) {
-                const int k = p_.space_dim() == 3 ? 3 : 1;
-                lin_prev_.resize(p_.space_dim());
-                lin_now_.resize(p_.space_dim());
-                ang_prev_.resize(k);
-                ang_now_.resize(k);
-                p_.linear_momentum(z0, lin_prev_);
-                p_.angular_momentum(z0, ang_prev_);
-                lin_.initial_norm = lin_prev_.norm();
-                ang_.initial_norm = ang_prev_.norm();
-                lin_scale_prev_ = lin_.scale_initial = p_.linear_momentum_scale(z0);
-                ang_scale_prev_ = ang_.scale_initial = p_.angular_momentum_scale(z0);
+                mom_.start(p_, z0);
+                lin_.initial_norm = mom_.lin_prev.norm();
+                ang_.initial_norm = mom_.ang_prev.norm();
+                lin_.scale_initial = mom_.lin_scale_prev;
+                ang_.scale_initial = mom_.ang_scale_prev;
             }
         }
         if constexpr (HasEnergyBalance<P>) {
@@ -205,21 +247,22 @@ private:
         if (!scale_defined(scale)) {
             if (s.undefined_steps++ == 0) s.first_undefined_step = n - 1;
         } else {
-            const double abs = (now - law * prev).norm();
+            const double abs = law_residual_abs(now, prev, law);
             const double res = abs / scale;
             if (res > s.max_law_res || n == 1) s.scale_at_max = scale;
             s.max_law_res = std::max(s.max_law_res, res);
             s.last_law_res = res;
             s.max_law_abs = std::max(s.max_law_abs, abs);
             if (!std::isnan(table))
-                s.max_table_res = std::max(s.max_table_res, (now - table * prev).norm() / scale);
+                s.max_table_res =
+                    std::max(s.max_table_res, law_residual_abs(now, prev, table) / scale);
         }
-        const double norm2 = prev.squaredNorm();
-        if (!(std::sqrt(norm2) >= VectorLawStats::factor_floor * scale) || !scale_defined(scale)) {
+        const std::optional<double> measured = measured_factor(now, prev, scale);
+        if (!measured) {
             if (s.factor_undefined_steps++ == 0) s.first_factor_undefined_step = n - 1;
             return;
         }
-        const double factor = now.dot(prev) / norm2;
+        const double factor = *measured;
         if (n == 1) s.first_factor = factor;
         const double f = std::isnan(table) ? law : table;
         s.max_factor_dev = std::max(s.max_factor_dev, std::abs(factor - f) / std::abs(f));
@@ -227,16 +270,12 @@ private:
 
     void momentum_step(std::int64_t n, const Vec& z) {
         if constexpr (HasMomentum<P>) {
-            const double law = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
-            p_.linear_momentum(z, lin_now_);
-            p_.angular_momentum(z, ang_now_);
-            vector_law(lin_, n, lin_prev_, lin_now_, lin_scale_prev_, law, table_factor_);
-            vector_law(ang_, n, ang_prev_, ang_now_, ang_scale_prev_, law,
+            const double law = mom_.measure(p_, t0_, h_, n, z);
+            vector_law(lin_, n, mom_.lin_prev, mom_.lin_now, mom_.lin_scale_prev, law,
+                       table_factor_);
+            vector_law(ang_, n, mom_.ang_prev, mom_.ang_now, mom_.ang_scale_prev, law,
                        std::numeric_limits<double>::quiet_NaN());
-            lin_prev_.swap(lin_now_);
-            ang_prev_.swap(ang_now_);
-            lin_scale_prev_ = p_.linear_momentum_scale(z);
-            ang_scale_prev_ = p_.angular_momentum_scale(z);
+            mom_.shift(p_, z);
         }
     }
 
@@ -356,8 +395,7 @@ private:
     std::vector<InvariantStats> stats_;
     std::optional<MaximaFinder<P>> finder_;
     double table_factor_ = std::numeric_limits<double>::quiet_NaN();
-    Vec lin_prev_, lin_now_, ang_prev_, ang_now_;
-    double lin_scale_prev_ = 0.0, ang_scale_prev_ = 0.0;
+    MomentumSteps<P> mom_;
     VectorLawStats lin_, ang_;
     std::array<double, 9> eb_energy_{}, eb_rate_{};
     Vec grad_t_;

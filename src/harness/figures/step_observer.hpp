@@ -68,15 +68,7 @@ public:
         }
         if constexpr (HasMomentum<P>) {
             if (mom_on_) {
-                const int k = p_.space_dim() == 3 ? 3 : 1;
-                lin_prev_.resize(p_.space_dim());
-                lin_now_.resize(p_.space_dim());
-                ang_prev_.resize(k);
-                ang_now_.resize(k);
-                p_.linear_momentum(z0, lin_prev_);
-                p_.angular_momentum(z0, ang_prev_);
-                lin_scale_prev_ = p_.linear_momentum_scale(z0);
-                ang_scale_prev_ = p_.angular_momentum_scale(z0);
+                mom_.start(p_, z0);
             }
         }
         z0_ = z0;
@@ -198,25 +190,16 @@ private:
     // The formulas of Recorder::vector_law / momentum_step (recorder.hpp).
     void momentum_step(std::int64_t n, double t, const Vec& z) {
         if constexpr (HasMomentum<P>) {
-            const double law = std::exp(-2.0 * p_.dGamma(time_at(t0_, h_, n - 1), h_));
-            p_.linear_momentum(z, lin_now_);
-            p_.angular_momentum(z, ang_now_);
+            const double law = mom_.measure(p_, t0_, h_, n, z);
             const double nan = std::numeric_limits<double>::quiet_NaN();
-            lin_res_->push(t, scale_defined(lin_scale_prev_)
-                                  ? (lin_now_ - law * lin_prev_).norm() / lin_scale_prev_
-                                  : nan);
-            ang_res_->push(t, scale_defined(ang_scale_prev_)
-                                  ? (ang_now_ - law * ang_prev_).norm() / ang_scale_prev_
-                                  : nan);
-            const double norm2 = lin_prev_.squaredNorm();
-            const bool factor_defined =
-                std::sqrt(norm2) >= VectorLawStats::factor_floor * lin_scale_prev_ &&
-                scale_defined(lin_scale_prev_);
-            lin_factor_->push(t, factor_defined ? lin_now_.dot(lin_prev_) / norm2 : nan);
-            lin_prev_.swap(lin_now_);
-            ang_prev_.swap(ang_now_);
-            lin_scale_prev_ = p_.linear_momentum_scale(z);
-            ang_scale_prev_ = p_.angular_momentum_scale(z);
+            const auto residual = [&](const Vec& now, const Vec& prev, double scale) {
+                return scale_defined(scale) ? law_residual_abs(now, prev, law) / scale : nan;
+            };
+            lin_res_->push(t, residual(mom_.lin_now, mom_.lin_prev, mom_.lin_scale_prev));
+            ang_res_->push(t, residual(mom_.ang_now, mom_.ang_prev, mom_.ang_scale_prev));
+            lin_factor_->push(
+                t, measured_factor(mom_.lin_now, mom_.lin_prev, mom_.lin_scale_prev).value_or(nan));
+            mom_.shift(p_, z);
         } else {
             (void)n, (void)t, (void)z;
         }
@@ -229,8 +212,7 @@ private:
     std::array<double, 8> inv_prev_{}, inv0_{}, scale_prev_{};
     std::vector<MinMaxDecimator> inv_res_, inv_ratio_;
     std::optional<MinMaxDecimator> lin_res_, lin_factor_, ang_res_;
-    Vec lin_prev_, lin_now_, ang_prev_, ang_now_;
-    double lin_scale_prev_ = 0.0, ang_scale_prev_ = 0.0;
+    MomentumSteps<P> mom_;
     std::optional<MinMaxDecimator> eb_;
     std::array<double, 9> eb_energy_{}, eb_rate_{};
     Vec grad_t_;
