@@ -132,3 +132,29 @@ def test_kepler_angular_momentum_sees_a_1e6_coefficient(dampsym_bin: str, workdi
             checks = json.load(f)["cases"][0]["checks"]
         mine = [c for c in checks if c["name"] == name and c["method"] == "sv-" + tag]
         assert len(mine) == 1 and mine[0]["passed"] is want, (tag, mine)
+
+
+ENERGY_CASE = os.path.join(os.path.dirname(__file__), "..", "cases", "pend-energy-kept.json")
+
+
+def test_pendulum_energy_bound_sees_a_1e6_coefficient(dampsym_bin: str, workdir: str) -> None:
+    """pend-energy-kept's bound 1e-12 on max |H_n - H_0| is tight: gauss3 exported as a method file
+    passes it, the same file with one entry of A x (1 + 1e-6) (no longer symplectic) fails it."""
+    name = "Gauss-Legendre keeps the energy to round-off over 1000 steps"
+    for tag, factor, want in (("export", 1.0, True), ("planted", 1.0 + 1e-6, False)):
+        mid = "g3-" + tag
+        exported = subprocess.run([dampsym_bin, "methods", "--export", "gauss3", "--as", mid],
+                                  capture_output=True, text=True, check=True).stdout
+        method = json.loads(exported)
+        method["tableau"]["A"][1][0] *= factor
+        method.pop("claims", None)      # the planted file claims nothing a check could refute
+        path = os.path.join(workdir, mid + ".json")
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(method, f)
+        out = os.path.join(workdir, "energy-" + tag)
+        subprocess.run([dampsym_bin, "run", ENERGY_CASE, "--out", out, "--quiet", "--methods", path,
+                        "--substitute", "gauss3=" + mid], capture_output=True, check=False)
+        with open(os.path.join(out, "report.json"), encoding="utf-8") as f:
+            checks = json.load(f)["cases"][0]["checks"]
+        mine = [c for c in checks if c["name"] == name and c["method"] == mid]
+        assert len(mine) == 1 and mine[0]["passed"] is want, (tag, mine)
