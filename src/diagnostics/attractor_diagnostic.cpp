@@ -13,7 +13,6 @@ DiagnosticInfo AttractorDiagnostic::info() {
                     "5.10): distribution, batch-means error, period of mean crossings",
             .requirement = "a probe of the state (probe(z): the driven NLS's |psi(0, t)|)",
             .needs = {.grid = true, .ok_run = true},
-            .observer_part = "grid",
             .metrics = {"probe", "from", "points", "mean", "std", "min", "max", "q10", "q50", "q90",
                         "mean_se", "mean_rse", "crossings", "period", "period_spread"}};
 }

@@ -30,7 +30,7 @@ struct DiagnosticNeeds {
     // maxima): the reference is then stored, never evaluated on the fly.
     bool reference_grid = false;
     bool reference = false;     // a reference solution (exact, or certified GSL) on that grid
-    bool observer = false;      // a hook in the step loop (the Recorder part `observer_part`)
+    bool observer = false;      // a hook in the step loop (its Part<P>, observer_part.hpp)
     bool jacobian_pass = false; // a separate pass with the exact step Jacobian
     bool ok_run = false;        // metrics only for a run that finished ("status": "ok")
     bool reference_ok = false;  // ... and only when the reference did not fail
@@ -54,8 +54,8 @@ struct DiagnosticInfo {
     std::string what{};        // one line for `dampsym list`
     std::string requirement{}; // what the problem must provide ("" = any problem)
     DiagnosticNeeds needs{};
-    std::string
-        observer_part{}; // the Recorder part it enables ("" = none; diagnostics/recorder.hpp)
+    // Its key under a run's "observed" in report.json (whether its per-step part ran; "" = none).
+    std::string observed_key{};
     // Metric names, as "<diagnostic>.<metric>" without the prefix. With per_invariant, each name is
     // repeated under every invariant of the problem ("<invariant>.<metric>").
     std::vector<std::string> metrics{};

@@ -12,7 +12,7 @@ DiagnosticInfo DissipationDriftDiagnostic::info() {
             .what = "d(t) = ln(max q) + Gamma(t) at the maxima of q (F(4.4)), and its reference",
             .requirement = "one degree of freedom in separable form",
             .needs = {.reference_grid = true, .observer = true, .ok_run = true},
-            .observer_part = "maxima",
+            .observed_key = "maxima",
             .metrics = {"slope", "range", "maxima", "maxima_nonpositive", "slope_minus_reference",
                         "max_abs_diff_reference", "maxima_count_diff", "reference.slope"},
             .report_columns = {{.key = "slope", .label = "d(t) slope"},

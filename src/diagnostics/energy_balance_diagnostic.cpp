@@ -7,7 +7,7 @@ DiagnosticInfo EnergyBalanceDiagnostic::info() {
             .what = "residual of the energy balance dH/dt = -2 gamma p.grad T(p) (B(3.4))",
             .requirement = "an energy, the separable form and an autonomous potential",
             .needs = {.observer = true, .ok_run = true},
-            .observer_part = "energy-balance",
+            .observed_key = "energy_balance",
             .metrics = {"max", "last", "mean", "max_rel", "max_rate", "points"}};
 }
 

@@ -12,7 +12,6 @@ DiagnosticInfo EnergyDiagnostic::info() {
             .what = "energy changes and, with a reference, energy errors on the output grid",
             .requirement = "an energy",
             .needs = {.grid = true, .ok_run = true, .reference_ok = true},
-            .observer_part = "grid",
             .metrics = {"max_abs_error", "final_abs_error", "drift_slope", "error_res_slope",
                         "max_abs_change", "change_slope", "max_change_res", "change_res_slope",
                         "growth_ratio", "scale_initial"},

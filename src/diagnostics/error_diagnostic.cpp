@@ -14,7 +14,6 @@ DiagnosticInfo ErrorDiagnostic::info() {
                       .reference = true,
                       .ok_run = true,
                       .reference_ok = true},
-            .observer_part = "grid",
             .metrics = {"final_abs", "final_rel", "max_abs", "max_rel", "mean_abs",
                         "reference_error_estimate"},
             .reads_reference = true};

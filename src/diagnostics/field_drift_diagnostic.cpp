@@ -12,7 +12,6 @@ DiagnosticInfo FieldDriftDiagnostic::info() {
             .what = "dissipation drift d(t) = ln max_x u + Gamma of a damped wave field, B (5.6)",
             .requirement = "a field on a grid (field_size(): the damped Klein-Gordon problem)",
             .needs = {.grid = true, .ok_run = true},
-            .observer_part = "grid",
             .metrics = {"slope", "range", "first", "last", "points"}};
 }
 

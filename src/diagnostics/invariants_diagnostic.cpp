@@ -7,7 +7,7 @@ DiagnosticInfo InvariantsDiagnostic::info() {
             .what = "per-step and global conformal laws of the problem's invariants",
             .requirement = "conformal invariants",
             .needs = {.observer = true, .ok_run = true},
-            .observer_part = "invariants",
+            .observed_key = "invariants",
             .metrics = {"max_step_res", "last_step_res", "max_step_abs", "scale_initial",
                         "scale_at_max_step_res", "max_global_res", "global_res_slope",
                         "max_global_ratio_dev", "ratio_dev_slope", "undefined_points"},

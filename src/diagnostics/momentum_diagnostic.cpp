@@ -11,7 +11,7 @@ DiagnosticInfo MomentumDiagnostic::info() {
             .what = "per-step laws of the linear and angular momentum (B Ex. 1.3, Table 3.1)",
             .requirement = "linear and angular momentum",
             .needs = {.observer = true, .ok_run = true},
-            .observer_part = "momentum",
+            .observed_key = "momentum",
             .metrics =
                 [] {
                     std::vector<std::string> out;

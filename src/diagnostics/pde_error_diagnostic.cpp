@@ -13,7 +13,6 @@ DiagnosticInfo PdeErrorDiagnostic::info() {
                     "error), at the output times",
             .requirement = "a PDE solution on the grid (pde_solution(): B's modified Burgers)",
             .needs = {.grid = true, .ok_run = true},
-            .observer_part = "grid",
             .metrics = {"max_abs", "final_abs", "max_rel", "points"}};
 }
 

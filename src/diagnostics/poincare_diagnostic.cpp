@@ -12,7 +12,6 @@ DiagnosticInfo PoincareDiagnostic::info() {
         .what = "Poincare sections at t0 + kT against the reference's (B 3.2.2)",
         .requirement = "a periodic forcing",
         .needs = {.grid = true, .reference = true, .ok_run = true},
-        .observer_part = "grid",
         .metrics = {"sections", "pointwise_max", "pointwise_final", "set_mean", "set_hausdorff"}};
 }
 

@@ -12,7 +12,6 @@ DiagnosticInfo PrecessionDiagnostic::info() {
             .what = "turning of the orbit's perihelion (Laplace-Runge-Lenz vector), HLW Fig 2.1",
             .requirement = "a Laplace-Runge-Lenz vector (Kepler's problem)",
             .needs = {.grid = true, .reference = true, .ok_run = true},
-            .observer_part = "grid",
             .metrics = {"initial_angle", "total", "rate", "max_grid_step", "min_eccentricity",
                         "reference_total", "total_minus_reference"}};
 }

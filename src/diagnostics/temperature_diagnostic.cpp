@@ -10,7 +10,6 @@ DiagnosticInfo TemperatureDiagnostic::info() {
             .what = "HLW(3.8) temperature on the output grid: fluctuation and error",
             .requirement = "a temperature",
             .needs = {.grid = true, .ok_run = true},
-            .observer_part = "grid",
             .metrics = {"initial", "mean", "min", "max", "max_abs_dev_initial", "max_abs_error"}};
 }
 

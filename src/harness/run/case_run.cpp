@@ -24,10 +24,7 @@ void CaseRun::plan(bool has_exact) {
         const DiagnosticInfo* d = find_diagnostic(name);
         if (!d) continue;
         needs_reference_ = needs_reference_ || d->needs.reference;
-        if (d->needs.observer) {
-            observes_ = true;
-            observer_parts_.push_back(d->observer_part);
-        }
+        if (d->needs.observer) observes_ = true;
     }
     // an exact reference evaluated on the fly is stored at t_end only
     if (needs_reference_)
@@ -84,10 +81,7 @@ void CaseRun::record_run(json& out, const IntegrateOutcome& res, const Counters&
     bool jacobians = false;
     for (const DiagnosticInfo& d : diagnostic_registry()) {
         if (d.needs.jacobian_pass && c_.wants(d.name)) jacobians = true;
-        if (d.observer_part.empty() || d.observer_part == "grid") continue;
-        std::string key = d.observer_part;
-        std::replace(key.begin(), key.end(), '-', '_');
-        observed[key] = c_.wants(d.name);
+        if (!d.observed_key.empty()) observed[d.observed_key] = c_.wants(d.name);
     }
     observed["step_jacobians"] = jacobians;
     out["observed"] = observed;

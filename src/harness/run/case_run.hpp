@@ -38,7 +38,6 @@ protected:
     // Whether the step loop carries an observer (a grid or a diagnostic's per-step hook).
     bool observes() const { return observes_; }
     // The Recorder parts the case's diagnostics enable (diagnostics/recorder.hpp).
-    const std::vector<std::string>& observer_parts() const { return observer_parts_; }
     // Whether run-level diagnostic `name` produces metrics for a run with this status.
     bool produces(std::string_view name, bool run_ok) const;
 
@@ -72,7 +71,6 @@ private:
 
     bool needs_reference_ = false, observes_ = false;
     GridPlan grid_plan_;
-    std::vector<std::string> observer_parts_;
     std::vector<double> sweep_gammas_, sweep_hs_;
     std::vector<std::vector<SweepRow>> sweep_rows_; // [method][γ row], pre-sized in sweep_tasks
 };

@@ -144,7 +144,8 @@ private:
         const auto start = Clock::now();
         FigureStepObserver<P>* steps = fig && fig->needed() ? &*fig : nullptr;
         if (observes() || steps) {
-            if (observes()) start_recorder(rec, info, h, n, z, stream ? &*stream : nullptr);
+            if (observes())
+                start_recorder(rec, info, h, n, z, stream ? &*stream : nullptr, fig.has_value());
             if (steps) steps->start(z);
             RunObserver<P> obs{observes() ? &rec : nullptr, steps};
             res = integrate_guarded(stepper, z, c_.t0, h, n, &obs, guard_, fault);
@@ -211,13 +212,14 @@ private:
 
     // Figures hook: the series of the run whose record is `out`.
     void capture_figure_series(FigureStepObserver<P>& fig, std::optional<MinMaxDecimator>& cs,
-                               std::int64_t n, const Recorder<P>& rec, const json& out) {
+                               std::int64_t n, Recorder<P>& rec, const json& out) {
         const Mat& g = rec.grid();
         std::vector<double> times;
         for (Eigen::Index i = 0; i < g.cols(); ++i) times.push_back(facts_.grid_time(i));
         const bool ref_on_grid =
             facts_.reference_ok && facts_.needs_grid && facts_.ref.cols() == g.cols();
         json steps = fig.needed() ? fig.to_json() : json::object();
+        rec.series(steps); // the per-step parts' series (PartContext::series_steps)
         if (cs) {
             steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"] = cs->to_json();
             // the form measured (the figure's axis label): J⁻¹, or the problem's structure matrix D
@@ -225,16 +227,20 @@ private:
                 steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"]["form"] =
                     "structure-matrix";
         }
-        series_[run_index(out)] =
-            capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
-                               rec.maxima(), figure_orbit_from_steps(problem_, c_, g.cols(), n));
+        series_[run_index(out)] = capture_run_series(
+            problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
+            recorded_maxima<P>(rec), figure_orbit_from_steps(problem_, c_, g.cols(), n));
     }
 
+    // series: the run keeps figure series (its parts keep theirs from the same computation).
     void start_recorder(Recorder<P>& rec, const MethodInfo& info, double h, std::int64_t n,
-                        const Vec& z, GridSink* stream) const {
+                        const Vec& z, GridSink* stream, bool series) const {
         if (stores_grid()) rec.record_grid(n / facts_.points, facts_.points + 1);
         if (stream) rec.stream_grid(n / facts_.points, stream); // grid_stream.hpp
-        for (const std::string& part : observer_parts()) rec.enable(part, table_factor(info, h));
+        const PartContext ctx{c_.t0, h, table_factor(info, h), series ? n : 0};
+        for_each_type(DiagnosticList{}, [&]<class D>() {
+            if (c_.wants(D::name)) rec.template enable<D>(ctx);
+        });
         rec.start(z);
     }
 
