@@ -2,6 +2,7 @@
 // their coefficient-level checks).
 #include "cli/cli_detail.hpp"
 
+#include "diagnostics/invariants_diagnostic.hpp"
 #include "harness/case/case.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/report/report.hpp"
@@ -52,7 +53,7 @@ json problem_json(const ProblemInfo& p) {
     }
     json diagnostics = json::array();
     for (const auto& d : known_diagnostics())
-        if (diagnostic_applies(d, p) && (d != "invariants" || !p.invariants.empty()))
+        if (diagnostic_applies(d, p) && (d != InvariantsDiagnostic::name || !p.invariants.empty()))
             diagnostics.push_back(d);
     return {{"id", p.id},
             {"title", p.title},

@@ -1,4 +1,6 @@
 // The checks ("expect") and measures of a case (docs/case-keys.md).
+#include "diagnostics/error_diagnostic.hpp"
+#include "diagnostics/invariants_diagnostic.hpp"
 #include "harness/case/util.hpp"
 #include "harness/run/case_job.hpp"
 #include "harness/suggest.hpp"
@@ -154,8 +156,10 @@ void parse_over(const json& e, const std::string& base, const std::string& file,
 void parse_measures(const json& mj, const ProblemInfo& prob, const std::string& file, CaseSpec& c) {
     if (!mj.is_object() || mj.empty())
         fail(file, "measures", "must be an object of named measures");
-    if (!c.wants("error"))
-        fail(file, "measures", "measures are computed by the \"error\" diagnostic; request it");
+    if (!c.wants(ErrorDiagnostic::name))
+        fail(file, "measures",
+             "measures are computed by the \"" + std::string(ErrorDiagnostic::name) +
+                 "\" diagnostic; request it");
     const ProblemFacts facts = prob.facts(c.params);
     const int dim = facts.dim, dof = facts.dof; // dof: of a canonical z = [q; p], else -1
     const std::int64_t points = detail::output_points(c);
@@ -215,7 +219,7 @@ std::string parse_check_metric(const json& cj, const ProblemInfo& problem, const
              "'" + brief(cs.metric) + "' is not a metric of a requested diagnostic" +
                  (diag == "measure" ? " (no \"measures\" defined)" : ""));
     std::vector<std::string> names = metric_names(diag, prob->invariants);
-    if (diag == "invariants" && names.empty())
+    if (diag == InvariantsDiagnostic::name && names.empty())
         fail(file, base + ".metric",
              "problem '" + c.problem_id + "' declares no conformal invariants");
     if (is_measure)

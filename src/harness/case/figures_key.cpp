@@ -1,5 +1,9 @@
 #include "harness/case/figures_key.hpp"
 
+#include "diagnostics/attractor_diagnostic.hpp"
+#include "diagnostics/pde_error_diagnostic.hpp"
+#include "diagnostics/poincare_diagnostic.hpp"
+#include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "harness/case/util.hpp"
 
 #include <algorithm>
@@ -34,13 +38,15 @@ void validate_figures_key(const nlohmann::json& j, const std::string& file, cons
         // what each kind needs of the case (tools/figures/plot.py draws from exactly this)
         if (k == "convergence" && c.dts.size() < 2)
             fail(file, key, "a convergence figure needs a dt_ladder of >= 2 step sizes");
-        if (k == "stability" && !c.wants("stability-sweep"))
-            fail(file, key, "a stability figure needs the stability-sweep diagnostic");
-        if (k == "poincare" && !c.wants("poincare"))
-            fail(file, key, "a poincare figure needs the poincare diagnostic");
-        if (k == "snapshots" && !c.wants("pde-error"))
-            fail(file, key, "a snapshots figure needs the pde-error diagnostic");
-        if (k == "portrait" && (!c.wants("attractor") || !p.probe_plane))
+        const auto needs = [&](std::string_view diag) {
+            if (!c.wants(diag))
+                fail(file, key,
+                     "a " + k + " figure needs the " + std::string(diag) + " diagnostic");
+        };
+        if (k == "stability") needs(StabilitySweepDiagnostic::name);
+        if (k == "poincare") needs(PoincareDiagnostic::name);
+        if (k == "snapshots") needs(PdeErrorDiagnostic::name);
+        if (k == "portrait" && (!c.wants(AttractorDiagnostic::name) || !p.probe_plane))
             fail(file, key,
                  "a portrait figure needs the attractor diagnostic on a problem whose probe is a "
                  "point of a plane (nls-driven)");

@@ -1,6 +1,9 @@
 // The case file's keys, one parser per group ("problem", "methods", the time grid,
 // "diagnostics" and "reference", "stability_sweep", "no_checks"; "expect" and "measures" in
 // case/expect.cpp), and the case as a whole (docs/case-keys.md).
+#include "diagnostics/error_diagnostic.hpp"
+#include "diagnostics/poincare_diagnostic.hpp"
+#include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "harness/case/case.hpp"
 #include "harness/case/figures_key.hpp"
 #include "harness/case/util.hpp"
@@ -232,7 +235,7 @@ void parse_diagnostics(const json& j, const std::string& file, CaseSpec& c,
             c.diagnostics.push_back(d);
         }
     } else {
-        c.diagnostics.push_back("error");
+        c.diagnostics.push_back(std::string(ErrorDiagnostic::name));
     }
     // What each requested diagnostic needs of the ladder and which diagnostics it adds (registry).
     for (std::size_t i = 0; i < c.diagnostics.size(); ++i) {
@@ -268,7 +271,7 @@ void parse_diagnostics(const json& j, const std::string& file, CaseSpec& c,
             fail(file, "diagnostics",
                  name + " is not defined for problem '" + c.problem_id + "' (it needs " +
                      find_diagnostic(name)->requirement + ")");
-    if (c.wants("poincare")) {
+    if (c.wants(PoincareDiagnostic::name)) {
         // Sections at t0 + kT: the output grid must be the forcing period (typed_case.hpp).
         const double T = forcing_period.value_or(0.0);
         if (!c.output_dt || std::abs(*c.output_dt - T) > 1e-9 * T)
@@ -282,7 +285,7 @@ void parse_diagnostics(const json& j, const std::string& file, CaseSpec& c,
 
 // "stability_sweep": exactly with the stability-sweep diagnostic.
 void parse_sweep(const json& j, const std::string& file, CaseSpec& c) {
-    if (c.wants("stability-sweep") != j.contains("stability_sweep"))
+    if (c.wants(StabilitySweepDiagnostic::name) != j.contains("stability_sweep"))
         fail(file, "stability_sweep",
              "give \"stability_sweep\" exactly when the stability-sweep diagnostic is requested");
     if (j.contains("stability_sweep")) {

@@ -3,12 +3,13 @@
 // TypedCase::series() (typed_case.hpp), and only when figures are on: without --figures nothing
 // here runs, so the measured run, its bare-loop timing and every report number are untouched.
 //
-// Per-step series come from the measured run itself: its figure observer (FigureStepObserver,
-// beside the Recorder in one RunObserver) and the conformal-symplectic diagnostic's Jacobian pass
-// (its E_n series). No extra pass is made; with --figures a run's wall time includes the series'
-// bookkeeping (every other number is the same with or without). The observer reproduces the
-// formulas of diagnostics/recorder.hpp exactly, so the maximum of a decimated series equals the
-// maximum the report states (verify/figures/test_figure_data.py checks this).
+// Per-step series come from the measured run itself: the diagnostics' per-step parts in the
+// Recorder (the same computation as the report's statistics, observer_part.hpp), the orbit
+// samples of the figure observer (FigureStepObserver, beside the Recorder in one RunObserver) and
+// the conformal-symplectic diagnostic's Jacobian pass (its E_n series). No extra pass is made;
+// with --figures a run's wall time includes the series' bookkeeping (every other number is the
+// same with or without), and the maximum of a decimated series equals the maximum the report
+// states (verify/figures/test_figure_data.py checks this).
 // Series on the output grid (state error, energy error and change, temperature, Poincaré points)
 // are read from the measured run's grid and the case's reference, which the diagnostics used.
 #pragma once
@@ -304,8 +305,8 @@ void dissipation_drift_series(const GridSeries<P>& g, nlohmann::json& s) {
     }
 }
 
-// Everything one run keeps for its figures. steps: the series the measured run's figure observer
-// (FigureStepObserver, with the conformal-symplectic pass's E_n series) recorded per step;
+// Everything one run keeps for its figures. steps: the series recorded per step (the parts'
+// law series, the figure observer's orbit, the conformal-symplectic pass's E_n series);
 // grid/ref: the measured run's output grid and the reference on the same grid (ref_on_grid false
 // when the reference is not on it); orbit_steps: figure_orbit_from_steps for this grid. The
 // series on the output grid use the formulas of the diagnostics' metrics.

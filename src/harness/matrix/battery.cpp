@@ -3,6 +3,13 @@
 // JSON and validated by parse_case, so they are ordinary cases (docs/matrix.md "The battery").
 #include "harness/matrix/battery.hpp"
 
+#include "diagnostics/conformal_symplectic_diagnostic.hpp"
+#include "diagnostics/dissipation_drift_diagnostic.hpp"
+#include "diagnostics/error_diagnostic.hpp"
+#include "diagnostics/invariants_diagnostic.hpp"
+#include "diagnostics/momentum_diagnostic.hpp"
+#include "diagnostics/order_diagnostic.hpp"
+#include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "harness/matrix/matrix.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/run/runner.hpp"
@@ -15,6 +22,16 @@
 namespace dampsym {
 namespace matrix_detail {
 namespace {
+
+// The battery's cases name diagnostics and metrics by the names the diagnostics declare.
+template <class D>
+std::string name_of() {
+    return std::string(D::name);
+}
+template <class D>
+std::string metric_of(std::string_view rest) {
+    return name_of<D>() + "." + std::string(rest);
+}
 
 CheckSpec criterion(CheckOp op, double value, double tol = 0.0, bool use_abs = false) {
     CheckSpec c;
@@ -54,7 +71,7 @@ void order_property(std::vector<Property>& p) {
     o.case_json = {{"problem", {{"id", "pendulum"}, {"gamma", 0.1}, {"q0", 1.0}, {"p0", 0.0}}},
                    {"t_end", 10.0},
                    {"reference", {{"epsrel", 1e-14}, {"epsabs", 1e-15}}},
-                   {"diagnostics", {"error", "order"}}};
+                   {"diagnostics", {name_of<ErrorDiagnostic>(), name_of<OrderDiagnostic>()}}};
     o.criterion = criterion(CheckOp::near, 0.0, 0.1); // value: the declared order
     o.criterion_text = "|slope − declared order| ≤ 0.1";
     p.push_back(o);
@@ -62,7 +79,7 @@ void order_property(std::vector<Property>& p) {
 
 // E_n on the damped pendulum and on Hill's equation.
 void en_properties(std::vector<Property>& p) {
-    const json cs_diag = {"conformal-symplectic"};
+    const json cs_diag = {name_of<ConformalSymplecticDiagnostic>()};
     Property e;
     e.id = "en-pendulum";
     e.header = "E_n pendulum";
@@ -74,7 +91,7 @@ void en_properties(std::vector<Property>& p) {
                    {"t_end", 50.0},
                    {"dt", 0.5},
                    {"diagnostics", cs_diag}};
-    e.metric = "conformal-symplectic.max_rel";
+    e.metric = metric_of<ConformalSymplecticDiagnostic>("max_rel");
     e.criterion = criterion(CheckOp::le, 1e-13);
     e.claim = claim_conformal_symplectic;
     e.controls_must_fail = true;
@@ -94,7 +111,7 @@ void en_properties(std::vector<Property>& p) {
 
 // E_n on the undamped pendulum.
 void en_undamped_property(std::vector<Property>& p) {
-    const json cs_diag = {"conformal-symplectic"};
+    const json cs_diag = {name_of<ConformalSymplecticDiagnostic>()};
     Property e;
     e.id = "en-pendulum-undamped";
     e.header = "E_n pendulum γ = 0";
@@ -107,7 +124,7 @@ void en_undamped_property(std::vector<Property>& p) {
                    {"t_end", 50.0},
                    {"dt", 0.5},
                    {"diagnostics", cs_diag}};
-    e.metric = "conformal-symplectic.max_rel";
+    e.metric = metric_of<ConformalSymplecticDiagnostic>("max_rel");
     e.criterion = criterion(CheckOp::le, 1e-13);
     e.claim = claim_conformal_symplectic | claim_symplectic_if_undamped;
     e.criterion_text = "max_n E_n ≤ 1e-13";
@@ -129,8 +146,8 @@ void hgamma_property(std::vector<Property>& p) {
          {{"id", "oscillator"}, {"omega", 1.0}, {"gamma", 0.025}, {"q0", 1.0}, {"p0", 0.0}}},
         {"t_end", 10.0},
         {"dt", 0.1},
-        {"diagnostics", {"invariants"}}};
-    h.metric = "invariants.H_gamma.max_step_res";
+        {"diagnostics", {name_of<InvariantsDiagnostic>()}}};
+    h.metric = metric_of<InvariantsDiagnostic>("H_gamma.max_step_res");
     h.criterion = criterion(CheckOp::le, 1e-13);
     h.claim = claim_conformal_quadratic;
     h.criterion_text = "max per-step residual ≤ 1e-13";
@@ -151,8 +168,9 @@ void momentum_properties(std::vector<Property>& p) {
     n.case_json = {{"problem", {{"id", "nbody"}, {"gamma", 0.1}}},
                    {"t_end", 2.5},
                    {"dt", 0.05},
-                   {"diagnostics", {"momentum"}}};
-    n.metric = "momentum.linear.max_law_res"; // max_table_res for the Cayley claim
+                   {"diagnostics", {name_of<MomentumDiagnostic>()}}};
+    n.metric =
+        metric_of<MomentumDiagnostic>("linear.max_law_res"); // max_table_res for the Cayley claim
     n.criterion = criterion(CheckOp::le, 1e-13);
     n.claim = claim_linear_momentum | claim_linear_momentum_cayley;
     n.criterion_text = "max per-step residual of the claimed factor ≤ 1e-13 (unclaimed: "
@@ -161,7 +179,7 @@ void momentum_properties(std::vector<Property>& p) {
     n.id = "angular-momentum";
     n.header = "Σq×p law (N-body)";
     n.title = "angular momentum per step on the damped 3-body problem: e^{-2γh}";
-    n.metric = "momentum.angular.max_law_res";
+    n.metric = metric_of<MomentumDiagnostic>("angular.max_law_res");
     n.criterion = criterion(CheckOp::le, 1e-12);
     n.claim = claim_angular_momentum;
     n.criterion_text = "max per-step residual ≤ 1e-12";
@@ -189,8 +207,8 @@ void quadratic_property(std::vector<Property>& p) {
                      {"z3", 0.0}}},
                    {"t_end", 1000.0},
                    {"dt", 0.1},
-                   {"diagnostics", {"invariants"}}};
-    r.metric = "invariants.casimir.ratio_dev_slope";
+                   {"diagnostics", {name_of<InvariantsDiagnostic>()}}};
+    r.metric = metric_of<InvariantsDiagnostic>("casimir.ratio_dev_slope");
     r.criterion = criterion(CheckOp::le, 1e-11, 0.0, true);
     r.claim = claim_g_symplectic | claim_conformal_quadratic;
     r.criterion_text = "|slope| ≤ 1e-11 per unit time";
@@ -209,8 +227,8 @@ void drift_property(std::vector<Property>& p) {
     d.case_json = {{"problem", {{"id", "oscillator"}, {"omega", 1.0}, {"gamma", 0.005}}},
                    {"t_end", 1000.0},
                    {"dt", 0.5},
-                   {"diagnostics", {"dissipation-drift"}}};
-    d.metric = "dissipation-drift.slope";
+                   {"diagnostics", {name_of<DissipationDriftDiagnostic>()}}};
+    d.metric = metric_of<DissipationDriftDiagnostic>("slope");
     d.criterion = criterion(CheckOp::le, 1e-4, 0.0, true);
     d.claim = claim_conformal_symplectic;
     d.criterion_text = "|slope| ≤ 1e-4";
@@ -234,7 +252,7 @@ void threshold_property(std::vector<Property>& p) {
     s.case_json = {{"problem", {{"id", "oscillator"}, {"omega", 3.51}, {"gamma", 1.0}}},
                    {"t_end", 1.0},
                    {"dt", 0.1},
-                   {"diagnostics", {"stability-sweep"}},
+                   {"diagnostics", {name_of<StabilitySweepDiagnostic>()}},
                    {"stability_sweep",
                     {{"omega", 3.51}, {"gamma", {0.0, 3.5, 0.25}}, {"h", {0.025, 1.0, 0.025}}}}};
     s.criterion = criterion(CheckOp::le, 1.0);

@@ -4,9 +4,13 @@
 // (docs/matrix.md). The battery is matrix/battery.cpp, the Markdown table matrix/render.cpp.
 #include "harness/matrix/matrix.hpp"
 
+#include "diagnostics/conformal_symplectic_diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/momentum_diagnostic.hpp"
+#include "diagnostics/order_diagnostic.hpp"
 #include "diagnostics/order_fit.hpp"
 #include "diagnostics/stability.hpp"
+#include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "harness/matrix/battery.hpp"
 #include "harness/problem_info.hpp"
 #include "harness/run/runner.hpp"
@@ -44,7 +48,8 @@ const json* dotted(const json& root, const std::string& path) {
 }
 
 // The method-level metrics of diagnostic `diag` of method m in a case's report, or nullptr.
-const json* method_metric(const json& c, const MethodInfo& m, const std::string& diag) {
+const json* method_metric(const json& c, const MethodInfo& m, std::string_view diag_name) {
+    const std::string diag(diag_name);
     const std::string id(m.id); // ids may hold characters dotted() would split on
     if (!c.contains("method_metrics") || !c["method_metrics"].contains(id)) return nullptr;
     const json& mm = c["method_metrics"][id];
@@ -89,7 +94,7 @@ Cell judge_run_metric(const Property& p, const MethodInfo& m, const json& run) {
     std::string metric = p.metric;
     if (p.id == "linear-momentum" && (m.claims & claim_linear_momentum_cayley) != 0 &&
         (m.claims & claim_linear_momentum) == 0) {
-        metric = "momentum.linear.max_table_res";
+        metric = std::string(MomentumDiagnostic::name) + ".linear.max_table_res";
         cell.extra["law"] = "e^{-gamma h}(2 - gamma h)/(2 + gamma h) (B Table 3.1)";
     } else if (p.id == "linear-momentum") {
         cell.extra["law"] = "e^{-2 gamma h}";
@@ -121,8 +126,9 @@ Cell judge_run_metric(const Property& p, const MethodInfo& m, const json& run) {
         // A plugin's E_n from central differences of its step (methods/plugin_kernel.hpp): the
         // entries of Ψ are good to about ε^{2/3} ≈ 4e-11 relative, so the round-off criterion
         // becomes 1e-8 (docs/plugins.md); the cell says so.
-        const json* src = dotted(run["metrics"], "conformal-symplectic.jacobian");
-        if (metric == "conformal-symplectic.max_rel" && src && src->is_string() &&
+        const std::string cs(ConformalSymplecticDiagnostic::name);
+        const json* src = dotted(run["metrics"], cs + ".jacobian");
+        if (metric == cs + ".max_rel" && src && src->is_string() &&
             src->get<std::string>() == "central-differences" && crit.op == CheckOp::le) {
             crit.value = std::max(crit.value, 1e-8);
             cell.extra["jacobian"] = "central differences (criterion 1e-8)";
@@ -173,7 +179,7 @@ Cell judge_order(const Property& p, const MethodInfo& m, const json& c) {
     Cell cell;
     cell.extra["declared"] = m.order;
     cell.extra["ladder"] = order_ladder(m.order);
-    const json* fit = method_metric(c, m, "order");
+    const json* fit = method_metric(c, m, OrderDiagnostic::name);
     const bool fit_ok = fit && fit->value("status", std::string("ok")) == "ok";
     if (fit_ok && fit->contains("slope") && (*fit)["slope"].is_number()) {
         cell.value = (*fit)["slope"].get<double>();
@@ -204,7 +210,7 @@ Cell judge_order(const Property& p, const MethodInfo& m, const json& c) {
 
 Cell judge_threshold(const Property& p, const MethodInfo& m, const json& c) {
     Cell cell;
-    const json* s = method_metric(c, m, "stability-sweep");
+    const json* s = method_metric(c, m, StabilitySweepDiagnostic::name);
     if (!s) {
         cell.detail = "no sweep";
         return cell;

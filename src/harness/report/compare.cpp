@@ -1,5 +1,6 @@
 #include "harness/report/compare.hpp"
 
+#include "diagnostics/order_diagnostic.hpp"
 #include "harness/case/case.hpp"
 #include "harness/report/compare_input.hpp"
 #include "harness/report/markdown.hpp"
@@ -159,8 +160,9 @@ void compare_method_metrics(const json& a, const json& b, Walker& w) {
         for (auto it = x.begin(); it != x.end(); ++it) diags.insert(it.key());
         for (auto it = y.begin(); it != y.end(); ++it) diags.insert(it.key());
         for (const auto& d : diags) {
-            const std::string kind =
-                d == "order" || d == "local-order" ? "order fit" : "method metric";
+            const std::string kind = d == OrderDiagnostic::name || d == LocalOrderDiagnostic::name
+                                         ? "order fit"
+                                         : "method metric";
             const std::string p = "method_metrics." + d;
             if (!x.contains(d))
                 w.row(kind + " added", p, nullptr, y[d]);

@@ -1,5 +1,6 @@
 #include "harness/report/report.hpp"
 
+#include "diagnostics/order_diagnostic.hpp"
 #include "harness/ci/junit.hpp"
 #include "harness/report/markdown.hpp"
 #include "harness/report/tables.hpp"
@@ -256,8 +257,9 @@ void case_tables(std::ostringstream& os, const json& c, const json* t) {
         os << folded(tos.str(), summary);
     };
     part("Measures", [&](std::ostringstream& o) { measures_table(o, c); });
-    part("Convergence", [&](std::ostringstream& o) { order_table(o, c, "order"); });
-    part("Local error", [&](std::ostringstream& o) { order_table(o, c, "local-order"); });
+    part("Convergence", [&](std::ostringstream& o) { order_table(o, c, OrderDiagnostic::name); });
+    part("Local error",
+         [&](std::ostringstream& o) { order_table(o, c, LocalOrderDiagnostic::name); });
     part("Structure metrics per run", [&](std::ostringstream& o) { metrics_table(o, c); });
     part("Stability sweep", [&](std::ostringstream& o) { sweep_table(o, c); });
     part("Work-precision", [&](std::ostringstream& o) { work_precision_table(o, c, t); });

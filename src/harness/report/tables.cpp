@@ -3,6 +3,9 @@
 // from the diagnostic registry, src/diagnostics/diagnostic.hpp).
 #include "harness/report/tables.hpp"
 
+#include "diagnostics/error_diagnostic.hpp"
+#include "diagnostics/order_diagnostic.hpp"
+#include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "harness/case/case.hpp"
 #include "harness/report/markdown.hpp"
 
@@ -93,12 +96,13 @@ void measures_table(std::ostringstream& os, const json& c) {
 }
 
 // diag: "order" (global error at t_end) or "local-order" (one-step error, slope p + 1).
-void order_table(std::ostringstream& os, const json& c, const char* diag) {
+void order_table(std::ostringstream& os, const json& c, std::string_view diag_name) {
+    const std::string diag(diag_name);
     bool any = false;
     for (auto it = c["method_metrics"].begin(); it != c["method_metrics"].end(); ++it)
         if (it.value().contains(diag)) any = true;
     if (!any) return;
-    const bool global = std::string(diag) == "order";
+    const bool global = diag == OrderDiagnostic::name;
     os << (global ? "\nConvergence (least-squares slope of log error vs log dt over the "
                     "asymptotic window):\n\n"
                   : "\nLocal error (one step from the initial state against the exact solution; "
@@ -124,8 +128,9 @@ void order_table(std::ostringstream& os, const json& c, const char* diag) {
 
 void sweep_table(std::ostringstream& os, const json& c) {
     for (auto it = c["method_metrics"].begin(); it != c["method_metrics"].end(); ++it) {
-        if (!it.value().contains("stability-sweep")) continue;
-        const json& s = it.value()["stability-sweep"];
+        const std::string sweep(StabilitySweepDiagnostic::name);
+        if (!it.value().contains(sweep)) continue;
+        const json& s = it.value()[sweep];
         os << "\nStability sweep of " << it.key() << " (ω = " << num(s["omega"])
            << "): first grid h where F's condition |½trM| < e^{−γh} fails (empirical, and by "
            << (s.contains("formula_source") ? s["formula_source"].get<std::string>()
@@ -161,11 +166,12 @@ void work_precision_table(std::ostringstream& os, const json& c, const json* t) 
         const json& r = c["runs"][i];
         if (r["status"] == "not-applicable") continue;
         const json& m = r["metrics"];
-        const bool has_err = m.contains("error");
+        const std::string err(ErrorDiagnostic::name);
+        const bool has_err = m.contains(err);
         const json* tm = timing(i);
         const bool timed = tm != nullptr;
         os << "| " << md_cell(r["method"].get<std::string>()) << " | " << num(r["dt"]) << " | "
-           << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
+           << (has_err ? num(m[err]["final_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
            << (timed ? num((*tm)["wall_seconds_min"], 3) : md_cell(r["status"].get<std::string>()))
            << " | " << (timed ? num((*tm)["ns_per_step"], 3) : "—") << " | "
@@ -181,15 +187,16 @@ void runs_table(std::ostringstream& os, const json& c, const json* t) {
         const json& r = c["runs"][i];
         const json* tr = t && i < (*t)["runs"].size() ? &(*t)["runs"][i] : nullptr;
         const json& m = r["metrics"];
-        const bool has_err = m.contains("error");
+        const std::string err(ErrorDiagnostic::name);
+        const bool has_err = m.contains(err);
         std::string status = r["status"].get<std::string>();
         if (r.contains("failed_at_step")) status += " at step " + r["failed_at_step"].dump();
         const std::string mark =
             r.contains("coefficients_refuted") ? " ⚠ coefficients refuted" : "";
         os << "| " << md_cell(r["method"].get<std::string>() + mark) << " | " << num(r["dt"])
            << " | " << md_cell(status) << " | " << num(r["steps"]) << " | "
-           << (has_err ? num(m["error"]["final_abs"], 3) : "—") << " | "
-           << (has_err ? num(m["error"]["max_abs"], 3) : "—") << " | "
+           << (has_err ? num(m[err]["final_abs"], 3) : "—") << " | "
+           << (has_err ? num(m[err]["max_abs"], 3) : "—") << " | "
            << (r.contains("rhs_evals") ? num(r["rhs_evals"]) : "—") << " | "
            << (r.contains("newton_iters") ? num(r["newton_iters"]) : "—") << " | "
            << (tr && tr->contains("wall_seconds") ? num((*tr)["wall_seconds"], 3) : "—") << " |\n";

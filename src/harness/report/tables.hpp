@@ -17,7 +17,7 @@ std::string expected_text(const json& ck);
 std::string check_line(const json& ck, const char* result = nullptr);
 void measures_table(std::ostringstream& os, const json& c);
 // diag: "order" (global error at t_end) or "local-order" (one-step error, slope p + 1).
-void order_table(std::ostringstream& os, const json& c, const char* diag);
+void order_table(std::ostringstream& os, const json& c, std::string_view diag);
 void sweep_table(std::ostringstream& os, const json& c);
 void work_precision_table(std::ostringstream& os, const json& c, const json* t);
 void runs_table(std::ostringstream& os, const json& c, const json* t);

@@ -1,6 +1,9 @@
 #include "harness/run/case_run.hpp"
 
+#include "diagnostics/error_diagnostic.hpp"
+#include "diagnostics/local_error_diagnostic.hpp"
 #include "diagnostics/order_diagnostic.hpp"
+#include "diagnostics/stability_sweep_diagnostic.hpp"
 #include "harness/problem_info.hpp"
 
 #include <algorithm>
@@ -148,9 +151,13 @@ double CaseRun::solution_scale(bool global) const {
 // Order fits (method level): "order" from the global error of each run of the ladder,
 // "local-order" from the one-step error (B Fig 3.2; the exact solution, no reference error).
 void CaseRun::order_fits() {
-    for (const char* diag : {"order", "local-order"}) {
+    for (const std::string_view diag_name : {OrderDiagnostic::name, LocalOrderDiagnostic::name}) {
+        const std::string diag(diag_name);
         if (!c_.wants(diag)) continue;
-        const bool global = std::string(diag) == "order";
+        const bool global = diag_name == OrderDiagnostic::name;
+        // the error each fit reads: at t_end (global), or after one step (local)
+        const std::string error_metric = global ? std::string(ErrorDiagnostic::name) + ".final_abs"
+                                                : std::string(LocalErrorDiagnostic::name) + ".abs";
         // Round-off floor, and conventions §4: no fit uses an error within 100× the reference's
         // estimate.
         const double roundoff = 1000.0 * std::numeric_limits<double>::epsilon() *
@@ -163,8 +170,7 @@ void CaseRun::order_fits() {
             std::vector<OrderPoint> pts;
             for (std::size_t d = 0; d < c_.dts.size(); ++d) {
                 const json& r = run_slot(m, d);
-                const json* e =
-                    lookup(r["metrics"], global ? "error.final_abs" : "local-error.abs");
+                const json* e = lookup(r["metrics"], error_metric);
                 pts.push_back({c_.dts[d], e && e->is_number()
                                               ? e->get<double>()
                                               : std::numeric_limits<double>::quiet_NaN()});
@@ -176,9 +182,10 @@ void CaseRun::order_fits() {
 
 json CaseRun::finish() {
     // Stability sweeps (method level) from their row tasks, in grid order.
-    if (c_.wants("stability-sweep") && sweep_rows_.size() == c_.methods.size())
+    const std::string sweep(StabilitySweepDiagnostic::name);
+    if (c_.wants(sweep) && sweep_rows_.size() == c_.methods.size())
         for (std::size_t m = 0; m < c_.methods.size(); ++m)
-            method_metrics_[m]["stability-sweep"] =
+            method_metrics_[m][sweep] =
                 sweep_json(method(m), c_.sweep->omega, sweep_gammas_, sweep_hs_, sweep_rows_[m]);
     order_fits();
     return case_json(evaluate_checks(c_, runs_, method_metrics_, reference_, facts_.reference_ok));

@@ -4,6 +4,7 @@
 // diagnostic registry (diagnostics/diagnostic.hpp).
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/order_diagnostic.hpp"
 #include "diagnostics/order_fit.hpp"
 #include "harness/run/case_run.hpp"
 
@@ -42,7 +43,8 @@ std::string undefined_reason(const json& metrics, const std::string& metric) {
 // An order check (`near` on an order fit's slope) fails when the fit's finest steps disagree with
 // its slope beyond the check's tolerance (diagnostics/order_fit.hpp).
 std::string finest_disagreement(const CheckSpec& cs, const json& metrics, const std::string& diag) {
-    if (cs.op != CheckOp::near || (diag != "order" && diag != "local-order") ||
+    if (cs.op != CheckOp::near ||
+        (diag != OrderDiagnostic::name && diag != LocalOrderDiagnostic::name) ||
         cs.metric != diag + ".slope" || !metrics.contains(diag))
         return {};
     const json& fit = metrics[diag];

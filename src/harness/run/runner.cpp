@@ -1,5 +1,6 @@
 #include "harness/run/runner.hpp"
 
+#include "diagnostics/cost_diagnostic.hpp"
 #include "harness/case/figures_key.hpp"
 #include "harness/report/report.hpp"
 #include "harness/run/case_job.hpp"
@@ -196,8 +197,9 @@ json take_timings(json& out_cases) {
                 t["timing"] = std::move(r["timing"]);
                 r.erase("timing");
             }
-            if (r.contains("metrics") && r["metrics"].contains("cost"))
-                r["metrics"]["cost"].erase("wall_seconds");
+            const std::string cost(CostDiagnostic::name);
+            if (r.contains("metrics") && r["metrics"].contains(cost))
+                r["metrics"][cost].erase("wall_seconds");
             runs.push_back(std::move(t));
         }
         cases.push_back({{"id", c["id"]}, {"runs_wall_seconds", sum}, {"runs", std::move(runs)}});
