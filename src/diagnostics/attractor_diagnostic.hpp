@@ -14,6 +14,7 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <array>
 #include <functional>
@@ -44,6 +45,10 @@ struct AttractorDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 json attractor_metrics(const CaseFacts& c, const Mat& grid, std::string_view probe_name,
@@ -55,6 +60,38 @@ json AttractorDiagnostic::produce(const V& run) {
     const auto& p = run.problem;
     return attractor_metrics(run.facts, run.grid(), P::probe_name,
                              [&p](const Vec& v) { return p.probe(v); });
+}
+
+// B Fig 5.10: the attractor diagnostic's probe on the output grid (the whole run: the transient
+// too; the statistics are of its second half), and the probe as a point of its plane at (at most
+// kPortraitPoints) output times.
+template <class G>
+void AttractorDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    using P = typename G::Problem;
+    using json = nlohmann::json;
+    const std::string key(name);
+    if constexpr (HasProbe<P>) {
+        MinMaxDecimator d(g.cols() - 1);
+        for (Eigen::Index i = 1; i < g.cols(); ++i) d.push(g.t(i), g.problem.probe(g.grid.col(i)));
+        json j = d.to_json();
+        j["probe"] = std::string(P::probe_name);
+        s[key + ".probe"] = j;
+    }
+    if constexpr (HasProbePlane<P>) {
+        StrideSampler pick(g.cols() - 1, kPortraitPoints);
+        json t = json::array(), pts = json::array();
+        for (Eigen::Index i = 1; i < g.cols(); ++i) {
+            if (!pick.wants(i - 1)) continue;
+            const auto xy = g.problem.probe_plane(g.grid.col(i));
+            t.push_back(g.t(i));
+            pts.push_back({drawn_value(xy[0]), drawn_value(xy[1])});
+        }
+        s[key + ".plane"] = {
+            {"t", t},
+            {"points", pts},
+            {"names", {std::string(P::probe_plane_names[0]), std::string(P::probe_plane_names[1])}},
+            {"stride", pick.stride()}};
+    }
 }
 
 } // namespace dampsym

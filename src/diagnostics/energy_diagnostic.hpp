@@ -5,6 +5,7 @@
 #include "core/problem_concepts.hpp"
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <functional>
 #include <string_view>
@@ -20,6 +21,10 @@ struct EnergyDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 // A scalar function of the state (the problem's energy, energy scale or temperature), passed to
@@ -35,6 +40,27 @@ json EnergyDiagnostic::produce(const V& run) {
     return energy_metrics(
         run.facts, run.grid(), [&p](const Vec& v) { return p.energy(v); },
         [&p](const Vec& v) { return p.energy_scale(v); });
+}
+
+// energy: H on the grid, its change relative to the scale (the residual) and its error.
+template <class G>
+void EnergyDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    using P = typename G::Problem;
+    if constexpr (P::has_energy) {
+        const std::string key(name);
+        const double e0 = g.problem.energy(g.grid.col(0));
+        const double s0 = g.problem.energy_scale(g.grid.col(0));
+        MinMaxDecimator change(g.cols()), err(g.cols()), raw(g.cols());
+        for (Eigen::Index i = 0; i < g.cols(); ++i) {
+            const double en = g.problem.energy(g.grid.col(i));
+            raw.push(g.t(i), en);
+            change.push(g.t(i), scale_defined(s0) ? (en - e0) / s0 : 0.0);
+            if (g.ref_on_grid) err.push(g.t(i), g.problem.energy(g.ref.col(i)) - en);
+        }
+        s[key + ".value"] = raw.to_json();
+        s[key + ".change_res"] = change.to_json();
+        if (g.ref_on_grid) s[key + ".error"] = err.to_json();
+    }
 }
 
 } // namespace dampsym

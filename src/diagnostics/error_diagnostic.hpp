@@ -4,6 +4,7 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <string>
 #include <string_view>
@@ -19,6 +20,10 @@ struct ErrorDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 // The running reduction of the error over the output grid t_1..t_end: fed one grid point
@@ -50,6 +55,16 @@ template <class V>
 json ErrorDiagnostic::produce(const V& run) {
     return run.stream ? run.stream->error_metrics(run.z)
                       : error_metrics(run.facts, run.stored_grid, run.z);
+}
+
+// error: |z_n − z(t_n)| on the grid, and each measure's pointwise value.
+template <class G>
+void ErrorDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    if (!g.ref_on_grid) return;
+    MinMaxDecimator e(g.cols() - 1);
+    for (Eigen::Index i = 1; i < g.cols(); ++i)
+        e.push(g.t(i), (g.grid.col(i) - g.ref.col(i)).norm());
+    s[std::string(name) + ".abs"] = e.to_json();
 }
 
 } // namespace dampsym

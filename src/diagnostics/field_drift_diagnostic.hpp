@@ -9,6 +9,7 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <functional>
 #include <string_view>
@@ -30,6 +31,10 @@ struct FieldDriftDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 // From the output grid: Gamma(t) the problem's Γ, n the field size.
@@ -41,6 +46,25 @@ json FieldDriftDiagnostic::produce(const V& run) {
     const auto& p = run.problem;
     return field_drift_metrics(run.facts, run.grid(), p.field_size(),
                                [&p](double t) { return p.Gamma(t); });
+}
+
+// d(t) = ln max_x u + Γ(t) − Γ(t0) of field_drift_metrics, B (5.6); up to the first output time
+// where max_x u <= 0 (where the metric is undefined).
+template <class G>
+void FieldDriftDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    using P = typename G::Problem;
+    if constexpr (HasField<P>) {
+        if (g.cols() <= 2) return;
+        const int n = g.problem.field_size();
+        const double gamma0 = g.problem.Gamma(g.c.t0);
+        MinMaxDecimator d(g.cols() - 1);
+        for (Eigen::Index i = 1; i < g.cols() && n >= 1 && n <= g.grid.rows(); ++i) {
+            const double m = g.grid.col(i).head(n).maxCoeff();
+            if (!(m > 0.0)) break;
+            d.push(g.t(i), std::log(m) + (g.problem.Gamma(g.t(i)) - gamma0));
+        }
+        s[std::string(name) + ".d"] = d.to_json();
+    }
 }
 
 } // namespace dampsym

@@ -8,6 +8,7 @@
 
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <functional>
 #include <string_view>
@@ -30,6 +31,10 @@ struct PdeErrorDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 // From the output grid: solution(t, out) the problem's pde_solution from the case's start.
@@ -42,6 +47,30 @@ json PdeErrorDiagnostic::produce(const V& run) {
     const double t0 = run.t0;
     return pde_error_metrics(run.facts, run.grid(),
                              [&p, t0](double t, Vec& u) { return p.pde_solution(t0, t, u); });
+}
+
+// B Fig 5.4: the field and the PDE's solution at the output times (at most 9; full precision:
+// figures.data recomputes pde-error.max_abs from them).
+template <class G>
+void PdeErrorDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    using P = typename G::Problem;
+    using json = nlohmann::json;
+    if constexpr (HasPdeSolution<P>) {
+        StrideSampler pick(g.cols(), 9);
+        json ts = json::array(), us = json::array(), ps = json::array(), xs = json::array();
+        Vec v;
+        for (Eigen::Index i = 0; i < g.cols(); ++i) {
+            if (!pick.wants(i)) continue;
+            if (!g.problem.pde_solution(g.c.t0, g.t(i), v) || v.size() > g.grid.rows()) break;
+            ts.push_back(g.t(i));
+            us.push_back(
+                std::vector<double>(g.grid.col(i).data(), g.grid.col(i).data() + v.size()));
+            ps.push_back(std::vector<double>(v.data(), v.data() + v.size()));
+        }
+        if constexpr (requires { g.problem.grid.x(0); })
+            for (int n = 0; n < g.problem.dim(); ++n) xs.push_back(g.problem.grid.x(n));
+        s["snapshots"] = {{"t", ts}, {"u", us}, {"pde", ps}, {"x", xs}};
+    }
 }
 
 } // namespace dampsym

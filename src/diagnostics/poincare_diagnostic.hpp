@@ -5,6 +5,7 @@
 #include "diagnostics/capabilities.hpp"
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <optional>
 #include <string_view>
@@ -20,6 +21,10 @@ struct PoincareDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 // period: the problem's forcing period (none: the problem has no periodic forcing).
@@ -28,6 +33,23 @@ json poincare_metrics(const CaseFacts& c, const Mat& grid, std::optional<double>
 template <class V>
 json PoincareDiagnostic::produce(const V& run) {
     return poincare_metrics(run.facts, run.grid(), run.problem.forcing_period());
+}
+
+// B §3.2.2: the Poincaré section's points (q mod 2π, p) of the run and of the reference.
+template <class G>
+void PoincareDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    using json = nlohmann::json;
+    auto section = [](const Mat& m) {
+        json q = json::array(), p = json::array();
+        for (Eigen::Index i = 0; i < m.cols(); ++i) {
+            q.push_back(std::remainder(m(0, i), 2.0 * M_PI));
+            p.push_back(m(1, i));
+        }
+        return json{{"q", q}, {"p", p}};
+    };
+    const std::string key(name);
+    s[key] = section(g.grid);
+    if (g.ref_on_grid) s[key + "_reference"] = section(g.ref);
 }
 
 } // namespace dampsym

@@ -6,6 +6,7 @@
 #include "diagnostics/diagnostic.hpp"
 #include "diagnostics/energy_diagnostic.hpp"
 #include "diagnostics/metric_json.hpp"
+#include "diagnostics/series.hpp"
 
 #include <string_view>
 
@@ -20,6 +21,10 @@ struct TemperatureDiagnostic {
     // facts, the recorder and grid, the method, h, the final state, the counters).
     template <class V>
     static json produce(const V& run);
+    // With --figures: its series on the measured run's output grid (harness/figures/series.hpp
+    // GridSeries: the problem, the case, the grid and its times, the reference on the grid).
+    template <class G>
+    static void grid_series(const G& g, nlohmann::json& s);
 };
 
 // temperature: the problem's (empty: it declares none).
@@ -30,6 +35,18 @@ json TemperatureDiagnostic::produce(const V& run) {
     const auto& p = run.problem;
     return temperature_metrics(run.facts, run.grid(),
                                [&p](const Vec& v) { return p.temperature(v); });
+}
+
+// temperature, HLW (3.8), on the grid.
+template <class G>
+void TemperatureDiagnostic::grid_series(const G& g, nlohmann::json& s) {
+    using P = typename G::Problem;
+    if constexpr (HasTemperature<P>) {
+        MinMaxDecimator temp(g.cols());
+        for (Eigen::Index i = 0; i < g.cols(); ++i)
+            temp.push(g.t(i), g.problem.temperature(g.grid.col(i)));
+        s[std::string(name)] = temp.to_json();
+    }
 }
 
 } // namespace dampsym

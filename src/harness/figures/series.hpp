@@ -112,151 +112,20 @@ void measure_pointwise_series(const P& problem, const CaseSpec& c, const Mat& gr
     }
 }
 
-// What a run's series are drawn from: the measured run's output grid, its times, the reference on
-// the same grid (ref_on_grid false when the reference is not on it) and the oscillation maxima.
+// What a run's series are drawn from: the measured run's output grid, its times and the reference
+// on the same grid (ref_on_grid false when the reference is not on it).
 template <class P>
 struct GridSeries {
+    using Problem = P;
     const P& problem;
     const CaseSpec& c;
     const Mat& grid;
     const std::vector<double>& grid_t;
     const Mat& ref;
     bool ref_on_grid;
-    const std::vector<Maximum>& maxima;
     Eigen::Index cols() const { return grid.cols(); }
     double t(Eigen::Index i) const { return grid_t[static_cast<std::size_t>(i)]; }
 };
-
-// error: |z_n − z(t_n)| on the grid, and each measure's pointwise value.
-template <class P>
-void error_series(const GridSeries<P>& g, nlohmann::json& s) {
-    if (!g.ref_on_grid) return;
-    MinMaxDecimator e(g.cols() - 1);
-    for (Eigen::Index i = 1; i < g.cols(); ++i)
-        e.push(g.t(i), (g.grid.col(i) - g.ref.col(i)).norm());
-    s[std::string(ErrorDiagnostic::name) + ".abs"] = e.to_json();
-    measure_pointwise_series(g.problem, g.c, g.grid, g.grid_t, g.ref, s);
-}
-
-// energy: H on the grid, its change relative to the scale (the residual) and its error.
-template <class P>
-void energy_series(const GridSeries<P>& g, nlohmann::json& s) {
-    if constexpr (P::has_energy) {
-        const std::string name(EnergyDiagnostic::name);
-        const double e0 = g.problem.energy(g.grid.col(0));
-        const double s0 = g.problem.energy_scale(g.grid.col(0));
-        MinMaxDecimator change(g.cols()), err(g.cols()), raw(g.cols());
-        for (Eigen::Index i = 0; i < g.cols(); ++i) {
-            const double en = g.problem.energy(g.grid.col(i));
-            raw.push(g.t(i), en);
-            change.push(g.t(i), scale_defined(s0) ? (en - e0) / s0 : 0.0);
-            if (g.ref_on_grid) err.push(g.t(i), g.problem.energy(g.ref.col(i)) - en);
-        }
-        s[name + ".value"] = raw.to_json();
-        s[name + ".change_res"] = change.to_json();
-        if (g.ref_on_grid) s[name + ".error"] = err.to_json();
-    }
-}
-
-// temperature, HLW (3.8), on the grid.
-template <class P>
-void temperature_series(const GridSeries<P>& g, nlohmann::json& s) {
-    if constexpr (HasTemperature<P>) {
-        MinMaxDecimator temp(g.cols());
-        for (Eigen::Index i = 0; i < g.cols(); ++i)
-            temp.push(g.t(i), g.problem.temperature(g.grid.col(i)));
-        s[std::string(TemperatureDiagnostic::name)] = temp.to_json();
-    }
-}
-
-// B Fig 5.4: the field and the PDE's solution at the output times (at most 9; full precision:
-// figures.data recomputes pde-error.max_abs from them).
-template <class P>
-void pde_error_series(const GridSeries<P>& g, nlohmann::json& s) {
-    using json = nlohmann::json;
-    if constexpr (HasPdeSolution<P>) {
-        StrideSampler pick(g.cols(), 9);
-        json ts = json::array(), us = json::array(), ps = json::array(), xs = json::array();
-        Vec v;
-        for (Eigen::Index i = 0; i < g.cols(); ++i) {
-            if (!pick.wants(i)) continue;
-            if (!g.problem.pde_solution(g.c.t0, g.t(i), v) || v.size() > g.grid.rows()) break;
-            ts.push_back(g.t(i));
-            us.push_back(
-                std::vector<double>(g.grid.col(i).data(), g.grid.col(i).data() + v.size()));
-            ps.push_back(std::vector<double>(v.data(), v.data() + v.size()));
-        }
-        if constexpr (requires { g.problem.grid.x(0); })
-            for (int n = 0; n < g.problem.dim(); ++n) xs.push_back(g.problem.grid.x(n));
-        s["snapshots"] = {{"t", ts}, {"u", us}, {"pde", ps}, {"x", xs}};
-    }
-}
-
-// d(t) = ln max_x u + Γ(t) − Γ(t0) of field_drift_metrics, B (5.6); up to the first output time
-// where max_x u <= 0 (where the metric is undefined).
-template <class P>
-void field_drift_series(const GridSeries<P>& g, nlohmann::json& s) {
-    if constexpr (HasField<P>) {
-        if (g.cols() <= 2) return;
-        const int n = g.problem.field_size();
-        const double gamma0 = g.problem.Gamma(g.c.t0);
-        MinMaxDecimator d(g.cols() - 1);
-        for (Eigen::Index i = 1; i < g.cols() && n >= 1 && n <= g.grid.rows(); ++i) {
-            const double m = g.grid.col(i).head(n).maxCoeff();
-            if (!(m > 0.0)) break;
-            d.push(g.t(i), std::log(m) + (g.problem.Gamma(g.t(i)) - gamma0));
-        }
-        s[std::string(FieldDriftDiagnostic::name) + ".d"] = d.to_json();
-    }
-}
-
-// B Fig 5.10: the attractor diagnostic's probe on the output grid (the whole run: the transient
-// too; the statistics are of its second half), and the probe as a point of its plane at (at most
-// kPortraitPoints) output times.
-template <class P>
-void attractor_series(const GridSeries<P>& g, nlohmann::json& s) {
-    using json = nlohmann::json;
-    const std::string name(AttractorDiagnostic::name);
-    if constexpr (HasProbe<P>) {
-        MinMaxDecimator d(g.cols() - 1);
-        for (Eigen::Index i = 1; i < g.cols(); ++i) d.push(g.t(i), g.problem.probe(g.grid.col(i)));
-        json j = d.to_json();
-        j["probe"] = std::string(P::probe_name);
-        s[name + ".probe"] = j;
-    }
-    if constexpr (HasProbePlane<P>) {
-        StrideSampler pick(g.cols() - 1, kPortraitPoints);
-        json t = json::array(), pts = json::array();
-        for (Eigen::Index i = 1; i < g.cols(); ++i) {
-            if (!pick.wants(i - 1)) continue;
-            const auto xy = g.problem.probe_plane(g.grid.col(i));
-            t.push_back(g.t(i));
-            pts.push_back({drawn_value(xy[0]), drawn_value(xy[1])});
-        }
-        s[name + ".plane"] = {
-            {"t", t},
-            {"points", pts},
-            {"names", {std::string(P::probe_plane_names[0]), std::string(P::probe_plane_names[1])}},
-            {"stride", pick.stride()}};
-    }
-}
-
-// B §3.2.2: the Poincaré section's points (q mod 2π, p) of the run and of the reference.
-template <class P>
-void poincare_series(const GridSeries<P>& g, nlohmann::json& s) {
-    using json = nlohmann::json;
-    auto section = [](const Mat& m) {
-        json q = json::array(), p = json::array();
-        for (Eigen::Index i = 0; i < m.cols(); ++i) {
-            q.push_back(std::remainder(m(0, i), 2.0 * M_PI));
-            p.push_back(m(1, i));
-        }
-        return json{{"q", q}, {"p", p}};
-    };
-    const std::string name(PoincareDiagnostic::name);
-    s[name] = section(g.grid);
-    if (g.ref_on_grid) s[name + "_reference"] = section(g.ref);
-}
 
 // The orbit and the reference orbit at (at most) kOrbitSamples grid points, unless the figure
 // observer kept the orbit from the steps (orbit_steps).
@@ -285,49 +154,25 @@ void orbit_series(const GridSeries<P>& g, bool orbit_steps, nlohmann::json& s) {
     }
 }
 
-// F (4.4): d(t) at the run's oscillation maxima, and the reference's by the same locator on the
-// reference samples (drift_metrics).
-template <class P>
-void dissipation_drift_series(const GridSeries<P>& g, nlohmann::json& s) {
-    auto maxima_json = [](const std::vector<Maximum>& mx) {
-        MinMaxDecimator d(static_cast<std::int64_t>(mx.size()));
-        for (const auto& m : mx) d.push(m.t, m.d);
-        return d.to_json();
-    };
-    const std::string name(DissipationDriftDiagnostic::name);
-    s[name + ".d"] = maxima_json(g.maxima);
-    if constexpr (HasOneDofMaxima<P>) {
-        if (g.ref_on_grid && g.cols() > 2) {
-            MaximaFinder<P> finder(g.problem, g.c.t0);
-            for (Eigen::Index i = 0; i < g.cols(); ++i) finder.feed(g.t(i), g.ref.col(i));
-            s[name + ".d_reference"] = maxima_json(finder.maxima());
-        }
-    }
-}
-
 // Everything one run keeps for its figures. steps: the series recorded per step (the parts'
 // law series, the figure observer's orbit, the conformal-symplectic pass's E_n series);
 // grid/ref: the measured run's output grid and the reference on the same grid (ref_on_grid false
 // when the reference is not on it); orbit_steps: figure_orbit_from_steps for this grid. The
-// series on the output grid use the formulas of the diagnostics' metrics.
+// series on the output grid are each diagnostic's own (its grid_series, with the formulas of its
+// metrics), the measures' pointwise values and the orbit.
 template <class P>
 nlohmann::json capture_run_series(const P& problem, const CaseSpec& c, nlohmann::json steps,
                                   const Mat& grid, const std::vector<double>& grid_t,
-                                  const Mat& ref, bool ref_on_grid,
-                                  const std::vector<Maximum>& maxima, bool orbit_steps) {
+                                  const Mat& ref, bool ref_on_grid, bool orbit_steps) {
     nlohmann::json s = steps.is_object() ? std::move(steps) : nlohmann::json::object();
-    const GridSeries<P> g{problem, c, grid, grid_t, ref, ref_on_grid, maxima};
-    if (g.cols() > 1) {
-        if (c.wants(ErrorDiagnostic::name)) error_series(g, s);
-        if (c.wants(EnergyDiagnostic::name)) energy_series(g, s);
-        if (c.wants(TemperatureDiagnostic::name)) temperature_series(g, s);
-        if (c.wants(PdeErrorDiagnostic::name)) pde_error_series(g, s);
-        if (c.wants(FieldDriftDiagnostic::name)) field_drift_series(g, s);
-        if (c.wants(AttractorDiagnostic::name)) attractor_series(g, s);
-        if (c.wants(PoincareDiagnostic::name)) poincare_series(g, s);
-        orbit_series(g, orbit_steps, s);
-    }
-    if (c.wants(DissipationDriftDiagnostic::name)) dissipation_drift_series(g, s);
+    const GridSeries<P> g{problem, c, grid, grid_t, ref, ref_on_grid};
+    if (g.cols() <= 1) return s;
+    for_each_type(DiagnosticList{}, [&]<class D>() {
+        if constexpr (requires { D::grid_series(g, s); })
+            if (c.wants(D::name)) D::grid_series(g, s);
+    });
+    if (ref_on_grid) measure_pointwise_series(problem, c, grid, grid_t, ref, s);
+    orbit_series(g, orbit_steps, s);
     return s;
 }
 

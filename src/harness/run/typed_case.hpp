@@ -227,9 +227,9 @@ private:
                 steps[std::string(ConformalSymplecticDiagnostic::name) + ".rel"]["form"] =
                     "structure-matrix";
         }
-        series_[run_index(out)] = capture_run_series(
-            problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
-            recorded_maxima<P>(rec), figure_orbit_from_steps(problem_, c_, g.cols(), n));
+        series_[run_index(out)] =
+            capture_run_series(problem_, c_, std::move(steps), g, times, facts_.ref, ref_on_grid,
+                               figure_orbit_from_steps(problem_, c_, g.cols(), n));
     }
 
     // series: the run keeps figure series (its parts keep theirs from the same computation).
