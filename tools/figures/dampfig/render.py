@@ -174,11 +174,16 @@ def recycle(ctx: Ctx, fig: Any) -> None:
         ax.set_title("")
         ax.set_xlabel("")
         ax.set_ylabel("")
-        ax.set_xscale("linear")
-        ax.set_yscale("linear")
+        # a scale or grid set again costs as much as a changed one (every shared axes and every
+        # tick is updated): only what the figure changed is reset
+        if ax.get_xscale() != "linear":
+            ax.set_xscale("linear")
+        if ax.get_yscale() != "linear":
+            ax.set_yscale("linear")
         ax.set_aspect("auto")
         ax.axis("on")
-        ax.grid(True)  # the default (rcParams above); the stability maps turn it off
+        if not all(a._major_tick_kw.get("gridOn") for a in (ax.xaxis, ax.yaxis)):
+            ax.grid(True)  # the default (rcParams above); the stability maps turn it off
         ax.set_autoscale_on(True)
         ax.relim()
         ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
