@@ -42,7 +42,7 @@ def plan(case: Json, ser: Optional[Json]) -> Tuple[List[str], List[str]]:
     has: Dict[str, bool] = {
         "convergence": len(case["dt_ladder"]) >= 2 and bool(
             fd.convergence_data(case) or fd.local_convergence_data(case)),
-        "series": bool(ser and fd.series_panels(ser)),
+        "series": bool(ser and fd.series_panels(ser, case)),
         "snapshots": any(r["series"].get("snapshots", {}).get("t") for r in runs),
         "orbit": any("orbit" in r["series"] for r in runs),
         "portrait": any("attractor.plane" in r["series"] for r in runs),

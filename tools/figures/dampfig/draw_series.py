@@ -177,7 +177,7 @@ def draw_panel(ctx: Ctx, ax: Any, case: Json, runs: List[Json], panel: Tuple[str
 
 def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     runs = [r for r in ser["runs"] if r["series"]]
-    panels = [p for p in fd.series_panels(ser) if has_data(runs, p[0], p[2])]
+    panels = [p for p in fd.series_panels(ser, case) if has_data(runs, p[0], p[2])]
     keys = [p[0] for p in panels]
     # a measure of the whole state's absolute error is error.abs itself: drawn once
     same = "measure-pointwise.state.abs" in keys and "error.abs" in keys

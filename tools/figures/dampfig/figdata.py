@@ -309,14 +309,31 @@ def component_symbol(component: str) -> str:
     return sym.replace("[", "_{").replace("]", "}")
 
 
-def series_panels(series: Json) -> List[Tuple[str, str, str]]:
+def lawless_momenta(case: Json) -> Set[str]:
+    """The momenta ("linear", "angular") the case's runs measured without a law to check: the
+    momentum diagnostic reports such a part with a reason and no residuals (a body in a central
+    field: Σp is not conserved, momentum_diagnostic.cpp), while its step observer still records
+    the part's series. Decided from the runs' metrics (none reported: nothing is dropped)."""
+    out: Set[str] = set()
+    for part in ("linear", "angular"):
+        reported = [m for r in case.get("runs", [])
+                    for m in [((r.get("metrics") or {}).get("momentum") or {}).get(part)]
+                    if isinstance(m, dict)]
+        if reported and all("reason" in m and "max_law_res" not in m for m in reported):
+            out.add(part)
+    return out
+
+
+def series_panels(series: Json, case: Optional[Json] = None) -> List[Tuple[str, str, str]]:
     """[(key, label, scale)] of the step series present in a case's series file (labels in
-    mathtext)."""
+    mathtext); with the case, without the series of a momentum it has no law for
+    (lawless_momenta)."""
     keys: Set[str] = set()
     forms: Dict[str, str] = {}
+    lawless = tuple(f"momentum.{p}." for p in sorted(lawless_momenta(case))) if case else ()
     for r in series.get("runs", []):
         for k, v in r["series"].items():
-            if isinstance(v, dict) and "y" in v:
+            if isinstance(v, dict) and "y" in v and not (lawless and k.startswith(lawless)):
                 keys.add(k)
                 for attr in ("form", "probe", "component"):
                     if attr in v:

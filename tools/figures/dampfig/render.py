@@ -174,11 +174,16 @@ def recycle(ctx: Ctx, fig: Any) -> None:
         ax.set_title("")
         ax.set_xlabel("")
         ax.set_ylabel("")
-        ax.set_xscale("linear")
-        ax.set_yscale("linear")
+        # a scale or grid set again costs as much as a changed one (every shared axes and every
+        # tick is updated): only what the figure changed is reset
+        if ax.get_xscale() != "linear":
+            ax.set_xscale("linear")
+        if ax.get_yscale() != "linear":
+            ax.set_yscale("linear")
         ax.set_aspect("auto")
         ax.axis("on")
-        ax.grid(True)  # the default (rcParams above); the stability maps turn it off
+        if not all(a._major_tick_kw.get("gridOn") for a in (ax.xaxis, ax.yaxis)):
+            ax.grid(True)  # the default (rcParams above); the stability maps turn it off
         ax.set_autoscale_on(True)
         ax.relim()
         ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
@@ -191,12 +196,62 @@ def recycle(ctx: Ctx, fig: Any) -> None:
     ctx.blank.setdefault(key, []).append((fig, axs))
 
 
-def png_bytes(fig: Any, scratch: Optional[List[Any]] = None) -> bytes:
-    """The figure as savefig draws it, encoded by figdata.encode_png: RGB when opaque. scratch
-    (a list, kept by the caller across figures) holds two byte buffers reused for the copies:
-    fresh 2-8 MB arrays for every figure cost their pages' faults again (a tenth of the process's
-    page faults)."""
+def label_boxes(ax: Any, renderer: Any) -> List[Any]:
+    """The boxes (pixels) of an axes' tick labels and axis labels as last drawn."""
+    out: List[Any] = []
+    for axis in (ax.xaxis, ax.yaxis):
+        ticks = tickmemo.drawn_tick_boxes(axis)
+        if ticks is None:  # without the memo (another matplotlib): measured again
+            box = axis.get_tightbbox(renderer)
+            out += [box] if box is not None else []
+            continue
+        out += ticks
+        if axis.label.get_visible() and axis.label.get_text():
+            out.append(axis.label.get_window_extent(renderer))
+    return out
+
+
+def overhang(fig: Any) -> Tuple[float, float, float]:
+    """Pixels by which the tick labels and axis labels of the last draw reach beyond the
+    figure's left, right and bottom edges (0 where they are inside)."""
+    renderer = fig.canvas.get_renderer()
+    width = fig.bbox.width
+    left = right = bottom = 0.0
+    for ax in fig.axes:
+        if not ax.axison or not ax.get_visible():
+            continue
+        for b in label_boxes(ax, renderer):
+            if 0 < b.width < math.inf and 0 < b.height < math.inf:
+                left, right, bottom = max(left, -b.x0), max(right, b.x1 - width), max(bottom,
+                                                                                  -b.y0)
+    return left, right, bottom
+
+
+def draw_inside(fig: Any) -> None:
+    """Draws the figure on its Agg canvas so that no tick label or axis label is cut off: the
+    margins are fixed fractions (layout(), without measuring text), so when a label reaches
+    beyond the left, right or bottom edge (a one-column panel with wide log tick labels), that
+    margin grows by the overhang and 4 px and the figure is drawn again (a figure whose labels
+    fit is drawn once, as before)."""
     fig.canvas.draw()
+    for _ in range(3):
+        left, right, bottom = overhang(fig)
+        if max(left, right, bottom) <= 0.5:
+            return
+        p, w, h = fig.subplotpars, fig.bbox.width, fig.bbox.height
+        fig.subplots_adjust(left=p.left + (left + 4) / w if left > 0.5 else p.left,
+                            right=p.right - (right + 4) / w if right > 0.5 else p.right,
+                            bottom=p.bottom + (bottom + 4) / h if bottom > 0.5 else p.bottom)
+        fig.canvas.draw()
+
+
+def png_bytes(fig: Any, scratch: Optional[List[Any]] = None, drawn: bool = False) -> bytes:
+    """The figure as savefig draws it (drawn: as the canvas holds it), encoded by
+    figdata.encode_png: RGB when opaque. scratch (a list, kept by the caller across figures)
+    holds two byte buffers reused for the copies: fresh 2-8 MB arrays for every figure cost their
+    pages' faults again (a tenth of the process's page faults)."""
+    if not drawn:
+        fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
     h, w, _ = rgba.shape
     channels = 3 if rgba[:, :, 3].min() == 255 else 4
@@ -223,11 +278,12 @@ def save(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:
     name = sio.output_name(case["id"], f"-{kind}")
     tidy(fig, ctx.xticks)
     ctx.xticks.clear()
+    draw_inside(fig)  # the margins the labels need, for every format
     figdir = os.path.join(ctx.out, "figures")
-    for ext in ctx.formats:
+    for i, ext in enumerate(ctx.formats):
         sio.note_written(figdir, f"{name}.{ext}")
-        if ext == "png":
-            data = png_bytes(fig, ctx.scratch)
+        if ext == "png":  # the canvas holds draw_inside's drawing until another format draws
+            data = png_bytes(fig, ctx.scratch, drawn=i == 0)
         else:
             buf = io.BytesIO()
             fig.savefig(buf, format=ext)

@@ -29,6 +29,7 @@ SOURCES_SHA256 = {
     "_get_tick_boxes_siblings": "30691c355535c298649af0e5721738b410573895c90172b98fb1af89854f384e",
 }
 MEMO = "_dampsym_tick_memo"
+DRAWN = "_dampsym_drawn_tick_boxes"
 
 
 def source_hash(name: str) -> str:
@@ -43,8 +44,18 @@ def memo_draw(original: Callable[..., Any]) -> Callable[..., Any]:
         try:
             return original(self, renderer, *args, **kwargs)
         finally:
+            memo = getattr(self, MEMO)
+            setattr(self, DRAWN, [b for k, v in memo.items() if k != "ticks"
+                                  for b in (*v[1][0], *v[1][1])])
             delattr(self, MEMO)
     return draw
+
+
+def drawn_tick_boxes(axis: Any) -> Optional[List[Any]]:
+    """The boxes (pixels) of the tick labels an axis drew in its last draw (kept by the memo, so
+    that the layout can check them without measuring again); None without the memo or a draw."""
+    boxes: Optional[List[Any]] = getattr(axis, DRAWN, None)
+    return boxes
 
 
 def memo_update_ticks(original: Callable[..., Any]) -> Callable[..., Any]:

@@ -3,7 +3,7 @@ chosen from the checks, its points and slope, the ratio of two methods, the half
 quantities a series carries, and the coverage test that every claim metric is drawn."""
 
 import math
-from typing import Any, Dict, List
+from typing import Any, Dict, List, Tuple
 
 from dampfig import figdata as fd
 
@@ -118,3 +118,30 @@ def test_every_claim_metric_drawn() -> None:
                                            "measure.u_rel_max"]) == \
         ["invariants.casimir.max_step_res"]
     assert fd.metric_family("trace-taylor.h4_coeff_rel_err") == "trace-taylor"
+
+
+def momentum_case(linear: Dict[str, Any]) -> Tuple[Dict[str, Any], Dict[str, Any]]:
+    """A case of two runs whose series hold both momenta, the linear one reported as `linear`."""
+    law = {"max_law_res": 1e-16, "scale": "sum_i |q_i| |p_i|"}
+    runs = [{"method": m, "dt": 0.1, "metrics": {"momentum": {"angular": law, "linear": linear}}}
+            for m in ("a", "b")]
+    s = {"t": [0.0, 0.1], "y": [1e-16, 2e-16]}
+    series = {"momentum.linear.law_res": s, "momentum.linear.factor": s,
+              "momentum.angular.law_res": s}
+    return {"runs": runs}, {"runs": [{"method": r["method"], "dt": 0.1, "series": series}
+                                     for r in runs]}
+
+
+def test_series_panels_leave_out_a_momentum_without_a_law() -> None:
+    # a body in a central field: the report has a reason instead of the linear residuals
+    case, ser = momentum_case({"reason": "no linear momentum law"})
+    assert fd.lawless_momenta(case) == {"linear"}
+    assert [p[0] for p in fd.series_panels(ser, case)] == ["momentum.angular.law_res"]
+    # the N-body system (both laws): both drawn; without the case, every series is drawn
+    both = ["momentum.linear.law_res", "momentum.linear.factor", "momentum.angular.law_res"]
+    case, ser = momentum_case({"max_law_res": 1e-15, "scale": "sum_i |p_i|"})
+    assert fd.lawless_momenta(case) == set()
+    assert [p[0] for p in fd.series_panels(ser, case)] == both
+    assert [p[0] for p in fd.series_panels(ser)] == both
+    # a run without metrics (it failed) says nothing: nothing is left out
+    assert fd.lawless_momenta({"runs": [{"method": "a", "metrics": {}}]}) == set()

@@ -80,3 +80,28 @@ def test_offset_base_replaces_the_offset_text() -> None:
     # a spread of 1e-3 of the size needs no base; equal values are flat_panel's
     assert draw_series.offset_base([[1.0, 1.001]]) == 0.0
     assert draw_series.offset_base([[2.0, 2.0]]) == 0.0
+
+
+def test_draw_inside_widens_a_margin_only_where_a_label_is_cut_off(tmp_path: Any) -> None:
+    ctx = Ctx(report={"cases": []}, out=str(tmp_path), formats=["png"])
+    fig, axs = render.subplots(ctx, 1, 1, (4.6, 4.0))
+    ax = axs[0][0]
+    ax.plot([0.44, 3.5], [0.1, 3.0])
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_ylabel("local error (one step)")
+    ax.set_xlim(0.44, 3.5)
+    render.layout(fig, left=0.05, right=0.98)  # too narrow for the log tick labels and label
+    render.tidy(fig, {id(ax): [0.44, 0.88, 1.75, 3.5]})  # a step ladder's h, the last at the edge
+    fig.canvas.draw()
+    left, right, _ = render.overhang(fig)
+    assert left > 10 and right > 0.5  # planted: the y label and the last x tick label cut off
+    render.draw_inside(fig)
+    assert max(render.overhang(fig)) <= 0.5
+    assert fig.subplotpars.left > 0.05 and fig.subplotpars.right < 0.98
+    # labels that fit: drawn once, the margins as they were
+    render.layout(fig, left=0.3, right=0.8)
+    render.draw_inside(fig)
+    assert (fig.subplotpars.left, fig.subplotpars.right) == (0.3, 0.8)
+    assert max(render.overhang(fig)) <= 0.5
+    render.recycle(ctx, fig)
