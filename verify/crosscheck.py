@@ -38,7 +38,8 @@ Tolerance table, by metric family (verify/xfamilies.py FAMILIES, one compare fun
 "rel r + f" means |ours - theirs| <= r |ours| + f, f computed by us):
   final_time        rel 1e-12: t0 + n h in double.
   final_state       rel 1e-12 explicit / 1e-10 implicit (Newton stops at round-off); the linear
-                    path (powers of our one-step matrix) 4 n eps; when the states differ by more,
+                    path (powers of our one-step matrix) 4 n eps; two-level kg-box (B (5.5))
+                    8 eps n max(n, 1/dt) (xrunctx.two_level_tol); when the states differ by more,
                     our ROUND-OFF FLOOR 16 D: D = the relative final-state spread of our run and
                     our run from z0 (1 + 4 eps) componentwise (and from z_{n/2} (1 + 4 eps));
                     relative kicks, so argon's 1e-23 momenta get 4 eps of themselves.

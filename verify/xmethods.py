@@ -96,6 +96,8 @@ COEFFICIENT_SOURCES = {
                                     "v_{n+1} = v_n + h b(u_{n+1}, v_n)",
     "glm4": "Butcher's G-symplectic GLM (BS): A, U, B, V and the starting method typed from "
             "the slides' surds (3 +- sqrt 3)/6 etc., sqrt evaluated in double",
+    "kg-box": "B (5.5) u-form with B (1.14)'s forward A_x, D_x by their Fourier symbols; the start "
+              "and the v estimate as docs/pde.md states them",
 }
 
 
@@ -486,7 +488,7 @@ class GLM:
 EXPLICIT_EVALS = {"euler": 1, "heun": 2, "rk3": 3, "rk4": 4, "csv1": 2, "csv2": 2, "csv1-perk": 2,
                   "csv2-perk": 2, "etdprk2": 2, "cse-if": 1, "cse-etd": 1, "symplectic-euler": 1,
                   "symplectic-euler-adjoint": 1, "stormer-verlet": 2,
-                  "burgers-csv": 2, "burgers-nsfd": 1}
+                  "burgers-csv": 2, "burgers-nsfd": 1, "kg-box": 1}
 
 IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3", "glifrk1",
             "glifrk2", "glifrk3", "cimp", "etdrk2", "glm4", "symplectic-euler-partitioned"}
@@ -502,7 +504,11 @@ BURGERS_B = {"burgers-csv": "burgers", "burgers-box": "burgers-box", "burgers-ns
 # B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) on the NLS family (docs/pde.md)
 NLS_B = {"nls-if", "nls-etd", "nls-imp"}
 NLS_FAMILY = {"schrodinger", "nls", "nls-driven"}
-METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE | set(BURGERS_B) | NLS_B
+# B's Klein-Gordon box scheme (5.5) on its own semi-discretisation klein-gordon-box: a scheme on
+# two levels (u^i, u^{i+1}) whose stepper keeps the earlier level, so a run restarted from a
+# mid-run state (u, v) is another computation, not a round-off kick of this one (docs/pde.md)
+TWO_LEVEL = {"kg-box"}
+METHODS = set(EXPLICIT_RK) | IMPLICIT | NEEDS_SEPARABLE | set(BURGERS_B) | NLS_B | TWO_LEVEL
 
 
 def nls_b_step(method: str, prob: Any, h: Any) -> Any:
@@ -600,7 +606,54 @@ def burgers_b_step(method: str, prob: Any, h: Any) -> Any:
     return step
 
 
+def kg_box_step(prob: Any, h: Any) -> Any:
+    """B's box scheme (5.5) written from B's u-form (B section 5.1.2; docs/pde.md), gamma = B's:
+        (D_t^{g/2})^2 A_x^2 u - D_x^2 (A_t^{g/2})^2 u = (g^2 - c) A_x^2 (A_t^{g/2})^2 u,
+    D_t^a u^i = (e^{a h} u^{i+1} - e^{-a h} u^i)/h, A_t^a u^i = (e^{a h} u^{i+1} + e^{-a h} u^i)/2, and
+    B (1.14)'s forward A_x, D_x applied by their Fourier symbols (1 + e^{i theta})/2 and
+    (e^{i theta} - 1)/dx, so each step solves for u^{i+2} mode by mode (E = e^{g h}):
+        E [ax2/h^2 - S/4] X = ax2 (2 u^{i+1} - u^i/E)/h^2 + S (2 u^{i+1} + u^i/E)/4,  S = dx2 + (g^2 - c) ax2.
+    Start (docs/pde.md): the same equation at i = -1 with the central value y^{-1} = y^1 - 2h y'(0)
+    in y = e^{g t} u, y'(0) = v0 + g u0:  E [ax2/h^2 - S/4] u^1 = ax2 (u0 + h y'0)/h^2 + S (u0 - h y'0)/4.
+    The state returned is (u^{i+1}, v^{i+1}) with v from docs/pde.md's second-order formulas in y:
+    first step v^1 = (2 (E u^1 - u^0)/h - y'(0))/E - g u^1 (trapezoidal rule), later steps
+    v^{i+1} = (3 u^{i+1} - 4 u^i/E + u^{i-1}/E^2)/(2h) - g u^{i+1} (one-sided three-level difference).
+    The stepper keeps the previous level: on the first call it starts from z = (u0, v0), on later
+    calls the incoming u is u^{i+1} (dampsym's convention for kg-box).  One real state (no batch)."""
+    if prob.pid != "klein-gordon-box":
+        raise NotApplicable("kg-box applies to problem klein-gordon-box only")
+    M, dx, g, c = prob.M, prob.dx, prob.g, prob.c
+    ei = np.exp(2j * math.pi * np.arange(M) / M)
+    ax2 = (0.5 * (1.0 + ei)) ** 2
+    S = ((ei - 1.0) / dx) ** 2 + (g * g - c) * ax2
+    E = math.exp(g * h)
+    lhs = E * (ax2 / h ** 2 - S / 4.0)
+    levels: Dict[str, Any] = {}
+
+    def solve(r: Any) -> Any:
+        return np.real(np.fft.ifft(r / lhs))
+
+    def step(t: Any, z: Any) -> Any:
+        z = np.asarray(z, float)
+        u, v = z[:M], z[M:]
+        F = np.fft.fft
+        if "prev" not in levels:
+            yd = v + g * u
+            u1 = solve(ax2 * F(u + h * yd) / h ** 2 + S * F(u - h * yd) / 4.0)
+            v1 = (2.0 * (E * u1 - u) / h - yd) / E - g * u1
+            levels["prev"] = u
+            return np.concatenate([u1, v1]), 0
+        up = levels["prev"]
+        u2 = solve(ax2 * F(2.0 * u - up / E) / h ** 2 + S * F(2.0 * u + up / E) / 4.0)
+        v2 = (3.0 * u2 - 4.0 * u / E + up / E ** 2) / (2.0 * h) - g * u2
+        levels["prev"] = u
+        return np.concatenate([u2, v2]), 0
+    return step
+
+
 def make_stepper(method: str, prob: Any, h: Any) -> Any:
+    if method == "kg-box":
+        return kg_box_step(prob, h)
     if method in BURGERS_B:
         return burgers_b_step(method, prob, h)
     if method in NLS_B:

@@ -57,9 +57,9 @@ def kicked(z: np.ndarray, k: float) -> np.ndarray:
 
 def ensemble_spread(cx: RunCtx, need_traj: bool, force: bool = False) -> None:
     """How far two computations that differ at round-off drift apart: our run from z0 kicked by
-    4 eps relative, and (but for glm4, which steps r values) from z_{n/2} kicked by 4 eps, since
-    an early contracting transient can absorb a kick at t0.  D = the larger relative final-state
-    spread.  A chaotic run (D > 1e-8) gets a third member for the metric bands, kicked at t0 by
+    4 eps relative, and (but for glm4 and kg-box, which step r values or two levels) from z_{n/2}
+    kicked by 4 eps, since an early contracting transient can absorb a kick at t0.  D = the larger
+    relative final-state spread.  A chaotic run (D > 1e-8) gets a third member for the metric bands, kicked at t0 by
     4 n eps (the other program rounds differently at EVERY step, and roundings may share a sign:
     a single 4-eps kick decorrelates later than dampsym's run does, argon-verlet-steps)."""
     z, n = cx.mine["z"], cx.nsteps
@@ -67,7 +67,7 @@ def ensemble_spread(cx: RunCtx, need_traj: bool, force: bool = False) -> None:
     pert = _perturbed(cx, kicked(z0, 4 * EPS), cx.t0, n, need_traj)
     D = float(np.linalg.norm(pert["z"] - z)) / cx.scale
     members = [pert]
-    if cx.method not in xm.MULTIVALUE and n >= 2:
+    if cx.method not in xm.MULTIVALUE and cx.method not in xm.TWO_LEVEL and n >= 2:
         half = n // 2
         zm = xrun.integrate(cx.method, cx.prob, cx.dt, half, cx.t0)["z"]
         zb = _perturbed(cx, kicked(zm, 4 * EPS), cx.t0 + half * cx.dt, n - half, need_traj)

@@ -730,6 +730,41 @@ class KleinGordon(Problem):
         return Z
 
 
+class KleinGordonBox(KleinGordon):
+    """The semi-discretisation B's box scheme (5.5) tends to as dt -> 0 (docs/pde.md): (5.5) in
+    y = e^{gamma t} u is A_x^2 (D_t)^2 y = (D_x^2 + (gamma^2 - c) A_x^2)(A_t)^2 y with B (1.14)'s
+    forward A_x u_n = (u_n + u_{n+1})/2, D_x u_n = (u_{n+1} - u_n)/dx, whose dt -> 0 limit is
+    y'' = (L + gamma^2 - c) y, i.e.  u' = v, v' = (L - c) u - 2 gamma v  with L = A_x^{-2} D_x^2.
+    L is applied by its Fourier symbol ((e^{i theta} - 1)/dx)^2 / ((1 + e^{i theta})/2)^2
+    = -(2/dx)^2 tan^2(theta/2) (real: L is a symmetric circulant), nonzero denominator for odd M.
+    Separable, q = u, p = v, V = sum (-u L u + c u^2)/2; the momentum dx sum v delta_x u is still
+    conformal (delta_x is skew and commutes with L).  Exact solution: KleinGordon's, mode by mode
+    with omega_j^2 = c + (2/dx)^2 tan^2(theta_j/2).  The real operator is applied to the real and
+    imaginary parts separately so that the complex-step Jacobian stays exact."""
+    pid = "klein-gordon-box"
+
+    def __init__(self, M: Any, c: Any, gamma: Any, K: Any, exact_pde: Any = 0.0) -> None:
+        super().__init__(M, c, gamma, K, exact_pde)
+        if self.M % 2 == 0 or self.M < 3:
+            raise TypeError("klein-gordon-box needs an odd M >= 3")
+        ei = np.exp(2j * math.pi * np.arange(self.M) / self.M)
+        self.l_symbol = ((ei - 1.0) / self.dx) ** 2 / (0.5 * (1.0 + ei)) ** 2
+        if not exact_pde:
+            j = np.arange(self.M // 2 + 1)
+            self.w2 = self.c - self.l_symbol[j].real
+
+    def _L(self, u: Any) -> Any:
+        if np.iscomplexobj(u):
+            return self._L(u.real) + 1j * self._L(u.imag)
+        return np.real(np.fft.ifft(self.l_symbol * np.fft.fft(u, axis=-1), axis=-1))
+
+    def force(self, t: Any, q: Any) -> Any:
+        return self._L(q) - self.c * q
+
+    def V(self, q: Any) -> Any:
+        return np.sum(0.5 * (-q * self._L(q) + self.c * q * q), axis=-1)
+
+
 class Burgers(Problem):
     """Modified Burgers u_t + u u_x = -2 gamma u (B (4.5)) on [-pi, pi), periodic, semi-discretised
     as in B (5.9): (5.9) couples the odd and even grid points through one half of the forward and
@@ -994,8 +1029,8 @@ class NLSDriven(NLS):
 
 
 _CLASSES: Tuple[Any, ...] = (Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, Kepler, NBody,
-                             OuterSolarSystem, Argon, LotkaVolterra, KleinGordon, Burgers, BurgersBox,
-                             BurgersUpwind, Schrodinger, NLS, NLSDriven)
+                             OuterSolarSystem, Argon, LotkaVolterra, KleinGordon, KleinGordonBox, Burgers,
+                             BurgersBox, BurgersUpwind, Schrodinger, NLS, NLSDriven)
 PROBLEMS: Dict[str, Any] = {c.pid: c for c in _CLASSES}
 
 

@@ -107,6 +107,7 @@ struct GeneralLinearCoefficients {
 };
 // A hand-written scheme: its kernel is the code (src/methods/cimp.hpp, csv1.hpp, csv2.hpp).
 // burgers_*: B's Burgers schemes (5.10), (5.12), (4.18) (src/pde/burgers/methods.hpp).
+// kg_box: B's Klein–Gordon box scheme (5.5) (src/pde/klein_gordon/methods.hpp).
 // nls_*: B's NLS schemes IF (4.15), ETD (5.27), IMP (5.28) by FFT (src/pde/nls/methods.hpp).
 // symplectic_euler_partitioned: HLW (1.8) on a partitioned system (1.7)
 // (src/methods/symplectic_euler_partitioned.hpp).
@@ -117,6 +118,7 @@ enum class Scheme {
     burgers_csv,
     burgers_box,
     burgers_nsfd,
+    kg_box,
     nls_if,
     nls_etd,
     nls_imp,

@@ -34,10 +34,10 @@
 
 namespace dampsym {
 
-using ProblemList =
-    TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra, NBody, Kepler,
-             OuterSolarSystem, Argon, KleinGordon, Burgers, BurgersBox, BurgersUpwind, Schrodinger,
-             NLS, NLSDriven>; // PDEs: B (4.3), (4.5), (4.7), docs/pde.md
+using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra,
+                             NBody, Kepler, OuterSolarSystem, Argon, KleinGordon, KleinGordonBox,
+                             Burgers, BurgersBox, BurgersUpwind, Schrodinger, NLS,
+                             NLSDriven>; // PDEs: B (4.3), (4.5), (4.7), docs/pde.md
 
 // Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
 template <class... Ps>

@@ -37,8 +37,9 @@ constexpr unsigned glifrk_claims =
 constexpr unsigned csv_claims =
     claim_conformal_symplectic | claim_angular_momentum; // + linear momentum for csv1 (below)
 
-// Hand-written schemes (src/methods/cimp.hpp, csv1.hpp, csv2.hpp; B's Burgers schemes, each on
-// its own semi-discretisation, pde/burgers/methods.hpp; B's NLS schemes by FFT,
+// Hand-written schemes (src/methods/cimp.hpp, csv1.hpp, csv2.hpp; B's Burgers schemes and the
+// Klein–Gordon box scheme, each on its own semi-discretisation, pde/burgers/methods.hpp,
+// pde/klein_gordon/methods.hpp; B's NLS schemes by FFT,
 // pde/nls/methods.hpp; HLW (1.8) on (1.7), symplectic_euler_partitioned.hpp).
 std::vector<MethodInfo> hand_written_rows() {
     using enum Form;
@@ -57,6 +58,7 @@ std::vector<MethodInfo> hand_written_rows() {
          HandWrittenScheme{Scheme::burgers_box}},
         {"burgers-nsfd", 1, false, conformal, claim_none, "B(4.18)",
          HandWrittenScheme{Scheme::burgers_nsfd}},
+        {"kg-box", 2, true, separable, claim_none, "B(5.5)", HandWrittenScheme{Scheme::kg_box}},
         {"nls-if", 2, true, conformal, claim_none, "B(4.15)", HandWrittenScheme{Scheme::nls_if}},
         {"nls-etd", 2, true, conformal, claim_none, "B(5.27)", HandWrittenScheme{Scheme::nls_etd}},
         {"nls-imp", 2, true, plain, claim_none, "B(5.28)", HandWrittenScheme{Scheme::nls_imp}},

@@ -28,8 +28,9 @@
 #include "methods/partitioned_rk.hpp"
 #include "methods/plugin_kernel.hpp" // C plugins (--plugin, docs/plugins.md)
 #include "methods/symplectic_euler_partitioned.hpp"
-#include "pde/burgers/methods.hpp" // B's Burgers schemes (5.10), (5.12), (4.18)
-#include "pde/nls/methods.hpp"     // B's NLS schemes (4.15), (5.27), (5.28) by FFT
+#include "pde/burgers/methods.hpp"      // B's Burgers schemes (5.10), (5.12), (4.18)
+#include "pde/klein_gordon/methods.hpp" // B's Klein–Gordon box scheme (5.5)
+#include "pde/nls/methods.hpp"          // B's NLS schemes (4.15), (5.27), (5.28) by FFT
 
 #include <algorithm>
 #include <string_view>
@@ -55,8 +56,8 @@ inline bool claims(const MethodInfo& m, unsigned c) {
 // (diagnostics/jacobian_check.hpp, the order fits).
 template <>
 struct Family<HandWrittenScheme> {
-    using kernels = KernelList<Cimp, Csv1, Csv2, BurgersCsv, BurgersBoxScheme, BurgersNsfd, NlsIf,
-                               NlsEtd, NlsImp, SymplecticEulerPartitioned>;
+    using kernels = KernelList<Cimp, Csv1, Csv2, BurgersCsv, BurgersBoxScheme, BurgersNsfd,
+                               KGBoxScheme, NlsIf, NlsEtd, NlsImp, SymplecticEulerPartitioned>;
     static constexpr std::string_view file_family = "";
     static int stages(const HandWrittenScheme&) { return 1; }
     static void checks(const MethodInfo&, const HandWrittenScheme&,

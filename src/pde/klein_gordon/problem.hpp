@@ -8,6 +8,17 @@
 // Exact solution: of the semi-discrete system from any (t0, z0), mode by mode
 // (src/pde/klein_gordon/schemes.hpp); the PDE solution (5.1) is separate (pde::kg_plane_wave),
 // for space errors. Background and conventions: docs/pde.md.
+//
+// A second semi-discretisation, the one B's box scheme (5.5) tends to as Δt → 0, so that (5.5)
+// (the method kg-box, src/pde/klein_gordon/methods.hpp) has the exact solution of its own
+// semi-discrete system (time error alone), as burgers-box has for (5.12):
+//  - `klein-gordon-box`: u' = v, v' = (A_c²)⁻¹D_c² u − cu − 2γv, odd M. (5.5) in y = e^{γt}u is
+//    A_x²(D_t)²y = (D_x² + (γ² − c)A_x²)(A_t)²y; as Δt → 0, y'' = (A_x⁻²D_x² + γ² − c)y, i.e. the
+//    damped system above with L = A_x⁻²D_x², which re-indexed by one is the symmetric circulant
+//    (A_c²)⁻¹D_c² (A_c² = (1,2,1)/4, D_c² = δ_x²), symbol −(2/Δx)² tan²(θ/2). A_c² is singular on
+//    the alternating mode of an even grid, so M must be odd. Still a separable damped Hamiltonian
+//    system (L symmetric), and the momentum I = Δx Σ v δ_x u is still conformal: δ_x is skew and
+//    commutes with L, so u·Lδ_x u = u·δ_x u = v·δ_x v = 0 and I' = −2γI.
 #pragma once
 
 #include "core/problem.hpp"
@@ -21,10 +32,21 @@
 
 namespace dampsym {
 
-struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<KleinGordon> {
-    static constexpr std::string_view id = "klein-gordon";
+// The semi-discretisation of u_xx a Klein–Gordon problem steps (see the header comment).
+enum class KGSpace { central, box };
+
+template <KGSpace S>
+struct KleinGordonSemi : SeparableProblem<KleinGordonSemi<S>>,
+                         UnitMass,
+                         ConstantGamma<KleinGordonSemi<S>> {
+    static constexpr KGSpace kg_space = S;
+    static constexpr bool box = S == KGSpace::box;
+    static constexpr std::string_view id = box ? "klein-gordon-box" : "klein-gordon";
     static constexpr std::string_view title =
-        "damped Klein-Gordon u_tt = u_xx - c u - 2 gamma u_t, periodic, semi-discrete (B 4.3, 5.2)";
+        box ? "damped Klein-Gordon, box semi-discretisation u_tt = A_c^-2 D_c^2 u - c u - 2 gamma "
+              "u_t (limit of B 5.5), odd M"
+            : "damped Klein-Gordon u_tt = u_xx - c u - 2 gamma u_t, periodic, semi-discrete (B "
+              "4.3, 5.2)";
     // Linear, but is_linear selects the oscillator's stability diagnostics (the LinearOscillator
     // concept of core/problem_concepts.hpp: ω and γ of a single oscillator), which do not apply
     // here. Its parameters include whole numbers (M, K) that build the grid, so it keeps its own
@@ -37,20 +59,26 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
     static constexpr std::array<std::string_view, 1> invariant_scale_defs{
         "dx sum_n |v_n| |delta_x u_n|"};
 
-    pde::PeriodicGrid grid{32, std::numbers::pi};
+    pde::PeriodicGrid grid{box ? 11 : 32, std::numbers::pi};
     double c = 1.0, gamma = 0.0;
     int K = 1;
     // 1: the exact solution is the PDE's (4.3) (from the trigonometric interpolant of the state;
     // B (5.1) for the plane wave), so the error holds the space error too (B Fig 5.1).
     bool exact_pde = false;
 
-    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M); c ≤ 100,
+    // Ranges: 2 ≤ M ≤ 8192 (dense Jacobians of the implicit kernels are M×M; klein-gordon-box:
+    // odd 3 ≤ M ≤ 8191, the cyclic solve of its operator needs M ≥ 3, default 11: its highest
+    // frequency (2/Δx) cot(π/2M) grows like 2M²/π², 24 at M = 11 but 220 at M = 33, and the
+    // default should not be stiff; cases choose M); c ≤ 100,
     // γ ≤ 1 so that K² + c > γ² (a real frequency W in (5.1)) holds at every single-parameter
     // edge with the others at their defaults; combinations violating it are rejected by
     // from_params. Any K (a wavenumber above M/2 aliases on the grid; the initial state and the
     // semi-discrete exact solution stay valid).
     static std::vector<ParamSpec> param_specs() {
-        return {integer_param("M", 32, 2, 8192, "grid points on [-pi, pi) (dx = 2 pi / M)"),
+        return {integer_param("M", box ? 11 : 32, box ? 3 : 2, box ? 8191 : 8192,
+                              box ? "grid points on [-pi, pi) (dx = 2 pi / M), odd: A_c^2 "
+                                    "invertible"
+                                  : "grid points on [-pi, pi) (dx = 2 pi / M)"),
                 {"c", 1.0, Range::closed(0.0, 100.0), "mass term c of u_tt = u_xx - c u - 2γu_t"},
                 {"gamma", 0.0, Range::closed(0.0, 1.0), "damping γ (B (4.3): 2γ u_t)"},
                 integer_param("K", 1, 0, 4096, "wavenumber K of the initial plane wave (5.1)"),
@@ -58,11 +86,14 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
                               "exact solution: 0 of the semi-discrete system (time error), 1 of "
                               "the PDE (5.1) (time and space error, B Fig 5.1)")};
     }
-    static KleinGordon from_params(const ParamMap& m) {
-        KleinGordon p;
+    static KleinGordonSemi from_params(const ParamMap& m) {
+        KleinGordonSemi p;
         const double M = m.at("M"), K = m.at("K");
         if (M != std::floor(M) || K != std::floor(K))
             throw std::invalid_argument("M and K must be whole numbers");
+        if (box && static_cast<long>(M) % 2 == 0)
+            throw std::invalid_argument("M must be odd for klein-gordon-box (A_c^2 is singular on "
+                                        "the alternating mode for even M, docs/pde.md)");
         p.grid = pde::PeriodicGrid(static_cast<int>(M), std::numbers::pi);
         p.c = m.at("c");
         p.gamma = m.at("gamma");
@@ -84,25 +115,41 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
         return z;
     }
 
-    // F(u) = δ_x² u − c u.
+    // F(u) = δ_x² u − c u (klein-gordon), (A_c²)⁻¹D_c² u − c u (klein-gordon-box).
     template <class In, class Out>
     void force(double, const In& q, Out& out) const {
         const int M = grid.M;
-        const double s = 1.0 / (grid.dx * grid.dx);
-        for (int i = 0; i < M; ++i) {
-            const double l = q[i == 0 ? M - 1 : i - 1], r = q[i + 1 == M ? 0 : i + 1];
-            out[i] = (l - 2.0 * q[i] + r) * s - c * q[i];
+        if constexpr (box) {
+            Vec lu;
+            pde::kg_box_space_operator(grid, Vec(q), lu);
+            for (int i = 0; i < M; ++i) out[i] = lu[i] - c * q[i];
+        } else {
+            const double s = 1.0 / (grid.dx * grid.dx);
+            for (int i = 0; i < M; ++i) {
+                const double l = q[i == 0 ? M - 1 : i - 1], r = q[i + 1 == M ? 0 : i + 1];
+                out[i] = (l - 2.0 * q[i] + r) * s - c * q[i];
+            }
         }
     }
     template <class In, class Out>
     void force_jacobian(double, const In&, Out& out) const {
         const int M = grid.M;
-        const double s = 1.0 / (grid.dx * grid.dx);
         out.setZero();
-        for (int i = 0; i < M; ++i) {
-            out(i, i) = -2.0 * s - c;
-            out(i, i == 0 ? M - 1 : i - 1) += s;
-            out(i, i + 1 == M ? 0 : i + 1) += s;
+        if constexpr (box) {
+            // L is circulant: column k is column 0 (L applied to e_0) shifted down by k.
+            Vec e0 = Vec::Zero(M), l0;
+            e0[0] = 1.0;
+            pde::kg_box_space_operator(grid, e0, l0);
+            for (int k = 0; k < M; ++k)
+                for (int i = 0; i < M; ++i) out(i, k) = l0[grid.wrap(i - k)];
+            out.diagonal().array() -= c;
+        } else {
+            const double s = 1.0 / (grid.dx * grid.dx);
+            for (int i = 0; i < M; ++i) {
+                out(i, i) = -2.0 * s - c;
+                out(i, i == 0 ? M - 1 : i - 1) += s;
+                out(i, i + 1 == M ? 0 : i + 1) += s;
+            }
         }
     }
 
@@ -120,7 +167,9 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
         }
         Vec u, v;
         pde::kg_semidiscrete_exact(grid, c, gamma, t0, z0.head(grid.M), z0.tail(grid.M), t, u, v,
-                                   exact_pde);
+                                   exact_pde ? pde::KGSymbol::pde
+                                   : box     ? pde::KGSymbol::box
+                                             : pde::KGSymbol::central);
         out.resize(2 * grid.M);
         out << u, v;
     }
@@ -128,5 +177,8 @@ struct KleinGordon : SeparableProblem<KleinGordon>, UnitMass, ConstantGamma<Klei
     double energy(const Vec&) const { return 0.0; }
     double energy_scale(const Vec&) const { return 1.0; }
 };
+
+using KleinGordon = KleinGordonSemi<KGSpace::central>;
+using KleinGordonBox = KleinGordonSemi<KGSpace::box>;
 
 } // namespace dampsym

@@ -2,6 +2,7 @@
 
 #include "reference/oscillator_exact.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -34,8 +35,32 @@ void kg_plane_wave(const PeriodicGrid& g, double gamma, int K, double W, double 
     }
 }
 
+double kg_mode_k2(const PeriodicGrid& g, int j, KGSymbol s) {
+    const double th2 = std::numbers::pi * j / g.M; // θ/2
+    switch (s) {
+    case KGSymbol::central: {
+        const double sn = std::sin(th2);
+        return 4.0 * sn * sn / (g.dx * g.dx);
+    }
+    case KGSymbol::box: {
+        const double tn = std::tan(th2);
+        return 4.0 * tn * tn / (g.dx * g.dx);
+    }
+    case KGSymbol::pde:
+        break;
+    }
+    const double k = std::min(j, g.M - j); // the PDE's wavenumber of mode j
+    return k * k;
+}
+
+void kg_box_space_operator(const PeriodicGrid& g, const Vec& u, Vec& out) {
+    Vec d2;
+    second_difference(g, u, d2);
+    solve_cyclic_tridiagonal(0.25, 0.5, d2, out);
+}
+
 void kg_semidiscrete_exact(const PeriodicGrid& g, double c, double gamma, double t0, const Vec& u0,
-                           const Vec& v0, double t, Vec& u, Vec& v, bool pde_symbol) {
+                           const Vec& v0, double t, Vec& u, Vec& v, KGSymbol symbol) {
     const int M = g.M;
     SpectralDerivative fft(g);
     std::vector<double> U(2 * static_cast<size_t>(M)), V(2 * static_cast<size_t>(M));
@@ -48,10 +73,7 @@ void kg_semidiscrete_exact(const PeriodicGrid& g, double c, double gamma, double
     fft.forward(U);
     fft.forward(V);
     for (int j = 0; j < M; ++j) {
-        const double s = std::sin(std::numbers::pi * j / M);
-        const double k = std::min(j, M - j); // the PDE's wavenumber of mode j
-        const double omega =
-            pde_symbol ? std::sqrt(c + k * k) : std::sqrt(c + 4.0 * s * s / (g.dx * g.dx));
+        const double omega = std::sqrt(c + kg_mode_k2(g, j, symbol));
         for (int part = 0; part < 2; ++part) {
             const OscillatorState st =
                 oscillator_exact(omega, gamma, U[2 * j + part], V[2 * j + part], t - t0);

@@ -39,13 +39,28 @@ double kg_box_frequency(const PeriodicGrid& g, double c, double gamma, int K, do
 // Plane wave e^{−γt} cos(Kx − Wt) and its time derivative at the grid points (u, v).
 void kg_plane_wave(const PeriodicGrid& g, double gamma, int K, double W, double t, Vec& u, Vec& v);
 
-// Exact solution of the semi-discrete system from (t0, u0, v0) at t, for any initial data: FFT,
-// each mode by the damped-oscillator solution (reference/oscillator_exact.hpp), inverse FFT.
-// pde_symbol: each mode j with the PDE's k² (k = min(j, M − j)) instead of the grid's
-// 4 sin²(kΔx/2)/Δx²: the exact solution of the PDE (4.3) from the trigonometric interpolants of
-// (u0, v0) (B (5.1) for the plane wave), sampled on the grid.
+// The space operator a Klein–Gordon semi-discretisation puts in place of u_xx, by −(its symbol) k²
+// on the Fourier mode j (θ = 2πj/M):
+//   central  δ_x² (B (5.2), problem klein-gordon):           k² = 4 sin²(θ/2)/Δx²
+//   box      (A_c²)⁻¹ D_c², the Δt → 0 limit of (5.5)         k² = 4 tan²(θ/2)/Δx²
+//            (problem klein-gordon-box; odd M: A_c² = (1,2,1)/4 has the symbol cos²(θ/2), zero on
+//            the alternating mode of an even grid)
+//   pde      the PDE's own ∂_x² on the trigonometric interpolant: k² = min(j, M − j)² (L = π)
+enum class KGSymbol { central, box, pde };
+double kg_mode_k2(const PeriodicGrid& g, int j, KGSymbol s);
+
+// out = (A_c²)⁻¹ D_c² u, A_c² = (1,2,1)/4, D_c² = δ_x² (schemes' "centred" pair below): one
+// cyclic tridiagonal solve (A_c² is positive definite for odd M ≥ 3; the caller checks M).
+void kg_box_space_operator(const PeriodicGrid& g, const Vec& u, Vec& out);
+
+// Exact solution of the semi-discrete system u' = v, v' = Lu − cu − 2γv from (t0, u0, v0) at t,
+// for any initial data: FFT, each mode j by the damped-oscillator solution with
+// ω_j² = c + kg_mode_k2(j) (reference/oscillator_exact.hpp), inverse FFT. KGSymbol::pde gives
+// the exact solution of the PDE (4.3) from the trigonometric interpolants of (u0, v0) (B (5.1) for
+// the plane wave), sampled on the grid.
 void kg_semidiscrete_exact(const PeriodicGrid& g, double c, double gamma, double t0, const Vec& u0,
-                           const Vec& v0, double t, Vec& u, Vec& v, bool pde_symbol = false);
+                           const Vec& v0, double t, Vec& u, Vec& v,
+                           KGSymbol symbol = KGSymbol::central);
 
 // Momentum of the Störmer–Verlet-type schemes (5.3), (5.4) (B §5.1.2): I = Δx Σ v δ_x u, and its
 // scale Δx Σ |v| |δ_x u| (docs/conventions.md "Law residuals and their scales").

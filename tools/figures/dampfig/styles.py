@@ -34,8 +34,9 @@ STYLES: Dict[str, Tuple[int, str, str]] = {
     "gauss1": (7, "P", "--"), "gauss2": (2, "X", "--"), "gauss3": (0, ">", "--"),
     "symplectic-euler": (0, "o", "-."), "symplectic-euler-adjoint": (3, "s", "-."),
     "stormer-verlet": (4, "^", "-."), "implicit-midpoint": (2, "D", "-."),
-    # B's Burgers schemes (5.10), (5.12), (4.18) and NLS schemes (4.15), (5.27), (5.28)
+    # B's Burgers schemes (5.10), (5.12), (4.18), NLS schemes (4.15), (5.27), (5.28), KG box (5.5)
     "burgers-csv": (3, "s", "-"), "burgers-box": (5, "D", "-"), "burgers-nsfd": (1, "v", "--"),
+    "kg-box": (6, "D", "-"),
     "nls-if": (0, "p", "-"), "nls-etd": (1, "h", "-"), "nls-imp": (2, "<", "--"),
 }
 
