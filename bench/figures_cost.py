@@ -17,11 +17,12 @@ import subprocess
 import sys
 import tempfile
 import time
+from typing import List
 
 BOUND = 2.0
 
 
-def timed(cmd):
+def timed(cmd: List[str]) -> float:
     t = time.perf_counter()
     r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     wall = time.perf_counter() - t
@@ -31,7 +32,7 @@ def timed(cmd):
     return wall
 
 
-def main():
+def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dampsym")
     ap.add_argument("--rounds", type=int, default=3)
@@ -42,7 +43,8 @@ def main():
         print("figures_cost.py: give an executable dampsym, --rounds >= 1, --jobs >= 1",
               file=sys.stderr)
         return 2
-    plain, figures = [], []
+    plain: List[float] = []
+    figures: List[float] = []
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(a.rounds):
             base = [a.dampsym, "run", "--jobs", str(a.jobs)]

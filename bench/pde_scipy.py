@@ -25,6 +25,7 @@ import math
 import os
 import sys
 import time
+from typing import Any, Callable, Dict, List, Tuple
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -33,25 +34,28 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "verify"))
 from bench_report import load_benchmarks, value  # noqa: E402
-from xpde import KG  # noqa: E402
+from xpde import KG  # type: ignore[import]  # noqa: E402
 
 GAMMA, C, T_END = 0.375, 1.0, 10.0
 H_FRACTIONS = (0.8, 0.4, 0.2, 0.1)
 RTOLS = [10.0 ** (-k) for k in range(3, 11)]
 
 
-def initial(kg, kind):
+def initial(kg: Any, kind: str) -> Tuple[np.ndarray, np.ndarray]:
     if kind == "plane-wave":
-        return kg.initial()
+        u, v = kg.initial()
+        return u, v
     return np.exp(-4.0 * kg.x ** 2), np.zeros(kg.M)
 
 
-def error(kg, exact, u, v):
+def error(kg: Any, exact: Tuple[np.ndarray, np.ndarray], u: np.ndarray,
+          v: np.ndarray) -> float:
     return float(max(np.max(np.abs(u - exact[0])), np.max(np.abs(v - exact[1]))))
 
 
-def csv1_points(kg, u0, v0, exact, ns_per_step):
-    out = []
+def csv1_points(kg: Any, u0: np.ndarray, v0: np.ndarray, exact: Tuple[np.ndarray, np.ndarray],
+                ns_per_step: float) -> List[Dict[str, Any]]:
+    out: List[Dict[str, Any]] = []
     for frac in H_FRACTIONS:
         steps = math.ceil(T_END / (frac * kg.dx))
         h = T_END / steps
@@ -63,15 +67,16 @@ def csv1_points(kg, u0, v0, exact, ns_per_step):
     return out
 
 
-def rk45_points(kg, u0, v0, exact):
+def rk45_points(kg: Any, u0: np.ndarray, v0: np.ndarray,
+                exact: Tuple[np.ndarray, np.ndarray]) -> List[Dict[str, Any]]:
     M = kg.M
 
-    def f(_t, z):
+    def f(_t: float, z: np.ndarray) -> np.ndarray:
         u, v = z[:M], z[M:]
         return np.concatenate([v, kg.force(u) - 2.0 * GAMMA * v])
 
     z0 = np.concatenate([u0, v0])
-    out = []
+    out: List[Dict[str, Any]] = []
     for rtol in RTOLS:
         c0 = time.process_time()
         sol = solve_ivp(f, (0.0, T_END), z0, method="RK45", rtol=rtol, atol=1e-3 * rtol)
@@ -83,7 +88,8 @@ def rk45_points(kg, u0, v0, exact):
     return out
 
 
-def retime(f, z0, rtol):
+def retime(f: Callable[[float, np.ndarray], np.ndarray], z0: np.ndarray,
+           rtol: float) -> float:
     """Minimum CPU time of 3 more solves (for the matched rows)."""
     cpu = []
     for _ in range(3):
@@ -93,12 +99,12 @@ def retime(f, z0, rtol):
     return min(cpu)
 
 
-def matched(csv1, rk45):
-    rows = []
+def matched(csv1: List[Dict[str, Any]], rk45: List[Dict[str, Any]]) -> List[Dict[str, Any]]:
+    rows: List[Dict[str, Any]] = []
     for p in csv1:
         ok = [r for r in rk45 if r["error"] <= p["error"]]
         best = min(ok, key=lambda r: r["rhs_evals"]) if ok else None
-        row = {"csv1_h_over_dx": p["h_over_dx"], "error": p["error"], "rk45": None}
+        row: Dict[str, Any] = {"csv1_h_over_dx": p["h_over_dx"], "error": p["error"], "rk45": None}
         if best:
             if "retimed" not in best:
                 best["retimed"] = min(best["cpu_seconds"], best.pop("retime")())
@@ -114,12 +120,12 @@ def matched(csv1, rk45):
     return rows
 
 
-def main():
+def main() -> int:
     if len(sys.argv) != 2:
         print(__doc__, file=sys.stderr)
         return 2
     _, runs = load_benchmarks(sys.argv[1])
-    out = []
+    out: List[Dict[str, Any]] = []
     for M in (256, 1024):
         ns = value(runs, f"pde/kg-csv1/{M}", "ns_per_step")
         if ns is None:

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-import dampsym
+import dampsym  # type: ignore[import]  # the built module (python/), found at run time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "cases", "run-pendulum-1e7.json")

@@ -22,6 +22,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+from typing import Any, Dict, List
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "cases", "run-pendulum-1e7.json")
@@ -46,7 +47,7 @@ ROWS = [
 ]
 
 
-def run_once(binary, method, out_dir):
+def run_once(binary: str, method: str, out_dir: str) -> Dict[str, float]:
     cmd = [binary, "run", CASE, "--jobs", "1", "--time-budget", "0", "--out", out_dir,
            "--set", f'methods=["{method}"]']
     if method in METHOD_FILES:
@@ -66,7 +67,7 @@ def run_once(binary, method, out_dir):
             "ns_per_force_eval": 1e9 * wall / run["rhs_evals"]}
 
 
-def peer_ns_per_step(path, peer):
+def peer_ns_per_step(path: str, peer: str) -> float:
     """Minimum over repetitions of peer/pendulum/PEER's ns_per_step in dampsym_bench's JSON."""
     try:
         with open(path) as f:
@@ -93,7 +94,7 @@ PEER_ROWS = [
 ]
 
 
-def main():
+def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("binary")
     ap.add_argument("--repeats", type=int, default=5)
@@ -110,12 +111,12 @@ def main():
         ROWS[:] = [r for r in ROWS if r[1] in METHODS and r[2] in METHODS]
     if a.repeats < 1:
         sys.exit(2)
-    rounds = []
+    rounds: List[Dict[str, Dict[str, float]]] = []
     with tempfile.TemporaryDirectory() as tmp:
-        for r in range(a.repeats):
-            rounds.append({m: run_once(a.binary, m, os.path.join(tmp, f"{m}-{r}"))
+        for k in range(a.repeats):
+            rounds.append({m: run_once(a.binary, m, os.path.join(tmp, f"{m}-{k}"))
                            for m in METHODS})
-    timing = {m: {k: statistics.median(rd[m][k] for rd in rounds)
+    timing: Dict[str, Dict[str, Any]] = {m: {k: statistics.median(rd[m][k] for rd in rounds)
                   for k in ("wall_seconds", "ns_per_step", "ns_per_force_eval")}
               | {"steps": rounds[0][m]["steps"], "rhs_evals": rounds[0][m]["rhs_evals"],
                  "wall_seconds_all": [rd[m]["wall_seconds"] for rd in rounds]}
@@ -124,31 +125,32 @@ def main():
     for m, t in timing.items():
         print(f"{m:16} {t['wall_seconds']:8.3f} {t['ns_per_step']:9.2f} "
               f"{t['ns_per_force_eval']:9.2f}")
-    acc = []
+    acc: List[Dict[str, Any]] = []
     for name, num, den, per, limit in ROWS:
         key = "ns_per_step" if per == "step" else "ns_per_force_eval"
         per_round = [rd[num][key] / rd[den][key] for rd in rounds]
-        r = statistics.median(per_round)
-        acc.append({"name": name, "ratio": r, "limit": limit, "passed": r <= limit,
+        ratio = statistics.median(per_round)
+        acc.append({"name": name, "ratio": ratio, "limit": limit, "passed": ratio <= limit,
                     "ratio_per_round": per_round})
     for method, peer, limit, label in PEER_ROWS if a.bench_json else []:
         if method not in METHODS:
             continue
         peer_ns = peer_ns_per_step(a.bench_json, peer)
-        r = timing[method]["ns_per_step"] / peer_ns
+        peer_ratio = timing[method]["ns_per_step"] / peer_ns
         acc.append({"name": f"{method} through dampsym run / {label} in dampsym_bench "
-                            "(ns per step)", "ratio": r, "limit": limit, "passed": r <= limit,
+                            "(ns per step)", "ratio": peer_ratio, "limit": limit,
+                    "passed": peer_ratio <= limit,
                     "peer": f"peer/pendulum/{peer}", "peer_ns_per_step": peer_ns})
-    w = max(len(r["name"]) for r in acc)
+    w = max(len(row["name"]) for row in acc)
     print(f"\n{'dampsym run acceptance'.ljust(w)}  {'ratio':>7}  limit  result")
-    for r in acc:
-        print(f"{r['name'].ljust(w)}  {r['ratio']:7.3f}  {r['limit']:5.2f}  "
-              f"{'PASS' if r['passed'] else 'FAIL'}")
+    for row in acc:
+        print(f"{row['name'].ljust(w)}  {row['ratio']:7.3f}  {row['limit']:5.2f}  "
+              f"{'PASS' if row['passed'] else 'FAIL'}")
     if a.out_json:
         with open(a.out_json, "w") as f:
             json.dump({"case": CASE, "rounds": a.repeats, "statistic": "median over rounds",
                        "timing": timing, "acceptance": acc}, f, indent=2)
-    return 0 if all(r["passed"] for r in acc) else 1
+    return 0 if all(row["passed"] for row in acc) else 1
 
 
 if __name__ == "__main__":
