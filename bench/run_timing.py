@@ -33,10 +33,6 @@ METHOD_FILES = {m: os.path.join(HERE, "..", "examples", "methods", m[:-len("-fil
                 for m in ("rk4-file", "stormer-verlet-file")}
 # (name, numerator, denominator, per, limit): per = "step" or "force" (rhs evaluation).
 ROWS = [
-    ("stormer-verlet / csv1 (ns per step)", "stormer-verlet", "csv1", "step", 1.15),
-    ("csv1-perk / csv1 (ns per step)", "csv1-perk", "csv1", "step", 1.15),
-    ("cse-if / csv1 (ns per force evaluation)", "cse-if", "csv1", "force", 1.15),
-    ("cse-etd / csv1 (ns per force evaluation)", "cse-etd", "csv1", "force", 1.15),
     ("glifrk1 / gauss1 (ns per step)", "glifrk1", "gauss1", "step", 1.15),
     ("glifrk2 / gauss2 (ns per step)", "glifrk2", "gauss2", "step", 1.15),
     ("glifrk3 / gauss3 (ns per step)", "glifrk3", "gauss3", "step", 1.15),
