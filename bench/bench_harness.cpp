@@ -1,8 +1,9 @@
 // Every registered method on oscillator, pendulum, rigid body and N-body (N = 3, 6, 10) through the
-// harness's generic path: the kernel for (problem, method) is found with with_kernel<P> and
-// constructed exactly as TypedCase::integrate_with does (K stepper(problem, info, h, counters)),
-// then stepped with the bare integrate(stepper, z, t0, h, n) loop (NoObserver). Methods whose
-// kernel does not apply to a problem are not registered.
+// harness's own path: the library's compiled (kernel, problem) pair, kernel_ops<P>(info)->run, as
+// TypedCase::integrate_with calls it for a run without observer (a fresh stepper, the bare step
+// loop in chunks under a case guard without budget). Methods whose kernel does not apply to a
+// problem are not registered. Nothing here instantiates a kernel: the numbers are those of the
+// code the runner runs.
 //
 // Benchmark names: harness/<problem>/<method>; harness/pendulum/rk4-file and
 // harness/pendulum/stormer-verlet-file are the same methods loaded from examples/methods/;
@@ -10,8 +11,10 @@
 #include "bench/bench_common.hpp"
 
 #include "core/integrate.hpp"
-#include "harness/registry.hpp"
+#include "harness/problem_list.hpp"
 #include "harness/report/provenance.hpp"
+#include "harness/run/kernel_ops.hpp"
+#include "harness/run/limits.hpp"
 #include "harness/user_methods/method_files.hpp"
 #include "harness/user_methods/plugins.hpp"
 
@@ -27,19 +30,31 @@
 namespace dampsym::bench {
 namespace {
 
-// Steps one kernel K on a copy of `problem` for n steps per iteration.
-template <class K, class P>
+// The bare run of the method's kernel (the library's) from the problem's initial state.
+template <class P>
+IntegrateOutcome bare_run(const KernelOps<P>& ops, const P& problem, const MethodInfo& info,
+                          std::int64_t n, Counters& counters, Vec& z) {
+    static const CaseGuard no_budget;
+    double wall = 0.0;
+    z = problem.initial_state();
+    return ops.run(problem, info, kStep, counters, z, 0.0, n, nullptr, no_budget, nullptr, wall);
+}
+
+// Runs the method on a copy of `problem` for n steps per iteration.
+template <class P>
 void register_one(const std::string& label, std::shared_ptr<const P> problem,
                   const MethodInfo& info, std::int64_t n, bool key) {
+    KernelMatch match = KernelMatch::unknown_kernel;
+    const KernelOps<P>* ops = kernel_ops<P>(info, match);
+    if (ops == nullptr) return;
     const std::string name = "harness/" + label + "/" + std::string(info.id);
-    auto* b =
-        benchmark::RegisterBenchmark(name.c_str(), [problem, &info, n](benchmark::State& state) {
+    auto* b = benchmark::RegisterBenchmark(
+        name.c_str(), [problem, &info, n, ops](benchmark::State& state) {
             std::int64_t evals = 0;
+            Vec z;
             for (auto _ : state) {
                 Counters counters;
-                K stepper(*problem, info, kStep, counters);
-                Vec z = problem->initial_state();
-                const IntegrateOutcome res = integrate(stepper, z, 0.0, kStep, n);
+                const IntegrateOutcome res = bare_run(*ops, *problem, info, n, counters, z);
                 benchmark::DoNotOptimize(z.data());
                 benchmark::ClobberMemory();
                 if (res.status != RunStatus::ok) {
@@ -64,7 +79,7 @@ void register_problem(const std::string& label, const P& p, std::int64_t n) {
             "csv1",   "stormer-verlet", "csv1-perk", "cse-if",  "cse-etd", "rk4",   "gauss1",
             "gauss2", "gauss3",         "glifrk1",   "glifrk2", "glifrk3", "etdrk2"};
         const bool key = label == "pendulum" && acceptance.count(info.id) != 0;
-        with_kernel<P>(info, [&]<class K>() { register_one<K, P>(label, problem, info, n, key); });
+        register_one(label, problem, info, n, key);
     }
     // Methods loaded from files (docs/method-files.md): rk4 and stormer-verlet from
     // examples/methods/ against their built-in twins (bench_report.py: within 1.10x).
@@ -72,14 +87,11 @@ void register_problem(const std::string& label, const P& p, std::int64_t n) {
         for (const char* file : {"rk4.json", "stormer-verlet.json"})
             for (const MethodInfo* info :
                  load_method_file(dampsym::source_dir() + "/examples/methods/" + file))
-                with_kernel<P>(
-                    *info, [&]<class K>() { register_one<K, P>(label, problem, *info, n, true); });
+                register_one(label, problem, *info, n, true);
     // A C plugin's csv1 (examples/plugins, docs/plugins.md) against the built-in csv1.
     if (label == "pendulum")
         for (const MethodInfo* info : load_plugin(DAMPSYM_EXAMPLE_PLUGIN))
-            if (info->id == "plugin-csv1")
-                with_kernel<P>(
-                    *info, [&]<class K>() { register_one<K, P>(label, problem, *info, n, true); });
+            if (info->id == "plugin-csv1") register_one(label, problem, *info, n, true);
 }
 
 // Gravity: a central body of mass 1 and N−1 light bodies (mass 1e-3) on circular orbits of radii
@@ -106,17 +118,15 @@ bool kernel_ends_at(std::string_view method, double q, double p) {
     const Pendulum problem =
         make_problem<Pendulum>({{"gamma", kGamma}, {"q0", kPendulumQ0}, {"p0", kPendulumP0}});
     const MethodInfo* info = find_method(method);
-    bool same = false;
-    if (info != nullptr)
-        with_kernel<Pendulum>(*info, [&]<class K>() {
-            Counters counters;
-            K stepper(problem, *info, kStep, counters);
-            Vec z = problem.initial_state();
-            integrate(stepper, z, 0.0, kStep, kSteps1Dof);
-            same = std::bit_cast<std::uint64_t>(z[0]) == std::bit_cast<std::uint64_t>(q) &&
-                   std::bit_cast<std::uint64_t>(z[1]) == std::bit_cast<std::uint64_t>(p);
-        });
-    return same;
+    if (info == nullptr) return false;
+    KernelMatch match = KernelMatch::unknown_kernel;
+    const KernelOps<Pendulum>* ops = kernel_ops<Pendulum>(*info, match);
+    if (ops == nullptr) return false;
+    Counters counters;
+    Vec z;
+    bare_run(*ops, problem, *info, kSteps1Dof, counters, z);
+    return std::bit_cast<std::uint64_t>(z[0]) == std::bit_cast<std::uint64_t>(q) &&
+           std::bit_cast<std::uint64_t>(z[1]) == std::bit_cast<std::uint64_t>(p);
 }
 
 void register_harness_benchmarks() {

@@ -8,10 +8,10 @@
 //    and Hill's equation (time-dependent γ);
 //  - det Ψ = e^{−2γh} on the oscillator for the conformal methods;
 //  - not applicable (rigid body), diverged and failed-solve outcomes are reported, not thrown.
-// Kernels are built through the registry as the runner builds them.
-// Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
+// Steppers come compiled from the library (kernel_ops, harness/run/kernel_ops.hpp), as the
+// runner's. Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
 #include "diagnostics/conformal_symplectic.hpp"
-#include "harness/registry.hpp"
+#include "harness/problem_list.hpp"
 #include "methods/cimp.hpp"
 
 #include "support/helpers.hpp"
@@ -30,7 +30,6 @@ using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 using dampsym::ConformalSymplecticApplicability;
 using dampsym::Counters;
-using dampsym::KernelMatch;
 using dampsym::Mat;
 using dampsym::MethodInfo;
 using dampsym::RunStatus;
@@ -44,34 +43,17 @@ constexpr std::int64_t n_steps = 1000;
 const std::vector<std::string> method_ids{"cimp", "csv1", "csv2", "rk3", "heun", "rk4"};
 
 using dampsym::test::method;
+using dampsym::test::stepper;
 using dampsym::test::verbose;
 
 bool conformal_method(const std::string& id) {
     return id == "cimp" || id == "csv1" || id == "csv2";
 }
 
-// dampsym::with_kernel restricted to the kernels with an exact step Jacobian: f is instantiated
-// only for those (the general-linear kernel has none; a method of such a kernel fails the test).
-// The kernels of the methods these tests step (with_kernel_among: the test's code is instantiated
-// for these alone).
-using TestedKernels =
-    dampsym::KernelList<dampsym::Cimp, dampsym::Csv1, dampsym::Csv2, dampsym::ExplicitRK>;
-
-template <class P, class F>
-KernelMatch with_jacobian_kernel(const MethodInfo& info, F&& f) {
-    return dampsym::with_kernel_among<P, TestedKernels>(info, [&]<class K>() {
-        if constexpr (dampsym::kernel_has_step_jacobian<K>())
-            f.template operator()<K>();
-        else
-            FAIL(std::string(info.id)
-                 << ": kernel " << std::string(K::kernel_id) << " has no step_jacobian");
-    });
-}
-
 // Central differences of one step of `stepper` at (t, z), column by column; the step in z_j is
 // rel_delta·max(1, |z_j|) and the quotient uses the difference actually represented.
-template <class K>
-Mat central_difference_jacobian(K& stepper, double t, const Vec& z, double rel_delta = 1e-5) {
+Mat central_difference_jacobian(dampsym::AnyStepper& stepper, double t, const Vec& z,
+                                double rel_delta = 1e-5) {
     const Eigen::Index d = z.size();
     Mat D(d, d);
     for (Eigen::Index j = 0; j < d; ++j) {
@@ -97,15 +79,18 @@ void check_problem(const P& prob, const char* label, bool oscillator_gamma_known
                    double oscillator_gamma = 0.0) {
     for (const std::string& id : method_ids) {
         const MethodInfo& info = method(id);
-        const KernelMatch match = with_jacobian_kernel<P>(info, [&]<class K>() {
-            STATIC_REQUIRE(K::has_step_jacobian);
+        // Every method applies to these separable problems (csv2 with time-dependent γ freezes γ
+        // at its mean over each step, src/methods/csv2.hpp).
+        {
             const bool conformal = conformal_method(id);
             const int d = prob.dim();
 
             // 1. step_jacobian moves z exactly like step(), and Ψ matches central differences
             //    (every 50 steps) and, on the oscillator, has det Ψ = e^{−2γh} (every step).
             Counters c1, c2, c3;
-            K plain(prob, info, h, c1), with_jac(prob, info, h, c2), fd(prob, info, h, c3);
+            const auto plain = stepper(prob, info, h, c1), with_jac = stepper(prob, info, h, c2),
+                       fd = stepper(prob, info, h, c3);
+            REQUIRE(with_jac->has_step_jacobian());
             Vec z1 = prob.initial_state(), z2 = prob.initial_state();
             Mat Psi(d, d);
             std::int64_t mismatches = 0, failures = 0;
@@ -113,9 +98,9 @@ void check_problem(const P& prob, const char* label, bool oscillator_gamma_known
             for (std::int64_t k = 0; k < n_steps; ++k) {
                 const double t = dampsym::time_at(0.0, h, k);
                 Mat D;
-                if (k % 50 == 0) D = central_difference_jacobian(fd, t, z2);
-                if (plain.step(t, z1) != StepStatus::ok) ++failures;
-                if (with_jac.step_jacobian(t, z2, Psi) != StepStatus::ok) ++failures;
+                if (k % 50 == 0) D = central_difference_jacobian(*fd, t, z2);
+                if (plain->step(t, z1) != StepStatus::ok) ++failures;
+                if (with_jac->step_jacobian(t, z2, Psi) != StepStatus::ok) ++failures;
                 if (!(z1.array() == z2.array()).all()) ++mismatches;
                 if (k % 50 == 0) fd_diff = std::max(fd_diff, (Psi - D).cwiseAbs().maxCoeff());
                 if (oscillator_gamma_known && conformal)
@@ -134,9 +119,9 @@ void check_problem(const P& prob, const char* label, bool oscillator_gamma_known
 
             // 2. The diagnostic: conformal methods at round-off, RK negative controls clearly not.
             Counters c4;
-            K stepper(prob, info, h, c4);
+            const auto pass = stepper(prob, info, h, c4);
             Vec z = prob.initial_state();
-            const auto st = dampsym::conformal_symplectic_defect(stepper, prob, z, 0.0, h, n_steps);
+            const auto st = dampsym::conformal_symplectic_defect(*pass, prob, z, 0.0, h, n_steps);
             CHECK(st.applicable());
             CHECK(st.status == RunStatus::ok);
             CHECK(st.steps_done == n_steps);
@@ -156,10 +141,7 @@ void check_problem(const P& prob, const char* label, bool oscillator_gamma_known
                     std::printf("  |det Psi - e^-2gh| %.3e", det_diff);
                 std::printf("\n");
             }
-        });
-        // Every method applies to these separable problems (csv2 with time-dependent γ freezes γ
-        // at its mean over each step, src/methods/csv2.hpp).
-        CHECK(match == KernelMatch::applied);
+        }
     }
 }
 
@@ -217,19 +199,15 @@ TEST_CASE("step Jacobians and conformal-symplectic defect: Hill, time-dependent 
 TEST_CASE("conformal-symplectic defect: rigid body is not applicable", "[jacobian]") {
     const dampsym::RigidBody body;
     const MethodInfo& info = method("cimp");
-    const KernelMatch match =
-        dampsym::with_kernel_among<dampsym::RigidBody, TestedKernels>(info, [&]<class K>() {
-            Counters c;
-            K stepper(body, info, h, c);
-            Vec z = body.initial_state();
-            const Vec z0 = z;
-            const auto st = dampsym::conformal_symplectic_defect(stepper, body, z, 0.0, h, 10);
-            CHECK_FALSE(st.applicable());
-            CHECK(st.applicability == ConformalSymplecticApplicability::not_canonical);
-            CHECK(st.steps_done == 0);
-            CHECK((z.array() == z0.array()).all());
-        });
-    CHECK(match == KernelMatch::applied);
+    Counters c;
+    const auto pass = stepper(body, info, h, c);
+    Vec z = body.initial_state();
+    const Vec z0 = z;
+    const auto st = dampsym::conformal_symplectic_defect(*pass, body, z, 0.0, h, 10);
+    CHECK_FALSE(st.applicable());
+    CHECK(st.applicability == ConformalSymplecticApplicability::not_canonical);
+    CHECK(st.steps_done == 0);
+    CHECK((z.array() == z0.array()).all());
 }
 
 TEST_CASE("conformal-symplectic defect: divergence and failed solves are reported", "[jacobian]") {
@@ -237,26 +215,23 @@ TEST_CASE("conformal-symplectic defect: divergence and failed solves are reporte
         dampsym::Oscillator p;
         p.gamma = 1.0;
         const MethodInfo& info = method("csv2");
-        const KernelMatch match =
-            dampsym::with_kernel_among<dampsym::Oscillator, TestedKernels>(info, [&]<class K>() {
-                Counters c;
-                K stepper(p, info, 2.0, c);
-                Vec z = p.initial_state();
-                const auto st = dampsym::conformal_symplectic_defect(stepper, p, z, 0.0, 2.0, 5);
-                CHECK(st.applicable());
-                CHECK(st.status == RunStatus::diverged);
-                CHECK(st.failed_step == 1);
-                CHECK(st.steps_done == 1);
-                CHECK(st.steps_measured == 0);
-            });
-        CHECK(match == KernelMatch::applied);
+        Counters c;
+        const auto pass = stepper(p, info, 2.0, c);
+        Vec z = p.initial_state();
+        const auto st = dampsym::conformal_symplectic_defect(*pass, p, z, 0.0, 2.0, 5);
+        CHECK(st.applicable());
+        CHECK(st.status == RunStatus::diverged);
+        CHECK(st.failed_step == 1);
+        CHECK(st.steps_done == 1);
+        CHECK(st.steps_measured == 0);
     }
     SECTION("cimp whose Newton solve fails: solve_failed, z is the last good state") {
         const NanProblem p;
         Counters c;
-        dampsym::Cimp<NanProblem> stepper(p, method("cimp"), h, c);
+        // a problem of the test's own: its kernel is instantiated here
+        dampsym::StepperOf<dampsym::Cimp<NanProblem>> pass(p, method("cimp"), h, c);
         Vec z{{1.0, 0.0}};
-        const auto st = dampsym::conformal_symplectic_defect(stepper, p, z, 0.0, h, 5);
+        const auto st = dampsym::conformal_symplectic_defect(pass, p, z, 0.0, h, 5);
         CHECK(st.applicable());
         CHECK(st.status == RunStatus::solve_failed);
         CHECK(st.failed_step == 1);
@@ -293,33 +268,26 @@ TEST_CASE("conformal-symplectic defect: one-step damping beyond the double range
             p.gamma = gamma;
             const double hh = 1.0;
             const MethodInfo& info = method(id);
-            const KernelMatch match =
-                dampsym::with_kernel_among<dampsym::Oscillator, TestedKernels>(
-                    info, [&]<class K>() {
-                        Counters c;
-                        K stepper(p, info, hh, c);
-                        Vec z = p.initial_state();
-                        const auto st =
-                            dampsym::conformal_symplectic_defect(stepper, p, z, 0.0, hh, 3);
-                        INFO(id << " gamma h = " << gamma * hh);
-                        CHECK(st.status == RunStatus::ok);
-                        CHECK(st.steps_measured == 3);
-                        CHECK(std::isfinite(st.max_abs));
-                        if (gamma * hh < 354.0) {
-                            CHECK(st.rel_undefined_steps == 0);
-                            CHECK(st.max_rel_step > 0);
-                            CHECK(st.max_rel <= 1e-13);
-                        } else {
-                            CHECK(st.rel_undefined_steps == 3);
-                            CHECK(st.max_rel_step == 0);
-                        }
-                        if (verbose())
-                            std::printf(
-                                "[jacobian] gamma h = %g %-5s max E_rel %.3e, %lld undefined\n",
-                                gamma * hh, id, st.max_rel,
-                                static_cast<long long>(st.rel_undefined_steps));
-                    });
-            CHECK(match == KernelMatch::applied);
+            Counters c;
+            const auto pass = stepper(p, info, hh, c);
+            Vec z = p.initial_state();
+            const auto st = dampsym::conformal_symplectic_defect(*pass, p, z, 0.0, hh, 3);
+            INFO(id << " gamma h = " << gamma * hh);
+            CHECK(st.status == RunStatus::ok);
+            CHECK(st.steps_measured == 3);
+            CHECK(std::isfinite(st.max_abs));
+            if (gamma * hh < 354.0) {
+                CHECK(st.rel_undefined_steps == 0);
+                CHECK(st.max_rel_step > 0);
+                CHECK(st.max_rel <= 1e-13);
+            } else {
+                CHECK(st.rel_undefined_steps == 3);
+                CHECK(st.max_rel_step == 0);
+            }
+            if (verbose())
+                std::printf("[jacobian] gamma h = %g %-5s max E_rel %.3e, %lld undefined\n",
+                            gamma * hh, id, st.max_rel,
+                            static_cast<long long>(st.rel_undefined_steps));
         }
     }
     CHECK(std::isnan(dampsym::relative_defect(0.0, 1e-300, 1.0)));

@@ -16,7 +16,8 @@
 //  - the Newton paths (implicit PERK pair, etdrk2) and solve_failed without throwing.
 // Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
 #include "diagnostics/conformal_symplectic.hpp"
-#include "harness/registry.hpp"
+#include "harness/problem_list.hpp"
+#include "harness/run/kernel_ops.hpp"
 #include "methods/exponential_conditions.hpp"
 #include "methods/exponential_rk.hpp"
 #include "methods/exponential_tableaux.hpp"
@@ -90,54 +91,41 @@ double ls_slope(const std::vector<double>& x, const std::vector<double>& y) {
     return sxy / sxx;
 }
 
-// Calls f.template operator()<K>() for the exponential kernel K (ExponentialRK<P> or
-// PartitionedExponentialRK<P>) whose Data is the type of info's coefficient set, when it applies to
-// P; REQUIREs that it does.
-// Dispatches like the registry's with_kernel (checked against it in "catalog rows ...") but
-// instantiates only the two kernels of this file. Not inlined: GCC 12 reports a false
-// -Wuse-after-free inside Eigen when a kernel's constructor is inlined into these lambdas.
-template <class P, class F>
-[[gnu::noinline]] void with_method(const MethodInfo& info, F&& f) {
-    bool called = false;
-    const auto try_kernel = [&]<class K>() {
-        if constexpr (K::template applies<P>) {
-            const auto* data = std::get_if<typename K::Data>(&info.data);
-            if (!called && data != nullptr && K::accepts(*data)) {
-                f.template operator()<K>();
-                called = true;
-            }
-        }
-    };
-    try_kernel.template operator()<dampsym::ExponentialRK<P>>();
-    try_kernel.template operator()<dampsym::PartitionedExponentialRK<P>>();
-    INFO(info.id);
-    REQUIRE(called);
+// A stepper of `info` on the registered problem type P from the library's compiled (kernel,
+// problem) pairs (kernel_ops): the registry's choice, which must be one of the two exponential
+// kernels of this file (ExponentialRK, PartitionedExponentialRK); the test instantiates none.
+template <class P>
+std::unique_ptr<dampsym::AnyStepper> exp_stepper(const P& prob, const MethodInfo& info, double h,
+                                                 Counters& c) {
+    KernelMatch match = KernelMatch::unknown_kernel;
+    const dampsym::KernelOps<P>* ops = dampsym::kernel_ops<P>(info, match);
+    INFO(info.id << " on " << P::id);
+    REQUIRE(ops != nullptr);
+    REQUIRE((ops->kernel_id == "exponential-rk" || ops->kernel_id == "partitioned-exponential-rk"));
+    return ops->stepper(prob, info, h, c);
 }
 
-template <class K, class P>
-[[gnu::noinline]] bool run_steps(const P& prob, const MethodInfo& info, double h, int n, Vec& z,
-                                 Counters& c) {
-    K k(prob, info, h, c);
+// n steps of size h from t = 0 (exp_stepper); false on a failed step.
+template <class P>
+bool run(const P& prob, const MethodInfo& info, double h, int n, Vec& z, Counters& c) {
+    const auto k = exp_stepper(prob, info, h, c);
     for (int i = 0; i < n; ++i)
-        if (k.step(dampsym::time_at(0.0, h, i), z) != StepStatus::ok) return false;
+        if (k->step(dampsym::time_at(0.0, h, i), z) != StepStatus::ok) return false;
     return true;
 }
 
+// Per step from the same state: one step of method a and one of b (their kernels, the library's
+// compiled pairs, must be ka_id and kb_id) from z_k; continues from a's. Returns the largest
+// relative difference; counts bitwise-equal steps.
 template <class P>
-bool run(const P& prob, const MethodInfo& info, double h, int n, Vec& z, Counters& c) {
-    bool ok = false;
-    with_method<P>(info, [&]<class K>() { ok = run_steps<K>(prob, info, h, n, z, c); });
-    return ok;
-}
-
-// Per step from the same state: one step of KA and one of KB from z_k; continues from KA's.
-// Returns the largest relative difference; counts bitwise-equal steps.
-template <class KA, class KB, class P>
-[[gnu::noinline]] double compare_per_step(const P& prob, const MethodInfo& a, const MethodInfo& b,
-                                          double h, int n, int& bitwise, Counters& ca,
-                                          Counters& cb) {
-    KA ka(prob, a, h, ca);
-    KB kb(prob, b, h, cb);
+double compare_per_step(std::string_view ka_id, std::string_view kb_id, const P& prob,
+                        const MethodInfo& a, const MethodInfo& b, double h, int n, int& bitwise,
+                        Counters& ca, Counters& cb) {
+    CHECK(dampsym::test::kernel<P>(a).kernel_id == ka_id);
+    CHECK(dampsym::test::kernel<P>(b).kernel_id == kb_id);
+    const auto pa = dampsym::test::stepper(prob, a, h, ca);
+    const auto pb = dampsym::test::stepper(prob, b, h, cb);
+    dampsym::AnyStepper &ka = *pa, &kb = *pb;
     Vec z = prob.initial_state();
     double worst = 0.0;
     bitwise = 0;
@@ -363,9 +351,11 @@ TEST_CASE("catalog rows of the exponential families", "[exponential]") {
         CHECK(dampsym::method_applies(r.id, "rigid-body") ==
               (std::string_view(r.kernel) == "exponential-rk"));
         // The registry dispatches the row to its kernel.
-        const KernelMatch km = dampsym::with_kernel<dampsym::Pendulum>(
-            m, [&]<class K>() { CHECK(K::kernel_id == r.kernel); });
+        KernelMatch km = KernelMatch::unknown_kernel;
+        const auto* ops = dampsym::kernel_ops<dampsym::Pendulum>(m, km);
         CHECK(km == KernelMatch::applied);
+        REQUIRE(ops != nullptr);
+        CHECK(ops->kernel_id == r.kernel);
     }
     CHECK(method("etdprk2").claims == dampsym::claim_none);
 }
@@ -373,17 +363,18 @@ TEST_CASE("catalog rows of the exponential families", "[exponential]") {
 TEST_CASE("csv1-perk == csv1 and csv2-perk == csv2 per step, IF-Gauss ERK == glifrk",
           "[exponential]") {
     const auto check = [](const auto& prob, const char* what, double h, int n) {
-        using P = std::decay_t<decltype(prob)>;
         int bitwise = 0;
         Counters ca, cb;
-        const double d1 = compare_per_step<dampsym::Csv1<P>, dampsym::PartitionedExponentialRK<P>>(
-            prob, method("csv1"), method("csv1-perk"), h, n, bitwise, ca, cb);
+        const double d1 =
+            compare_per_step("csv1", "partitioned-exponential-rk", prob, method("csv1"),
+                             method("csv1-perk"), h, n, bitwise, ca, cb);
         CHECK(d1 <= 1e-15);
         CHECK(ca.rhs_evals == cb.rhs_evals); // two force evaluations per step, as csv1
         const int bitwise1 = bitwise;
         Counters cc, cd;
-        const double d2 = compare_per_step<dampsym::Csv2<P>, dampsym::PartitionedExponentialRK<P>>(
-            prob, method("csv2"), method("csv2-perk"), h, n, bitwise, cc, cd);
+        const double d2 =
+            compare_per_step("csv2", "partitioned-exponential-rk", prob, method("csv2"),
+                             method("csv2-perk"), h, n, bitwise, cc, cd);
         CHECK(d2 <= 1e-15);
         CHECK(cc.rhs_evals == cd.rhs_evals);
         if (verbose())
@@ -400,13 +391,13 @@ TEST_CASE("csv1-perk == csv1 and csv2-perk == csv2 per step, IF-Gauss ERK == gli
     // The ERK kernel with IF-Gauss data (integrating-factor construction B(2.5)) against the
     // ifrk kernel (glifrk1, glifrk2) on the pendulum.
     const dampsym::Pendulum prob = pendulum();
-    using P = dampsym::Pendulum;
     for (int s = 1; s <= 2; ++s) {
         int bitwise = 0;
         Counters ca, cb;
         const MethodInfo info = if_gauss_info(s);
-        const double d = compare_per_step<dampsym::IFRK<P>, dampsym::ExponentialRK<P>>(
-            prob, method(s == 1 ? "glifrk1" : "glifrk2"), info, 0.1, 300, bitwise, ca, cb);
+        const double d =
+            compare_per_step("ifrk", "exponential-rk", prob, method(s == 1 ? "glifrk1" : "glifrk2"),
+                             info, 0.1, 300, bitwise, ca, cb);
         CHECK(d <= 1e-14);
         if (verbose())
             std::printf("[exponential] if-gauss%d (ERK kernel) vs glifrk%d: max rel %.1e "
@@ -469,28 +460,25 @@ TEST_CASE("conformal symplecticity E_n per step: conformal rows at round-off, et
     const double h = 0.1;
     const std::int64_t n = 1000;
     const auto check_problem = [&](const auto& prob, const char* what, bool damped) {
-        using P = std::decay_t<decltype(prob)>;
         std::vector<std::string> ids = conformal_ids;
         ids.push_back("etdprk2");
         for (const std::string& id : ids) {
             const MethodInfo& info = method(id);
-            with_method<P>(info, [&]<class K>() {
-                Counters c;
-                K stepper(prob, info, h, c);
-                Vec z = prob.initial_state();
-                const auto st = dampsym::conformal_symplectic_defect(stepper, prob, z, 0.0, h, n);
-                INFO(what << " / " << id);
-                REQUIRE(st.applicable());
-                CHECK(st.status == dampsym::RunStatus::ok);
-                CHECK(st.steps_measured == n);
-                if (id != "etdprk2")
-                    CHECK(st.max_rel <= 1e-13);
-                else if (damped)
-                    CHECK(st.max_rel >= 1e-8);
-                if (verbose())
-                    std::printf("[exponential] E_n %-16s %-10s max rel %.2e\n", what, id.c_str(),
-                                st.max_rel);
-            });
+            Counters c;
+            const auto pass = dampsym::test::stepper(prob, info, h, c); // the library's kernel
+            Vec z = prob.initial_state();
+            const auto st = dampsym::conformal_symplectic_defect(*pass, prob, z, 0.0, h, n);
+            INFO(what << " / " << id);
+            REQUIRE(st.applicable());
+            CHECK(st.status == dampsym::RunStatus::ok);
+            CHECK(st.steps_measured == n);
+            if (id != "etdprk2")
+                CHECK(st.max_rel <= 1e-13);
+            else if (damped)
+                CHECK(st.max_rel >= 1e-8);
+            if (verbose())
+                std::printf("[exponential] E_n %-16s %-10s max rel %.2e\n", what, id.c_str(),
+                            st.max_rel);
         }
     };
     check_problem(oscillator(), "oscillator", true);
@@ -501,9 +489,9 @@ TEST_CASE("conformal symplecticity E_n per step: conformal rows at round-off, et
     // The implicit PERK pair (Newton path) satisfies B(2.23): conformal symplectic too.
     const dampsym::Pendulum prob = pendulum();
     Counters pair_counters;
-    dampsym::PartitionedExponentialRK<dampsym::Pendulum> pair(prob, if_gauss2_pair_info, h,
-                                                              pair_counters);
-    CHECK_FALSE(pair.scheduled());
+    dampsym::StepperOf<dampsym::PartitionedExponentialRK<dampsym::Pendulum>> pair(
+        prob, if_gauss2_pair_info, h, pair_counters);
+    CHECK_FALSE(pair.kernel().scheduled());
     Vec z = prob.initial_state();
     const auto st = dampsym::conformal_symplectic_defect(pair, prob, z, 0.0, h, 200);
     CHECK(st.max_rel <= 1e-13);
@@ -521,7 +509,6 @@ TEST_CASE("exponential kernels: step_jacobian advances like step() and matches c
     double worst_all = 0;
     int checked = 0;
     const auto check_problem = [&](const auto& prob, const char* what, const Vec& z0) {
-        using P = std::decay_t<decltype(prob)>;
         std::vector<const MethodInfo*> infos;
         for (const std::string& id : conformal_ids) infos.push_back(&method(id));
         infos.push_back(&method("etdprk2"));
@@ -529,11 +516,12 @@ TEST_CASE("exponential kernels: step_jacobian advances like step() and matches c
         const MethodInfo g2 = if_gauss_info(2);
         infos.push_back(&g2);
         for (const MethodInfo* info : infos) {
-            with_method<P>(*info, [&]<class K>() {
-                static_assert(K::has_step_jacobian);
+            {
+                // (stepped below through AnyStepper)
                 const double h = 0.1, t = 0.7;
                 Counters c;
-                K k(prob, *info, h, c);
+                const auto k_owner = exp_stepper(prob, *info, h, c);
+                dampsym::AnyStepper& k = *k_owner;
                 Vec za = z0, zb = z0;
                 Mat Psi;
                 REQUIRE(k.step(t, za) == StepStatus::ok);
@@ -558,7 +546,7 @@ TEST_CASE("exponential kernels: step_jacobian advances like step() and matches c
                 CHECK(worst <= 1e-7);
                 worst_all = std::max(worst_all, worst);
                 ++checked;
-            });
+            }
         }
     };
     check_problem(pendulum(), "pendulum", Vec{{1.1, -0.4}});
@@ -581,14 +569,15 @@ TEST_CASE("etdprk2 on the oscillator: det of the one-step map is e^{-2 gamma h}(
     for (const double h : {0.2, 0.1, 0.05, 0.025, 0.0125}) {
         const MethodInfo& info = method("etdprk2");
         double det = 0;
-        with_method<dampsym::Oscillator>(info, [&]<class K>() {
+        {
             Counters c;
-            K k(prob, info, h, c);
+            const auto k_owner = exp_stepper(prob, info, h, c);
+            dampsym::AnyStepper& k = *k_owner;
             Vec z = prob.initial_state();
             Mat Psi;
             REQUIRE(k.step_jacobian(0.0, z, Psi) == StepStatus::ok);
             det = Psi.determinant();
-        });
+        }
         const double dev = det / std::exp(-2.0 * gamma * h) - 1.0;
         const double alpha = (1.0 - std::exp(-gamma * h)) / (2.0 * gamma * h);
         CHECK_THAT(dev, WithinRel(h * h * omega * omega * (0.5 - alpha), 1e-8));
@@ -606,15 +595,16 @@ TEST_CASE("etdprk2 on the oscillator: det of the one-step map is e^{-2 gamma h}(
     if (verbose()) std::printf("[exponential] etdprk2 det deviation slope %.4f\n", slope);
     for (const std::string& id : conformal_ids) {
         const MethodInfo& info = method(id);
-        with_method<dampsym::Oscillator>(info, [&]<class K>() {
+        {
             Counters c;
-            K k(prob, info, 0.1, c);
+            const auto k_owner = exp_stepper(prob, info, 0.1, c);
+            dampsym::AnyStepper& k = *k_owner;
             Vec z = prob.initial_state();
             Mat Psi;
             REQUIRE(k.step_jacobian(0.0, z, Psi) == StepStatus::ok);
             INFO(id);
             CHECK_THAT(Psi.determinant(), WithinRel(std::exp(-0.2 * gamma), 1e-14));
-        });
+        }
     }
 }
 
@@ -623,19 +613,19 @@ TEST_CASE("exponential methods at tiny gamma h keep full accuracy", "[exponentia
     // agree to round-off; the naive b = (1 − e^{−x})/x would put a 1e−5 relative error in b.
     const double h = 0.1;
     const dampsym::Pendulum prob = pendulum(1e-11);
-    using P = dampsym::Pendulum;
     int bitwise = 0;
     Counters ca, cb;
-    const double d = compare_per_step<dampsym::Cimp<P>, dampsym::ExponentialRK<P>>(
-        prob, method("cimp"), method("etdrk2"), h, 200, bitwise, ca, cb);
+    const double d = compare_per_step("cimp", "exponential-rk", prob, method("cimp"),
+                                      method("etdrk2"), h, 200, bitwise, ca, cb);
     CHECK(d <= 1e-14);
     // cse-etd B(2.19), one step at γh = 1e−12 (x_B = 2e−12) against the same step evaluated in
     // long double: p₁ = e^{−x_B} p − h (1 − e^{−x_B})/x_B sin q, q₁ = q + h p₁.
     const MethodInfo& info = method("cse-etd");
     double d2 = 0;
-    with_method<P>(info, [&]<class K>() {
+    {
         Counters c;
-        K k(prob, info, h, c);
+        const auto k_owner = exp_stepper(prob, info, h, c);
+        dampsym::AnyStepper& k = *k_owner;
         Vec z{{1.3, -0.7}};
         REQUIRE(k.step(0.0, z) == StepStatus::ok);
         const long double xB = 2.0L * static_cast<long double>(prob.gamma) * h;
@@ -644,7 +634,7 @@ TEST_CASE("exponential methods at tiny gamma h keep full accuracy", "[exponentia
         const long double q1 = 1.3L + h * p1;
         d2 = static_cast<double>(std::max(std::fabs(z[0] - q1), std::fabs(z[1] - p1)) /
                                  std::fabs(q1));
-    });
+    }
     CHECK(d2 <= 4e-16);
     if (verbose())
         std::printf("[exponential] gamma h = 1e-12: etdrk2 vs cimp max rel %.1e, one cse-etd "
@@ -662,9 +652,10 @@ TEST_CASE("momentum laws on the n-body problem for the claims of the exponential
     const int n = 300;
     for (const std::string& id : conformal_ids) {
         const MethodInfo& info = method(id);
-        with_method<dampsym::NBody>(info, [&]<class K>() {
+        {
             Counters c;
-            K k(prob, info, h, c);
+            const auto k_owner = exp_stepper(prob, info, h, c);
+            dampsym::AnyStepper& k = *k_owner;
             Vec z = prob.initial_state();
             Vec L0(3), L1(3), P0(3), P1(3);
             const double gh = prob.gamma * h;
@@ -692,7 +683,7 @@ TEST_CASE("momentum laws on the n-body problem for the claims of the exponential
             if (verbose())
                 std::printf("[exponential] nbody %-10s angular law %.1e  linear law %.1e\n",
                             id.c_str(), worst_L, worst_P);
-        });
+        }
     }
 }
 

@@ -14,7 +14,8 @@
 // Set DAMPSYM_TEST_VERBOSE=1 to print the measured disagreements, tolerances and margins.
 #include "diagnostics/conformal_symplectic_diagnostic.hpp"
 #include "diagnostics/problem_check_json.hpp"
-#include "harness/registry.hpp"
+#include "harness/problem_list.hpp"
+#include "methods/csv1.hpp"
 
 #include "support/helpers.hpp"
 
@@ -27,7 +28,6 @@
 
 using dampsym::Counters;
 using dampsym::json;
-using dampsym::KernelMatch;
 using dampsym::Mat;
 using dampsym::MethodInfo;
 using dampsym::StepStatus;
@@ -40,10 +40,6 @@ namespace {
 constexpr double h = 0.1;
 constexpr std::int64_t n_steps = 200;
 constexpr double defect = 1e-7;
-
-using CheckedKernels =
-    dampsym::KernelList<dampsym::Cimp, dampsym::Csv1, dampsym::ExplicitRK, dampsym::ImplicitRK,
-                        dampsym::IFRK, dampsym::PartitionedRK, dampsym::PartitionedExponentialRK>;
 
 // csv1 whose step Jacobian has its first kick's (h/2)F'(q₀) multiplied by 1 + 1e-7; its step is
 // csv1's. By csv1.hpp's chain rule the defect a = 1e-7 (h/2)F'(q₀) of ∂p½/∂q₀ moves ∂q₁/∂q₀ by
@@ -136,11 +132,8 @@ template <class P>
 json metrics_of(const P& prob, const std::string& id) {
     json out;
     const MethodInfo& info = method(id);
-    const KernelMatch match = dampsym::with_kernel_among<P, CheckedKernels>(info, [&]<class K>() {
-        if constexpr (dampsym::kernel_has_step_jacobian<K>())
-            out = dampsym::conformal_symplectic_metrics<K>(prob, info, 0.0, h, n_steps);
-    });
-    REQUIRE(match == KernelMatch::applied);
+    out = dampsym::conformal_symplectic_metrics(prob, info, 0.0, h, n_steps,
+                                                dampsym::test::kernel<P>(info).stepper);
     return out;
 }
 
@@ -213,8 +206,9 @@ TEST_CASE("jacobian check: csv1 with its first kick's (h/2)F' x (1 + 1e-7) in th
           "[jacobian-check]") {
     const auto prob = dampsym::test::pendulum(0.1);
     const MethodInfo& info = method("csv1");
-    const json bad = dampsym::conformal_symplectic_metrics<Csv1KickDefect<dampsym::Pendulum>>(
-        prob, info, 0.0, h, n_steps);
+    const json bad = dampsym::conformal_symplectic_metrics(
+        prob, info, 0.0, h, n_steps,
+        dampsym::stepper_maker<Csv1KickDefect<dampsym::Pendulum>, dampsym::Pendulum>());
     INFO(bad.dump());
     // E_n cannot see it: the defective kick is still symplectic
     CHECK(bad["max_rel"].get<double>() <= 1e-13);

@@ -8,11 +8,15 @@
 //  - conformal symplecticity of glifrk1..3 on Hill's equation, gauss1..3 as negative controls;
 //  - solve failure returns StepStatus::solve_failed with z unchanged;
 //  - evaluation counts, the Newton path of the partitioned kernel, explicit tableaux.
-// Kernels are dispatched by the type of the row's coefficient set like the registry's with_kernel,
-// but only among the three family kernels (with_family_kernel).
+// On the registered problems the steppers are the library's compiled (kernel, problem) pairs
+// (family_stepper: the registry's choice, required to be one of the three family kernels); the
+// test's own problems (Riccati) and the engines' internals (the partitioned engine's compiled
+// shapes against its program) instantiate the kernels here.
 // Set DAMPSYM_TEST_VERBOSE=1 to print the measured numbers.
 #include "core/integrate.hpp"
-#include "harness/registry.hpp"
+#include "harness/problem_list.hpp"
+#include "harness/registry.hpp" // with_kernel_among (the engines' internals)
+#include "harness/run/kernel_ops.hpp"
 #include "methods/newton.hpp"
 #include "methods/tableaux.hpp"
 #include "reference/gsl_reference.hpp"
@@ -122,14 +126,29 @@ template <class K, class P>
     return true;
 }
 
-// The same for the family kernel of `info` (only the three family kernels are instantiated here;
-// the registry's dispatch is exercised by the catalog test through method_applies).
+// A stepper of `info` on the registered problem type P from the library (kernel_ops), or null
+// when no kernel applies; the kernel must be one of the three family kernels of this file.
+template <class P>
+std::unique_ptr<dampsym::AnyStepper> family_stepper(const P& prob, const MethodInfo& info, double h,
+                                                    Counters& c) {
+    dampsym::KernelMatch match = dampsym::KernelMatch::unknown_kernel;
+    const dampsym::KernelOps<P>* ops = dampsym::kernel_ops<P>(info, match);
+    if (ops == nullptr) return nullptr;
+    INFO(info.id << " is stepped by " << std::string(ops->kernel_id));
+    REQUIRE((ops->kernel_id == "implicit-rk" || ops->kernel_id == "ifrk" ||
+             ops->kernel_id == "partitioned-rk"));
+    return ops->stepper(prob, info, h, c);
+}
+
+// n steps of size h from t = 0 with the family kernel of `info` (family_stepper); false when none
+// applies or a step fails.
 template <class P>
 bool run(const P& prob, const MethodInfo& info, double h, int n, Vec& z, Counters& c) {
-    bool ok = false;
-    const bool applied =
-        with_family_kernel<P>(info, [&]<class K>() { ok = run_steps<K>(prob, info, h, n, z, c); });
-    return ok && applied;
+    const auto k = family_stepper(prob, info, h, c);
+    if (!k) return false;
+    for (int i = 0; i < n; ++i)
+        if (k->step(dampsym::time_at(0.0, h, i), z) != StepStatus::ok) return false;
+    return true;
 }
 
 double max_rel_diff(const Vec& a, const Vec& b) {
@@ -368,14 +387,13 @@ TEST_CASE("step_jacobian advances z like step() and matches central differences"
     double worst_all = 0;
     int checked = 0;
     const auto check_problem = [&](const auto& prob, const char* what, const Vec& z0) {
-        using P = std::decay_t<decltype(prob)>;
         for (const char* id : ids) {
             const MethodInfo& info = method(id);
             const double h = 0.1, t = 0.7;
-            with_family_kernel<P>(info, [&]<class K>() {
-                static_assert(K::has_step_jacobian);
-                Counters c;
-                K k(prob, info, h, c);
+            Counters c;
+            if (const auto stepper = family_stepper(prob, info, h, c)) {
+                dampsym::AnyStepper& k = *stepper;
+                REQUIRE(k.has_step_jacobian());
                 Vec za = z0, zb = z0;
                 Mat Psi;
                 REQUIRE(k.step(t, za) == StepStatus::ok);
@@ -399,7 +417,7 @@ TEST_CASE("step_jacobian advances z like step() and matches central differences"
                 CHECK(worst <= 1e-7);
                 worst_all = std::max(worst_all, worst);
                 ++checked;
-            });
+            }
         }
     };
     check_problem(pendulum(), "pendulum", Vec{{1.1, -0.4}});
@@ -421,19 +439,18 @@ TEST_CASE("conformal symplecticity on Hill's equation: glifrk1..3 exact, gauss1.
     for (const char* id : {"glifrk1", "glifrk2", "glifrk3", "gauss1", "gauss2", "gauss3"}) {
         const MethodInfo& info = method(id);
         double worst = 0, least = std::numeric_limits<double>::infinity();
-        with_family_kernel<dampsym::Hill>(info, [&]<class K>() {
-            Counters c;
-            K k(prob, info, h, c);
-            Vec z = prob.initial_state();
-            Mat Psi;
-            for (int i = 0; i < n; ++i) {
-                const double t = dampsym::time_at(0.0, h, i);
-                REQUIRE(k.step_jacobian(t, z, Psi) == StepStatus::ok);
-                const double e = conformal_defect(Psi, prob.dGamma(t, h));
-                worst = std::max(worst, e);
-                least = std::min(least, e);
-            }
-        });
+        Counters c;
+        const auto k = family_stepper(prob, info, h, c);
+        REQUIRE(k);
+        Vec z = prob.initial_state();
+        Mat Psi;
+        for (int i = 0; i < n; ++i) {
+            const double t = dampsym::time_at(0.0, h, i);
+            REQUIRE(k->step_jacobian(t, z, Psi) == StepStatus::ok);
+            const double e = conformal_defect(Psi, prob.dGamma(t, h));
+            worst = std::max(worst, e);
+            least = std::min(least, e);
+        }
         if (verbose())
             std::printf("%-8s conformal defect on hill (eps 1, h 0.5): max %.1e, min %.1e\n", id,
                         worst, least);
@@ -555,16 +572,14 @@ TEST_CASE("Gauss methods keep the rigid body's quadratic invariants to round-off
         const auto f0 = inv0.first, e0 = inv0.second;
         double dev = 0.0;
         Counters c;
-        const bool applied = with_family_kernel<dampsym::RigidBody>(info, [&]<class K>() {
-            K k(prob, info, 0.1, c);
-            for (int i = 0; i < n; ++i) {
-                REQUIRE(k.step(dampsym::time_at(0.0, 0.1, i), z) == StepStatus::ok);
-                const auto [f, e] = invariants(z);
-                dev = std::max({dev, static_cast<double>(std::abs(f / f0 - 1.0L)),
-                                static_cast<double>(std::abs(e / e0 - 1.0L))});
-            }
-        });
-        REQUIRE(applied);
+        const auto k = family_stepper(prob, info, 0.1, c);
+        REQUIRE(k);
+        for (int i = 0; i < n; ++i) {
+            REQUIRE(k->step(dampsym::time_at(0.0, 0.1, i), z) == StepStatus::ok);
+            const auto [f, e] = invariants(z);
+            dev = std::max({dev, static_cast<double>(std::abs(f / f0 - 1.0L)),
+                            static_cast<double>(std::abs(e / e0 - 1.0L))});
+        }
         if (verbose()) std::printf("%-14s %d steps: max |I_n/I_0 - 1| = %.2e\n", id, n, dev);
         return dev;
     };

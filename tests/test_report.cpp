@@ -11,7 +11,8 @@
 
 #include "cli_support.hpp"
 #include "core/integrate.hpp"
-#include "harness/registry.hpp"
+#include "harness/run/kernel_ops.hpp"
+#include "harness/run/limits.hpp"
 #include "problems/oscillator.hpp"
 #include "reference/oscillator_exact.hpp"
 
@@ -39,16 +40,6 @@ struct Reintegrated {
     std::int64_t rhs_evals = 0;
 };
 
-// n steps of kernel K from the initial state.
-template <class K>
-void step_n(const dampsym::Oscillator& osc, const dampsym::MethodInfo& info, double dt,
-            std::int64_t n, Reintegrated& r) {
-    dampsym::Counters counters;
-    K stepper(osc, info, dt, counters);
-    dampsym::integrate(stepper, r.z, 0.0, dt, n);
-    r.rhs_evals = counters.rhs_evals;
-}
-
 // Integrates the oscillator with params from the report, by the method's own kernel, n steps.
 Reintegrated reintegrate(const json& params, const std::string& method, double dt, std::int64_t n) {
     dampsym::ParamMap pm;
@@ -59,9 +50,15 @@ Reintegrated reintegrate(const json& params, const std::string& method, double d
     REQUIRE(info != nullptr);
     Reintegrated r;
     r.z = osc.initial_state();
-    const auto match = dampsym::with_kernel<dampsym::Oscillator>(
-        *info, [&]<class K>() { step_n<K>(osc, *info, dt, n, r); });
-    REQUIRE(match == dampsym::KernelMatch::applied);
+    dampsym::KernelMatch match = dampsym::KernelMatch::unknown_kernel;
+    const auto* ops = dampsym::kernel_ops<dampsym::Oscillator>(*info, match);
+    REQUIRE(ops != nullptr);
+    // the bare loop of the library's kernel, as the run's (no observer, no time budget)
+    dampsym::Counters counters;
+    const dampsym::CaseGuard guard;
+    double wall = 0.0;
+    ops->run(osc, *info, dt, counters, r.z, 0.0, n, nullptr, guard, nullptr, wall);
+    r.rhs_evals = counters.rhs_evals;
     return r;
 }
 

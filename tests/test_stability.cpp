@@ -4,10 +4,6 @@
 // independently of src/methods/catalog.cpp, and evaluated in __float128 so that the reference
 // carries no round-off.
 #include "diagnostics/stability.hpp"
-#include "methods/cimp.hpp"
-#include "methods/csv1.hpp"
-#include "methods/csv2.hpp"
-#include "methods/explicit_rk.hpp"
 #include "problems/oscillator.hpp"
 
 #include "support/helpers.hpp"
@@ -38,10 +34,7 @@ using dampsym::test::method;
 Mat kernel_matrix(const std::string& id, double w, double g, double h) {
     const Oscillator osc = make_oscillator(w, g);
     const MethodInfo& info = method(id.c_str());
-    if (id == "cimp") return dampsym::one_step_matrix<dampsym::Cimp<Oscillator>>(osc, info, h);
-    if (id == "csv1") return dampsym::one_step_matrix<dampsym::Csv1<Oscillator>>(osc, info, h);
-    if (id == "csv2") return dampsym::one_step_matrix<dampsym::Csv2<Oscillator>>(osc, info, h);
-    return dampsym::one_step_matrix<dampsym::ExplicitRK<Oscillator>>(osc, info, h);
+    return dampsym::one_step_matrix(osc, info, h, dampsym::test::kernel<Oscillator>(info).stepper);
 }
 
 // det M with exact products of the double entries (a 113-bit mantissa holds a 106-bit product),

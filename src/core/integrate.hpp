@@ -6,11 +6,24 @@
 #include "core/types.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <type_traits>
 
 namespace dampsym {
 
 struct NoObserver {};
+
+// An observer behind a virtual call: the measured run's loop of each (kernel, problem) pair calls
+// it after every step, so that what observes (the diagnostics' per-step parts, the figure series)
+// is compiled once per problem rather than inlined into every kernel's loop. Only observed runs
+// pay the call; the bare loop (NoObserver) has none.
+class StepSink {
+public:
+    virtual void operator()(std::int64_t n, double t, const Vec& z) = 0;
+
+protected:
+    ~StepSink() = default;
+};
 
 // timeout and interrupted: stopped at a step boundary by the case's time budget or by
 // SIGINT/SIGTERM (src/harness/run/limits.hpp); z is the state at the step reached.

@@ -28,6 +28,7 @@
 // method whose Ψ is itself central differences of its step is not checked ("not-needed").
 #pragma once
 
+#include "core/any_stepper.hpp"
 #include "core/integrate.hpp"
 #include "core/types.hpp"
 #include "diagnostics/jacobian_check.hpp"
@@ -91,18 +92,16 @@ struct ConformalSymplecticStats {
 
 // A second stepper of the pass's method, with its own state and counters, that evaluates step()
 // at the perturbed states of the Jacobian check (the pass's stepper is never perturbed).
-template <class K>
 struct StepChecker {
-    K& stepper;
+    AnyStepper& stepper;
     const Counters& counters; // newton_iters tells whether the step solves a nonlinear system
 };
 
 // Checks Ψ = ∂z₁/∂z₀ (the pass's step_jacobian at (t, z0)) against central differences of
 // checker.stepper.step() at z0 and merges the outcome into `out`. `k`: the step's index (the
 // seed of the random directions).
-template <class K>
-void check_step_jacobian(StepChecker<K>& checker, double t, const Vec& z0, const Mat& Psi,
-                         std::int64_t k, DerivativeCheck& out) {
+inline void check_step_jacobian(StepChecker& checker, double t, const Vec& z0, const Mat& Psi,
+                                std::int64_t k, DerivativeCheck& out) {
     auto g = [&](const Vec& x, Vec& y) {
         y = x;
         return checker.stepper.step(t, y) == StepStatus::ok;
@@ -143,14 +142,6 @@ constexpr bool has_conformal_structure() {
     return is_canonical_problem<P>() || has_structure_matrix<P>();
 }
 
-template <class K>
-constexpr bool kernel_has_step_jacobian() {
-    if constexpr (requires { K::has_step_jacobian; })
-        return K::has_step_jacobian;
-    else
-        return false;
-}
-
 // J⁻¹ = [0 I; −I 0] for z = [q; p] of dimension d = 2n.
 inline Mat canonical_J_inverse(int d) {
     const int n = d / 2;
@@ -172,8 +163,7 @@ inline double relative_defect(double c, double e_abs, double jinv_norm) {
 
 // The Jacobian check of a pass (st.jacobian_check_mode): none for a Ψ that is itself central
 // differences of the step (a plugin's, st.jacobian), else with `checker` when there is one.
-template <class K>
-StepChecker<K>* jacobian_check_plan(ConformalSymplecticStats& st, StepChecker<K>* checker) {
+inline StepChecker* jacobian_check_plan(ConformalSymplecticStats& st, StepChecker* checker) {
     if (std::strcmp(st.jacobian, "central-differences") == 0) {
         st.jacobian_check_mode = "not-needed: the step Jacobian is central differences of the "
                                  "step itself";
@@ -191,21 +181,21 @@ StepChecker<K>* jacobian_check_plan(ConformalSymplecticStats& st, StepChecker<K>
 // first whose relative defect is undefined.
 // checker (when given): Ψ is also checked against central differences of the step at steps 1,
 // n/2 + 1 and n (stats.jacobian_check).
-template <class K, class P>
-ConformalSymplecticStats conformal_symplectic_defect(K& stepper, const P& problem, Vec& z,
+template <class P>
+ConformalSymplecticStats conformal_symplectic_defect(AnyStepper& stepper, const P& problem, Vec& z,
                                                      double t0, double h, std::int64_t n,
                                                      MinMaxDecimator* series = nullptr,
-                                                     StepChecker<K>* checker = nullptr) {
+                                                     StepChecker* checker = nullptr) {
     ConformalSymplecticStats st;
     if constexpr (!has_conformal_structure<P>()) {
         st.applicability = ConformalSymplecticApplicability::not_canonical;
         return st;
-    } else if constexpr (!kernel_has_step_jacobian<K>()) {
-        st.applicability = ConformalSymplecticApplicability::no_step_jacobian;
-        return st;
     } else {
-        if constexpr (requires { stepper.jacobian_source(); }) // a plugin's kernel
-            st.jacobian = stepper.jacobian_source();
+        if (!stepper.has_step_jacobian()) {
+            st.applicability = ConformalSymplecticApplicability::no_step_jacobian;
+            return st;
+        }
+        st.jacobian = stepper.jacobian_source();
         checker = jacobian_check_plan(st, checker);
         const int d = problem.dim();
         constexpr bool poisson = !is_canonical_problem<P>(); // the structure-matrix law

@@ -5,11 +5,13 @@
 // a defective eigenvalue on the unit circle counted as unbounded) is reported beside it.
 #pragma once
 
+#include "core/any_stepper.hpp"
 #include "core/method.hpp"
 #include "core/types.hpp"
 
 #include <complex>
 #include <limits>
+#include <memory>
 #include <string_view>
 
 namespace dampsym {
@@ -57,16 +59,17 @@ struct RKPowerAnalysis {
 };
 RKPowerAnalysis rk_power_analysis(const ButcherTableau& t, double omega, double gamma, double h);
 
-// Steps each unit vector once from t = 0 with a fresh stepper of kernel K.
-template <class K, class P>
-Mat one_step_matrix(const P& problem, const MethodInfo& info, double h) {
+// Steps each unit vector once from t = 0 with a fresh stepper of the method's kernel (`make`).
+template <class P>
+Mat one_step_matrix(const P& problem, const MethodInfo& info, double h,
+                    const StepperMaker<P>& make) {
     const int d = problem.dim();
     Mat M(d, d);
     Counters scratch;
     for (int i = 0; i < d; ++i) {
-        K stepper(problem, info, h, scratch);
+        const std::unique_ptr<AnyStepper> stepper = make(problem, info, h, scratch);
         Vec z = Vec::Unit(d, i);
-        if (stepper.step(0.0, z) != StepStatus::ok)
+        if (stepper->step(0.0, z) != StepStatus::ok)
             z.setConstant(std::numeric_limits<double>::quiet_NaN());
         M.col(i) = z;
     }

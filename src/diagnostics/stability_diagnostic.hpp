@@ -22,8 +22,8 @@ struct StabilityDiagnostic {
     static DiagnosticInfo info();
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;
-    // Its metrics of one run from a separate pass of the run's kernel K (harness/run/view.hpp).
-    template <class K, class V>
+    // Its metrics of one run from a separate pass of the run's kernel (harness/run/view.hpp).
+    template <class V>
     static json produce_pass(const V& run);
 };
 
@@ -42,10 +42,10 @@ using HalfTraceAt = std::function<double(double h)>;
 json trace_taylor_metrics(const MethodInfo& info, double omega, double gamma,
                           const HalfTraceAt& half_trace);
 
-template <class K, class V>
+template <class V>
 json StabilityDiagnostic::produce_pass(const V& run) {
-    return stability_metrics(one_step_matrix<K>(run.problem, run.info, run.h), run.problem.omega,
-                             run.problem.gamma_at(0.0), run.h, run.info);
+    return stability_metrics(one_step_matrix(run.problem, run.info, run.h, run.stepper),
+                             run.problem.omega, run.problem.gamma_at(0.0), run.h, run.info);
 }
 
 } // namespace dampsym

@@ -72,7 +72,9 @@ bool method_applies(std::string_view method_id, std::string_view problem_id) {
     if (!m) return false;
     bool ok = false;
     with_problem_type(problem_id, [&]<class P>() {
-        ok = with_kernel<P>(*m, []<class K>() {}) == KernelMatch::applied;
+        KernelMatch match = KernelMatch::unknown_kernel;
+        kernel_ops<P>(*m, match); // compiled in the kernel shards
+        ok = match == KernelMatch::applied;
     });
     return ok;
 }

@@ -1,29 +1,20 @@
-// The two registries: the problem types and the method kernels. Adding a problem = one header in
-// src/problems/ plus one entry in ProblemList; adding a family = its coefficient type in
-// MethodFamilies (core/method.hpp), its kernel header(s) and its Family<D> traits
-// (src/methods/families.hpp), from which the kernel list here is generated; adding a method of an
-// existing family = one row in src/methods/catalog.cpp. Nothing in the runner changes.
+// The method registry: the kernels that step each family's coefficient sets, and with_kernel, which
+// chooses the kernel of a row for a problem type (the problems are harness/problem_list.hpp).
+// Adding a family = its coefficient type in MethodFamilies (core/method.hpp), its kernel header(s)
+// and its Family<D> traits (src/methods/families.hpp), from which the kernel list here is
+// generated; adding a method of an existing family = one row in src/methods/catalog.cpp. Nothing
+// in the runner changes. Only the kernel shards (harness/run/kernel_ops_impl.hpp) and programs that
+// step a kernel of their own (bench/, a test's planted defect) instantiate with_kernel with code
+// that steps; the rest of the library and the tests call the compiled pairs (kernel_ops<P>).
 #pragma once
 
 #include "core/method.hpp"
 #include "core/problem.hpp"
 #include "core/problem_concepts.hpp"
 #include "harness/problem_info.hpp"
-#include "methods/families.hpp" // the families and their kernels
-#include "problems/argon.hpp"
-#include "problems/driven_pendulum.hpp"
-#include "problems/hill.hpp"
-#include "problems/kepler.hpp"
-#include "problems/lotka_volterra.hpp"
-#include "problems/nbody.hpp"
-#include "problems/oscillator.hpp"
-#include "problems/outer_solar_system.hpp"
-#include "problems/pendulum.hpp"
-// Damped PDEs of B ch. 4-5, semi-discretised (docs/pde.md).
-#include "pde/burgers/problem.hpp"
-#include "pde/klein_gordon/problem.hpp"
-#include "pde/nls/problem.hpp"
-#include "problems/rigid_body.hpp"
+#include "harness/problem_list.hpp"
+#include "harness/run/kernel_ops.hpp" // KernelMatch
+#include "methods/families.hpp"       // the families and their kernels
 
 #include <stdexcept>
 #include <string>
@@ -33,20 +24,6 @@
 #include <vector>
 
 namespace dampsym {
-
-using ProblemList = TypeList<Oscillator, Pendulum, DrivenPendulum, Hill, RigidBody, LotkaVolterra,
-                             NBody, Kepler, OuterSolarSystem, Argon, KleinGordon, KleinGordonBox,
-                             Burgers, BurgersBox, BurgersUpwind, Schrodinger, NLS,
-                             NLSDriven>; // PDEs: B (4.3), (4.5), (4.7), docs/pde.md
-
-// Every registered problem satisfies the problem contract (core/problem_concepts.hpp).
-template <class... Ps>
-constexpr bool all_problems(TypeList<Ps...>) {
-    return (Problem<Ps> && ...);
-}
-static_assert(all_problems(ProblemList{}),
-              "every problem in ProblemList must satisfy dampsym::Problem "
-              "(core/problem_concepts.hpp; an exact solution takes its start (t0, z0))");
 
 // Every kernel of every family (Family<D>::kernels, methods/families.hpp).
 using Kernels = AllKernels;
@@ -63,21 +40,6 @@ constexpr bool kernels_step_their_family(TypeList<Ds...>) {
 }
 static_assert(kernels_step_their_family(MethodFamilies{}),
               "a kernel in Family<D>::kernels must have Data = D (methods/families.hpp)");
-
-// Calls f.template operator()<P>() for the problem type with this id; false if none.
-template <class F>
-bool with_problem_type(std::string_view id, F&& f) {
-    bool found = false;
-    for_each_type(ProblemList{}, [&]<class P>() {
-        if (!found && P::id == id) {
-            found = true;
-            f.template operator()<P>();
-        }
-    });
-    return found;
-}
-
-enum class KernelMatch { applied, not_applicable, unknown_kernel };
 
 namespace registry_detail {
 // One kernel Kt of the list (function templates rather than a lambda folded over the pack: clang

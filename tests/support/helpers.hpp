@@ -4,7 +4,9 @@
 // test_exponential_rk.cpp measure against the same reference).
 #pragma once
 
+#include "core/any_stepper.hpp"
 #include "core/method.hpp"
+#include "harness/run/kernel_ops.hpp"
 #include "problems/pendulum.hpp"
 #include "reference/gsl_reference.hpp"
 
@@ -12,6 +14,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,6 +53,24 @@ inline const MethodInfo& method(std::string_view id) {
     const MethodInfo* m = find_method(id);
     if (m == nullptr) FAIL("method not in the catalog: " << std::string(id));
     return *m;
+}
+
+// The functions of the kernel that steps `info` on the registered problem type P, compiled in the
+// library's kernel shards (harness/run/kernel_ops.hpp): the tests instantiate no kernel of their
+// own. The test fails if no kernel applies.
+template <class P>
+const KernelOps<P>& kernel(const MethodInfo& info) {
+    KernelMatch match = KernelMatch::unknown_kernel;
+    const KernelOps<P>* ops = kernel_ops<P>(info, match);
+    if (ops == nullptr) FAIL("no kernel steps " << std::string(info.id) << " on " << P::id);
+    return *ops;
+}
+
+// A fresh stepper of `info` on `problem` (kernel<P>), with its counts in `counters`.
+template <class P>
+std::unique_ptr<AnyStepper> stepper(const P& problem, const MethodInfo& info, double h,
+                                    Counters& counters) {
+    return kernel<P>(info).stepper(problem, info, h, counters);
 }
 
 // q'' + 2γq' + sin q = 0 from q0 = 1, p0 = 0.

@@ -32,7 +32,7 @@
 #include "harness/case/case.hpp"
 #include "harness/case/figures_key.hpp"
 #include "harness/figures/step_observer.hpp"
-#include "harness/registry.hpp"
+#include "harness/run/kernel_ops.hpp"
 #include "reference/oscillator_exact.hpp"
 
 #include <nlohmann/json.hpp>
@@ -185,10 +185,11 @@ nlohmann::json half_trace_error_series(const P& problem, const MethodInfo& info)
     for (int k = 0; k < 25; ++k) {
         const double h = 2e-3 * std::pow(250.0, k / 24.0);
         double half = std::numeric_limits<double>::quiet_NaN();
-        with_kernel<P>(info, [&]<class K>() {
+        KernelMatch match = KernelMatch::applied;
+        if (const KernelOps<P>* ops = kernel_ops<P>(info, match))
             half =
-                analyse_one_step(one_step_matrix<K>(problem, info, h), problem.gamma, h).half_trace;
-        });
+                analyse_one_step(one_step_matrix(problem, info, h, ops->stepper), problem.gamma, h)
+                    .half_trace;
         hs.push_back(h);
         err.push_back(std::abs(half - oscillator_damped_cs(problem.omega, problem.gamma, h).c));
     }
@@ -223,9 +224,9 @@ nlohmann::json stability_map_series(const P& problem, const CaseSpec& c, const M
         for (double h : hs) {
             const P osc = problem.with(sw.omega, g);
             OneStepAnalysis a;
-            with_kernel<P>(info, [&]<class K>() {
-                a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
-            });
+            KernelMatch match = KernelMatch::applied;
+            if (const KernelOps<P>* ops = kernel_ops<P>(info, match))
+                a = analyse_one_step(one_step_matrix(osc, info, h, ops->stepper), g, h);
             row.push_back((a.F_condition ? 0 : 1) + (a.power_bounded ? 0 : 2));
             // F's strict condition |½trM| < e^{−γh} at equality (cimp at γ = ω): which side a
             // cell falls on is round-off, so the figure marks these cells as such

@@ -101,13 +101,14 @@ private:
 };
 
 // The observer of a measured run that observes its steps: the Recorder of its diagnostics and,
-// with --figures, the figure series, each only if present. One observer type per problem, so
-// each kernel's observed step loop is instantiated once, with or without figures.
+// with --figures, the figure series, each only if present. Compiled once per problem: each
+// kernel's observed loop (kernel_ops.hpp) calls it through StepSink, with or without figures.
 template <class P>
-struct RunObserver {
+struct RunObserver final : StepSink {
+    RunObserver(Recorder<P>* r, FigureStepObserver<P>* f) : recorder(r), figures(f) {}
     Recorder<P>* recorder;
     FigureStepObserver<P>* figures;
-    void operator()(std::int64_t n, double t, const Vec& z) {
+    void operator()(std::int64_t n, double t, const Vec& z) override {
         if (recorder) (*recorder)(n, t, z);
         if (figures) (*figures)(n, t, z);
     }

@@ -1,12 +1,14 @@
-// The typed case runner: TypedCase<P> holds only what must know the problem type P: the step loop
-// with its observer (Recorder<P>), the exact or certified reference of P, and the typed hooks of
-// the diagnostics (one-step matrix, Jacobian pass, local error, problem functions handed to the
-// compiled-once metric producers). Everything else (run records, order fits, sweep bookkeeping,
-// checks, report JSON, metric JSON) is compiled once in case_run.cpp, checks.cpp, measures.cpp
-// and src/diagnostics/*_diagnostic.cpp. It is instantiated only in the generated shard translation
-// units (src/harness/run/case_shard.cpp.in: every problem type whose index in ProblemList falls in
-// shard K), so the step loops compile in parallel; adding a problem or a kernel touches no runner
-// file.
+// The typed case runner: TypedCase<P> holds only what must know the problem type P: the run's
+// observer (Recorder<P>), the exact or certified reference of P, and the typed hooks of the
+// diagnostics (one-step matrix, Jacobian pass, local error, problem functions handed to the
+// compiled-once metric producers). It never instantiates a kernel: the run's step loop and the
+// steppers of the diagnostics' passes come from the (kernel, problem) pair's KernelOps<P>
+// (kernel_ops.hpp), compiled once in the kernel shards. Everything else (run records, order fits,
+// sweep bookkeeping, checks, report JSON, metric JSON) is compiled once in case_run.cpp,
+// checks.cpp, measures.cpp and src/diagnostics/*_diagnostic.cpp. It is instantiated only in the
+// generated shard translation units (src/harness/run/case_shard.cpp.in: every problem type whose
+// index in ProblemList falls in shard K), so they compile in parallel; adding a problem or a
+// kernel touches no runner file.
 #pragma once
 
 #include "core/integrate.hpp"
@@ -15,9 +17,10 @@
 #include "diagnostics/problem_check_json.hpp"
 #include "diagnostics/recorder.hpp"
 #include "harness/figures/series.hpp" // figures hook
-#include "harness/registry.hpp"
+#include "harness/problem_list.hpp"
 #include "harness/run/case_run.hpp"
 #include "harness/run/grid_stream.hpp" // the output grid streamed
+#include "harness/run/kernel_ops.hpp"
 #include "harness/run/limits.hpp"
 #include "harness/run/view.hpp"
 
@@ -108,23 +111,26 @@ private:
         const double h = c_.dts[d];
         const std::int64_t n = c_.steps[d];
         out = {{"method", info.id}, {"dt", h}, {"steps_planned", n}};
-        KernelMatch match = KernelMatch::applied;
         try {
-            match = with_kernel<P>(info, [&]<class K>() { integrate_with<K>(info, h, n, out); });
+            KernelMatch match = KernelMatch::applied;
+            const KernelOps<P>* ops = kernel_ops<P>(info, match);
+            if (!ops) {
+                mark_not_applicable(out);
+                return;
+            }
+            integrate_with(*ops, info, h, n, out);
         } catch (const std::exception& e) {
             // a fault in this run is its status; the other runs and cases go on
             mark_error(out, e.what());
-            return;
         }
-        if (match != KernelMatch::applied) mark_not_applicable(out);
     }
 
-    // The step loop: bare (no observer: no virtual call, no allocation per step) unless a
-    // diagnostic of the case or its figures need the trajectory.
-    template <class K>
-    void integrate_with(const MethodInfo& info, double h, std::int64_t n, json& out) {
+    // The step loop of the run's kernel (ops.run, compiled once per (kernel, problem) pair): bare
+    // (no observer: no virtual call, no allocation per step) unless a diagnostic of the case or
+    // its figures need the trajectory.
+    void integrate_with(const KernelOps<P>& ops, const MethodInfo& info, double h, std::int64_t n,
+                        json& out) {
         Counters counters;
-        K stepper(problem_, info, h, counters);
         Vec z = problem_.initial_state();
         Recorder<P> rec(problem_, c_.t0, h);
         // Figures hook: only with --figures, the per-step series from the same pass
@@ -136,24 +142,19 @@ private:
         if (streams_grid() && facts_.reference_ok)
             stream.emplace(problem_, c_, facts_, exact_on_the_fly(),
                            c_.wants(ErrorDiagnostic::name), !c_.measures.empty());
-        IntegrateOutcome res;
         // the step loop in chunks with the case's time budget and stop requests tested
         // between them (src/harness/run/limits.hpp); a fault only where a test planted one
         const FaultPlan* fault = fault_for(c_.id, info.id);
         guard_.start();
-        const auto start = Clock::now();
         FigureStepObserver<P>* steps = fig && fig->needed() ? &*fig : nullptr;
-        if (observes() || steps) {
-            if (observes())
-                start_recorder(rec, info, h, n, z, stream ? &*stream : nullptr, fig.has_value());
-            if (steps) steps->start(z);
-            RunObserver<P> obs{observes() ? &rec : nullptr, steps};
-            res = integrate_guarded(stepper, z, c_.t0, h, n, &obs, guard_, fault);
-        } else {
-            res = integrate_guarded(stepper, z, c_.t0, h, n, static_cast<NoObserver*>(nullptr),
-                                    guard_, fault);
-        }
-        const double wall = seconds_since(start);
+        RunObserver<P> obs{observes() ? &rec : nullptr, steps};
+        if (observes())
+            start_recorder(rec, info, h, n, z, stream ? &*stream : nullptr, fig.has_value());
+        if (steps) steps->start(z);
+        double wall = 0.0;
+        const IntegrateOutcome res =
+            ops.run(problem_, info, h, counters, z, c_.t0, n, observes() || steps ? &obs : nullptr,
+                    guard_, fault, wall);
         record_run(out, res, counters, z, wall, h);
         if (res.status == RunStatus::timeout || res.status == RunStatus::interrupted) {
             out["metrics"] = json::object(); // stopped; no further pass over the steps
@@ -175,20 +176,22 @@ private:
                               res.steps_done,
                               wall,
                               table_factor(info, h),
-                              fig ? &cs_series : nullptr};
+                              fig ? &cs_series : nullptr,
+                              ops.stepper};
         json metrics = observed_metrics(view, ok);
-        kernel_metrics<K>(metrics, view);
+        pass_metrics(metrics, view);
         out["metrics"] = metrics;
         if (fig && ok) capture_figure_series(*fig, cs_series, n, rec, out);
         // Work-precision timing (ladder cases): the bare step loop only, never a failed run.
         if (ok && time_budget_ > 0.0 && c_.dts.size() >= 2) {
             auto once = [&] {
                 Counters scratch;
-                K timed(problem_, info, h, scratch);
                 Vec zt = problem_.initial_state();
-                const auto t = Clock::now();
-                integrate(timed, zt, c_.t0, h, n);
-                return seconds_since(t);
+                static const CaseGuard no_budget; // still stopped by SIGINT/SIGTERM
+                double seconds = 0.0;
+                ops.run(problem_, info, h, scratch, zt, c_.t0, n, nullptr, no_budget, nullptr,
+                        seconds);
+                return seconds;
             };
             out["timing"] = time_repeated(once, time_budget_, n);
         }
@@ -304,36 +307,34 @@ private:
         return problem_check_json(pc, states);
     }
 
-    // The metrics that step kernel K again (separate steppers: the run above is untouched):
-    // every diagnostic with a kernel pass that supports P, whatever the run's status.
-    template <class K>
-    void kernel_metrics(json& m, const RunView<P>& run) const {
+    // The metrics of the diagnostics' separate passes with fresh steppers of the run's kernel
+    // (RunView::stepper; the run above is untouched): every diagnostic with a pass that supports
+    // P, whatever the run's status.
+    void pass_metrics(json& m, const RunView<P>& run) const {
         for_each_type(DiagnosticList{}, [&]<class D>() {
-            if constexpr (D::template supports<P> && requires { D::template produce_pass<K>(run); })
-                if (produces(D::name, true))
-                    m[std::string(D::name)] = D::template produce_pass<K>(run);
+            if constexpr (D::template supports<P> && requires { D::produce_pass(run); })
+                if (produces(D::name, true)) m[std::string(D::name)] = D::produce_pass(run);
         });
     }
 
     // ½ tr M of the method on this oscillator at step h (trace-taylor), NaN if no kernel applies.
     double half_trace_at(const MethodInfo& info, double h) const {
-        double c = std::numeric_limits<double>::quiet_NaN();
-        with_kernel<P>(info, [&]<class K>() {
-            c = analyse_one_step(one_step_matrix<K>(problem_, info, h), problem_.gamma, h)
-                    .half_trace;
-        });
-        return c;
+        KernelMatch match = KernelMatch::applied;
+        const KernelOps<P>* ops = kernel_ops<P>(info, match);
+        if (!ops) return std::numeric_limits<double>::quiet_NaN();
+        return analyse_one_step(one_step_matrix(problem_, info, h, ops->stepper), problem_.gamma, h)
+            .half_trace;
     }
 
     // The one-step analysis of the method on the same oscillator at (ω, γ, h) (stability-sweep).
     OneStepAt one_step_at(const MethodInfo& info) const {
         return [this, &info](double omega, double g, double h) {
             OneStepAnalysis a;
+            KernelMatch match = KernelMatch::applied;
+            const KernelOps<P>* ops = kernel_ops<P>(info, match);
+            if (!ops) return a;
             const P osc = problem_.with(omega, g);
-            with_kernel<P>(info, [&]<class K>() {
-                a = analyse_one_step(one_step_matrix<K>(osc, info, h), g, h);
-            });
-            return a;
+            return analyse_one_step(one_step_matrix(osc, info, h, ops->stepper), g, h);
         };
     }
 

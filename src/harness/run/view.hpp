@@ -3,6 +3,7 @@
 // folds over the diagnostic list, so that the runner names no diagnostic.
 #pragma once
 
+#include "core/any_stepper.hpp"
 #include "core/method.hpp"
 #include "core/types.hpp"
 #include "diagnostics/metric_json.hpp"
@@ -33,6 +34,7 @@ struct RunView {
     double wall;         // seconds of the run's step loop
     double table_factor; // B Table 3.1's momentum factor per step the method declares
     std::optional<MinMaxDecimator>* cs_series; // figures: the E_n series of the kernel pass
+    StepperMaker<P> stepper; // fresh steppers of the run's kernel, for separate passes
 
     const Mat& grid() const { return rec.grid(); }
 };
