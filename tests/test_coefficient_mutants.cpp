@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace coefficient_mutants { // named: the test files are compiled in unity batches
@@ -194,4 +195,27 @@ TEST_CASE("every coefficient function of every built-in exponential method, pert
     }());
     CHECK(mutants > 40);
     CHECK(survivors.empty());
+}
+
+TEST_CASE("every family's coefficients are mutated by the tests above (no family skipped)",
+          "[coefficients][mutants]") {
+    // The two tests above perturb the coefficient types listed here; the hand-written schemes and
+    // C plugins have none (their code is the method). A new family in MethodFamilies fails here
+    // until its coefficients are perturbed above too.
+    using Covered =
+        dampsym::TypeList<dampsym::RungeKuttaTableau, dampsym::IntegratingFactorTableau,
+                          dampsym::PartitionedTableau, dampsym::GeneralLinearCoefficients,
+                          dampsym::ExponentialCoefficients,
+                          dampsym::PartitionedExponentialCoefficients, dampsym::HandWrittenScheme,
+                          dampsym::PluginStep>;
+    int families = 0;
+    dampsym::for_each_type(dampsym::MethodFamilies{}, [&]<class D>() {
+        bool covered = false;
+        dampsym::for_each_type(Covered{},
+                               [&]<class C>() { covered = covered || std::is_same_v<C, D>; });
+        INFO("family " << families << " of MethodFamilies");
+        CHECK(covered);
+        ++families;
+    });
+    CHECK(families > 0);
 }

@@ -25,6 +25,20 @@ struct Counters {
     int failed_solve_iterations = 0;
     double failed_solve_residual = 0.0;
     double failed_solve_update = 0.0;
+
+    // A step's nonlinear solve(s) took `iterations` (newton_iters counts them as they happen:
+    // methods/newton.hpp; a step may hold several solves, so the kernel reports the step's total).
+    void step_solved(int iterations) {
+        if (iterations > max_newton_iters_per_step) max_newton_iters_per_step = iterations;
+    }
+    // A step whose iterative solve is not newton.hpp's (B's PDE schemes): `iterations` iterations,
+    // each one evaluation of the residual (and of its Jacobian when `with_jacobian`).
+    void step_iterated(int iterations, bool with_jacobian) {
+        rhs_evals += iterations;
+        if (with_jacobian) jac_evals += iterations;
+        newton_iters += iterations;
+        step_solved(iterations);
+    }
 };
 
 enum class StepStatus { ok, solve_failed };

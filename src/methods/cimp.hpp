@@ -15,6 +15,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/hand_written.hpp"
 #include "methods/newton.hpp"
 
 #include <algorithm>
@@ -25,31 +26,20 @@
 namespace dampsym {
 
 template <class P>
-class Cimp {
+class Cimp : public OneCodePathKernel<Cimp<P>, Scheme::cimp> {
 public:
     static constexpr std::string_view kernel_id = "cimp";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == Scheme::cimp; }
     template <class Q>
     static constexpr bool applies = Q::has_conformal; // needs the conformal form N and its Jacobian
-    static constexpr bool has_step_jacobian = true;
 
     Cimp(const P& problem, const MethodInfo&, double h, Counters& counters)
         : prob_(problem), h_(h), c_(counters), d_(problem.dim()), y0_(d_), n_(d_), J_(d_, d_),
           newton_(d_) {}
 
-    // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
-    [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
-        return advance<false>(t, z, nullptr);
-    }
-
-    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
-    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
-        if (Psi.rows() != d_ || Psi.cols() != d_) Psi.resize(d_, d_);
-        return advance<true>(t, z, &Psi);
-    }
-
 private:
+    friend class OneCodePathKernel<Cimp<P>, Scheme::cimp>; // step() and step_jacobian()
+    int state_dim() const { return d_; }
+
     template <bool WithJacobian>
     [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         const double tm = t + 0.5 * h_;
@@ -67,7 +57,7 @@ private:
             newton_.S = Mat::Identity(d_, d_) - (0.5 * h_) * J_;
         });
         if (iterations == 0) return StepStatus::solve_failed;
-        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, iterations);
+        c_.step_solved(iterations);
         const double b = std::exp(-prob_.dGamma(tm, 0.5 * h_));
         z = b * (2.0 * m - y0_);
         if constexpr (WithJacobian) jacobian_at_solution(tm, a * b, *Psi);

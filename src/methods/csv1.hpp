@@ -15,6 +15,7 @@
 
 #include "core/method.hpp"
 #include "core/problem.hpp"
+#include "methods/hand_written.hpp"
 
 #include <cmath>
 #include <string_view>
@@ -22,33 +23,21 @@
 namespace dampsym {
 
 template <class P>
-class Csv1 {
+class Csv1 : public OneCodePathKernel<Csv1<P>, Scheme::csv1> {
 public:
     static constexpr std::string_view kernel_id = "csv1";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == Scheme::csv1; }
     template <class Q>
     static constexpr bool applies = Q::has_separable;
-
-    static constexpr bool has_step_jacobian = true;
 
     Csv1(const P& problem, const MethodInfo&, double h, Counters& counters)
         : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_), Fq_(n_, n_),
           Tpp_(n_, n_), dp_(n_, 2 * n_), dq_(n_, 2 * n_),
           d_const_(std::exp(-2.0 * problem.dGamma(0.0, 0.5 * h))) {}
 
-    // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
-    [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
-        return on_state<false>(t, z, nullptr);
-    }
-
-    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
-    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
-        if (Psi.rows() != 2 * n_ || Psi.cols() != 2 * n_) Psi.resize(2 * n_, 2 * n_);
-        return on_state<true>(t, z, &Psi);
-    }
-
 private:
+    friend class OneCodePathKernel<Csv1<P>, Scheme::csv1>; // step() and step_jacobian()
+    int state_dim() const { return 2 * n_; }
+
     // With the problem's compile-time size (static_dof), q, p and the stage vectors are fixed-size
     // locals for the step, which the compiler keeps in registers (z is read once and written once),
     // and every update is scalar code that needs no inlining of Eigen's assignment loops (GCC
@@ -58,17 +47,17 @@ private:
     using VecN = Eigen::Matrix<double, N, 1>;
 
     template <bool WithJacobian>
-    [[gnu::always_inline]] inline StepStatus on_state(double t, Vec& z, Mat* Psi) {
+    [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         if constexpr (N == Eigen::Dynamic) {
             Eigen::Map<Vec> q(z.data(), n_), p(z.data() + n_, n_);
-            advance<WithJacobian>(t, q, p, a_, f_, Psi);
+            advance_qp<WithJacobian>(t, q, p, a_, f_, Psi);
         } else {
             VecN q, p, a, f;
             for (int i = 0; i < N; ++i) {
                 q[i] = z[i];
                 p[i] = z[N + i];
             }
-            advance<WithJacobian>(t, q, p, a, f, Psi);
+            advance_qp<WithJacobian>(t, q, p, a, f, Psi);
             for (int i = 0; i < N; ++i) {
                 z[i] = q[i];
                 z[N + i] = p[i];
@@ -79,7 +68,7 @@ private:
 
     // One step on q, p (n each), with a and f the storage of ∇T(p½) and of the force.
     template <bool WithJacobian, class Q, class A>
-    [[gnu::always_inline]] inline void advance(double t, Q& q, Q& p, A& a, A& f, Mat* Psi) {
+    [[gnu::always_inline]] inline void advance_qp(double t, Q& q, Q& p, A& a, A& f, Mat* Psi) {
         const int n = static_cast<int>(q.size());
         const double hh = 0.5 * h_;
         // Constant γ: both factors are e^{−γh}, computed once (same value as per step).

@@ -17,6 +17,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/hand_written.hpp"
 
 #include <cmath>
 #include <string_view>
@@ -24,15 +25,11 @@
 namespace dampsym {
 
 template <class P>
-class Csv2 {
+class Csv2 : public OneCodePathKernel<Csv2<P>, Scheme::csv2> {
 public:
     static constexpr std::string_view kernel_id = "csv2";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == Scheme::csv2; }
     template <class Q>
     static constexpr bool applies = Q::has_separable;
-
-    static constexpr bool has_step_jacobian = true;
 
     Csv2(const P& problem, const MethodInfo&, double h, Counters& counters)
         : prob_(problem), h_(h), c_(counters), n_(problem.n()), a_(n_), f_(n_), Fq_(n_, n_),
@@ -40,18 +37,10 @@ public:
         set_argument(problem.dGamma(0.0, h)); // γh for constant γ
     }
 
-    // Forced inline into the integrate() loop (the harness's step loop costs as the bare one).
-    [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
-        return advance<false>(t, z, nullptr);
-    }
-
-    // Same arithmetic for z as step() (one code path); Psi = ∂z₁/∂z₀ (resized to d×d if needed).
-    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
-        if (Psi.rows() != 2 * n_ || Psi.cols() != 2 * n_) Psi.resize(2 * n_, 2 * n_);
-        return advance<true>(t, z, &Psi);
-    }
-
 private:
+    friend class OneCodePathKernel<Csv2<P>, Scheme::csv2>; // step() and step_jacobian()
+    int state_dim() const { return 2 * n_; }
+
     void set_argument(double x) {
         e_ = std::exp(-0.5 * x);
         plus_ = 1.0 + 0.5 * x;

@@ -98,7 +98,7 @@ public:
         y_.swap(yout_);
         started_ = true;
         z = y_.col(0);
-        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, iters);
+        c_.step_solved(iters);
         return StepStatus::ok;
     }
 

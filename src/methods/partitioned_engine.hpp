@@ -350,7 +350,7 @@ private:
             Q_[ui(i)] = X.segment(i * n_, n_);
             P_[ui(i)] = X.segment((s_ + i) * n_, n_);
         }
-        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, iterations);
+        c_.step_solved(iterations);
         return true;
     }
 

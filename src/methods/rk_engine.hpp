@@ -240,7 +240,7 @@ private:
         });
         if (iterations == 0) return false;
         for (int i = 0; i < s_; ++i) Z_[ui(i)] = X.segment(i * d_, d_);
-        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, iterations);
+        c_.step_solved(iterations);
         return true;
     }
 

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/hand_written.hpp"
 #include "methods/newton.hpp"
 
 #include <algorithm>
@@ -27,11 +28,10 @@
 namespace dampsym {
 
 template <class P>
-class SymplecticEulerPartitioned {
+class SymplecticEulerPartitioned : public OneCodePathKernel<SymplecticEulerPartitioned<P>,
+                                                            Scheme::symplectic_euler_partitioned> {
 public:
     static constexpr std::string_view kernel_id = "symplectic-euler-partitioned";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == Scheme::symplectic_euler_partitioned; }
     template <class Q>
     static constexpr bool applies = [] {
         if constexpr (requires { Q::partitioned_halves; })
@@ -39,22 +39,16 @@ public:
         else
             return false;
     }();
-    static constexpr bool has_step_jacobian = true;
 
     SymplecticEulerPartitioned(const P& problem, const MethodInfo&, double h, Counters& counters)
         : prob_(problem), h_(h), c_(counters), d_(problem.dim()), m_(d_ / 2), zs_(d_), f_(d_),
           J_(d_, d_), rhs_(m_, d_), dU_(m_, d_), newton_(m_) {}
 
-    [[gnu::always_inline]] inline StepStatus step(double t, Vec& z) {
-        return advance<false>(t, z, nullptr);
-    }
-
-    StepStatus step_jacobian(double t, Vec& z, Mat& Psi) {
-        if (Psi.rows() != d_ || Psi.cols() != d_) Psi.resize(d_, d_);
-        return advance<true>(t, z, &Psi);
-    }
-
 private:
+    friend class OneCodePathKernel<SymplecticEulerPartitioned<P>,
+                                   Scheme::symplectic_euler_partitioned>; // step(), step_jacobian()
+    int state_dim() const { return d_; }
+
     template <bool WithJacobian>
     [[gnu::always_inline]] inline StepStatus advance(double t, Vec& z, Mat* Psi) {
         const double t1 = t + h_;
@@ -71,7 +65,7 @@ private:
             newton_.S = Mat::Identity(m_, m_) - h_ * J_.topLeftCorner(m_, m_);
         });
         if (iterations == 0) return StepStatus::solve_failed;
-        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, iterations);
+        c_.step_solved(iterations);
         zs_.head(m_) = U;
         prob_.rhs(t1, zs_, f_); // b(U, v) at the converged U
         c_.rhs_evals += 1;

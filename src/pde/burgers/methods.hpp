@@ -23,6 +23,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/hand_written.hpp"
 #include "pde/burgers/problem.hpp"
 #include "pde/burgers/schemes.hpp"
 
@@ -32,11 +33,15 @@
 
 namespace dampsym {
 
+// The method row's scheme of B's Burgers scheme S.
+constexpr Scheme burgers_method_scheme(pde::BurgersScheme S) {
+    return S == pde::BurgersScheme::csv_split ? Scheme::burgers_csv
+           : S == pde::BurgersScheme::box     ? Scheme::burgers_box
+                                              : Scheme::burgers_nsfd;
+}
+
 template <class P, pde::BurgersScheme S>
-class BurgersB {
-    static constexpr Scheme scheme = S == pde::BurgersScheme::csv_split ? Scheme::burgers_csv
-                                     : S == pde::BurgersScheme::box     ? Scheme::burgers_box
-                                                                        : Scheme::burgers_nsfd;
+class BurgersB : public SchemeKernel<burgers_method_scheme(S)> {
     static constexpr BurgersSpace space = S == pde::BurgersScheme::csv_split ? BurgersSpace::central
                                           : S == pde::BurgersScheme::box     ? BurgersSpace::box
                                                                              : BurgersSpace::upwind;
@@ -52,8 +57,6 @@ public:
     static constexpr std::string_view kernel_id = S == pde::BurgersScheme::csv_split ? "burgers-csv"
                                                   : S == pde::BurgersScheme::box     ? "burgers-box"
                                                                                  : "burgers-nsfd";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == scheme; }
     template <class Q>
     static constexpr bool applies = on_own_space<Q>();
     // (5.10)'s exact step Jacobian (E_n against B's D, docs/pde.md); the implicit schemes have
@@ -68,11 +71,7 @@ public:
         const int before = stepper_.stats().newton_iterations;
         const bool ok = stepper_.step(z);
         if constexpr (S == pde::BurgersScheme::box) {
-            const int it = stepper_.stats().newton_iterations - before;
-            c_.rhs_evals += it;
-            c_.jac_evals += it;
-            c_.newton_iters += it;
-            c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, it);
+            c_.step_iterated(stepper_.stats().newton_iterations - before, true);
         } else {
             c_.rhs_evals += S == pde::BurgersScheme::csv_split ? 2 : 1;
         }

@@ -31,6 +31,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/hand_written.hpp"
 #include "pde/klein_gordon/problem.hpp"
 #include "pde/klein_gordon/schemes.hpp"
 
@@ -40,7 +41,7 @@
 namespace dampsym {
 
 template <class P>
-class KGBoxScheme {
+class KGBoxScheme : public SchemeKernel<Scheme::kg_box> {
     template <class Q>
     static constexpr bool on_box_space() {
         if constexpr (requires { Q::kg_space; })
@@ -51,8 +52,6 @@ class KGBoxScheme {
 
 public:
     static constexpr std::string_view kernel_id = "kg-box";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == Scheme::kg_box; }
     template <class Q>
     static constexpr bool applies = on_box_space<Q>();
     static constexpr bool has_step_jacobian = false;

@@ -17,6 +17,7 @@
 #pragma once
 
 #include "core/method.hpp"
+#include "methods/hand_written.hpp"
 #include "pde/nls/schemes.hpp"
 
 #include <algorithm>
@@ -25,11 +26,15 @@
 
 namespace dampsym {
 
+// The method row's scheme of B's NLS scheme S.
+constexpr Scheme nls_method_scheme(pde::NLSScheme S) {
+    return S == pde::NLSScheme::integrating_factor ? Scheme::nls_if
+           : S == pde::NLSScheme::etd              ? Scheme::nls_etd
+                                                   : Scheme::nls_imp;
+}
+
 template <class P, pde::NLSScheme S>
-class NlsB {
-    static constexpr Scheme scheme = S == pde::NLSScheme::integrating_factor ? Scheme::nls_if
-                                     : S == pde::NLSScheme::etd              ? Scheme::nls_etd
-                                                                             : Scheme::nls_imp;
+class NlsB : public SchemeKernel<nls_method_scheme(S)> {
     template <class Q>
     static constexpr bool declares_form() {
         if constexpr (requires { Q::nls_b_form; })
@@ -42,8 +47,6 @@ public:
     static constexpr std::string_view kernel_id = S == pde::NLSScheme::integrating_factor ? "nls-if"
                                                   : S == pde::NLSScheme::etd ? "nls-etd"
                                                                              : "nls-imp";
-    using Data = HandWrittenScheme;
-    static bool accepts(const Data& d) { return d.scheme == scheme; }
     template <class Q>
     static constexpr bool applies = declares_form<Q>();
     static constexpr bool has_step_jacobian = false;
@@ -56,10 +59,7 @@ public:
         const int M = static_cast<int>(psi_.size());
         for (int n = 0; n < M; ++n) psi_[n] = {z[n], z[M + n]};
         const bool ok = stepper_.step(t, psi_);
-        const int it = stepper_.last_iterations();
-        c_.rhs_evals += it;
-        c_.newton_iters += it;
-        c_.max_newton_iters_per_step = std::max(c_.max_newton_iters_per_step, it);
+        c_.step_iterated(stepper_.last_iterations(), false);
         if (!ok) return StepStatus::solve_failed;
         for (int n = 0; n < M; ++n) {
             z[n] = psi_[n].real();
