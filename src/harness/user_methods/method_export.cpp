@@ -140,7 +140,8 @@ json export_method_file(std::string_view id, const std::string& new_id) {
     if (coef.is_null())
         throw InputError("--export: '" + std::string(id) +
                          "' has no coefficients a method file can hold bit for bit (a "
-                         "hand-written scheme, or csv2-perk's Cayley factors of B(2.21))");
+                         "hand-written scheme, a family without method files, or csv2-perk's "
+                         "Cayley factors of B(2.21))");
     if (!valid_case_id(new_id))
         throw InputError("--as: '" + new_id +
                          "' is not a valid method id (1 to 100 characters of A-Z a-z 0-9 . _ -, "
