@@ -192,7 +192,8 @@ TEST_CASE("pde burgers: the step Jacobian of (5.10) (burgers-csv) against centra
     prob.gamma = 0.1;
     const dampsym::MethodInfo& info = dampsym::test::method("burgers-csv");
     dampsym::Counters c;
-    dampsym::BurgersCsv<P> k(prob, info, 0.05, c);
+    const auto stepper = dampsym::test::stepper(prob, info, 0.05, c); // the library's pair
+    dampsym::AnyStepper& k = *stepper;
     Vec z0 = prob.initial_state();
     for (int j = 0; j < 16; ++j) z0[j] += 0.3 * std::sin(3.0 * prob.grid.x(j));
     Vec za = z0, zb = z0;
