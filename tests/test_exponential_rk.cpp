@@ -97,21 +97,17 @@ double ls_slope(const std::vector<double>& x, const std::vector<double>& y) {
 template <class P>
 std::unique_ptr<dampsym::AnyStepper> exp_stepper(const P& prob, const MethodInfo& info, double h,
                                                  Counters& c) {
-    KernelMatch match = KernelMatch::unknown_kernel;
-    const dampsym::KernelOps<P>* ops = dampsym::kernel_ops<P>(info, match);
+    auto k = dampsym::test::stepper_among(prob, info, h, c,
+                                          {"exponential-rk", "partitioned-exponential-rk"});
     INFO(info.id << " on " << P::id);
-    REQUIRE(ops != nullptr);
-    REQUIRE((ops->kernel_id == "exponential-rk" || ops->kernel_id == "partitioned-exponential-rk"));
-    return ops->stepper(prob, info, h, c);
+    REQUIRE(k);
+    return k;
 }
 
 // n steps of size h from t = 0 (exp_stepper); false on a failed step.
 template <class P>
 bool run(const P& prob, const MethodInfo& info, double h, int n, Vec& z, Counters& c) {
-    const auto k = exp_stepper(prob, info, h, c);
-    for (int i = 0; i < n; ++i)
-        if (k->step(dampsym::time_at(0.0, h, i), z) != StepStatus::ok) return false;
-    return true;
+    return dampsym::test::steps_from_zero(exp_stepper(prob, info, h, c).get(), h, n, z);
 }
 
 // Per step from the same state: one step of method a and one of b (their kernels, the library's

@@ -126,29 +126,20 @@ template <class K, class P>
     return true;
 }
 
-// A stepper of `info` on the registered problem type P from the library (kernel_ops), or null
-// when no kernel applies; the kernel must be one of the three family kernels of this file.
+// A stepper of `info` on the registered problem type P from the library, or null when no kernel
+// applies; the kernel must be one of the three family kernels of this file.
 template <class P>
 std::unique_ptr<dampsym::AnyStepper> family_stepper(const P& prob, const MethodInfo& info, double h,
                                                     Counters& c) {
-    dampsym::KernelMatch match = dampsym::KernelMatch::unknown_kernel;
-    const dampsym::KernelOps<P>* ops = dampsym::kernel_ops<P>(info, match);
-    if (ops == nullptr) return nullptr;
-    INFO(info.id << " is stepped by " << std::string(ops->kernel_id));
-    REQUIRE((ops->kernel_id == "implicit-rk" || ops->kernel_id == "ifrk" ||
-             ops->kernel_id == "partitioned-rk"));
-    return ops->stepper(prob, info, h, c);
+    return dampsym::test::stepper_among(prob, info, h, c,
+                                        {"implicit-rk", "ifrk", "partitioned-rk"});
 }
 
-// n steps of size h from t = 0 with the family kernel of `info` (family_stepper); false when none
-// applies or a step fails.
+// n steps of size h from t = 0 with the family kernel of `info`; false when none applies or a step
+// fails.
 template <class P>
 bool run(const P& prob, const MethodInfo& info, double h, int n, Vec& z, Counters& c) {
-    const auto k = family_stepper(prob, info, h, c);
-    if (!k) return false;
-    for (int i = 0; i < n; ++i)
-        if (k->step(dampsym::time_at(0.0, h, i), z) != StepStatus::ok) return false;
-    return true;
+    return dampsym::test::steps_from_zero(family_stepper(prob, info, h, c).get(), h, n, z);
 }
 
 double max_rel_diff(const Vec& a, const Vec& b) {

@@ -12,8 +12,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -71,6 +73,30 @@ template <class P>
 std::unique_ptr<AnyStepper> stepper(const P& problem, const MethodInfo& info, double h,
                                     Counters& counters) {
     return kernel<P>(info).stepper(problem, info, h, counters);
+}
+
+// A stepper of `info` on `problem` from the library, or null when no kernel applies; a test of
+// particular kernels names them, and the registry's choice must be one of them (checked, not
+// assumed).
+template <class P>
+std::unique_ptr<AnyStepper> stepper_among(const P& problem, const MethodInfo& info, double h,
+                                          Counters& counters,
+                                          std::initializer_list<std::string_view> kernels) {
+    KernelMatch match = KernelMatch::unknown_kernel;
+    const KernelOps<P>* ops = kernel_ops<P>(info, match);
+    if (ops == nullptr) return nullptr;
+    INFO(std::string(info.id) << " on " << P::id << " is stepped by "
+                              << std::string(ops->kernel_id));
+    REQUIRE(std::find(kernels.begin(), kernels.end(), ops->kernel_id) != kernels.end());
+    return ops->stepper(problem, info, h, counters);
+}
+
+// n steps of size h from t = 0 (t_k = k h); false on a failed step (a null stepper too).
+inline bool steps_from_zero(AnyStepper* k, double h, int n, Vec& z) {
+    if (k == nullptr) return false;
+    for (int i = 0; i < n; ++i)
+        if (k->step(time_at(0.0, h, i), z) != StepStatus::ok) return false;
+    return true;
 }
 
 // q'' + 2γq' + sin q = 0 from q0 = 1, p0 = 0.
