@@ -11,8 +11,9 @@ Exit 0 when nothing disagrees, 1 on any disagreement (with --strict, the ctests'
 when a run, fit, check or field is "not reproduced"), 2 on bad input (naming the file and key).
 
 What decides what (nothing from report.json decides a tolerance, a window, a step count or a
-stride): every case is read from its file in verify/cases/ by id, with the report's recorded
-`--set` overrides (verify/xcase.py): the runs (methods x step sizes, the `--method` selection of
+stride): every case is read from its case file -- the one the report says dampsym read, when it
+is still there with the case's id, else the file of that id in verify/cases/ -- with the report's
+recorded `--set` overrides (verify/xcase.py): the runs (methods x step sizes, the `--method` selection of
 the command line), each run's step count (t_end - t0)/dt, the output grid, the diagnostics, the
 checks (metric, op, threshold, tolerance; expanded per method and step size as dampsym does).  A
 run or check the file implies but the report lacks, one the report has in excess, a head field
@@ -147,10 +148,10 @@ Rec = Dict[str, Any]
 
 
 def case_spec(case: Rec) -> Rec:
-    """The case file by id with the report's overrides, or the report's inputs for a case that
-    has none (dampsym matrix)."""
+    """The case file (the one the report names, else verify/cases by id) with the report's
+    overrides, or the report's inputs for a case that has none (dampsym matrix)."""
     try:
-        spec = xcase.load_spec(case["id"], case.get("overrides"))
+        spec = xcase.load_spec(case["id"], case.get("overrides"), xcase.recorded_case_file(case))
     except (OSError, ValueError, xcase.CaseFileError) as exc:
         raise BadInput("case %s: its case file: %s" % (case["id"], exc))
     return spec if spec is not None else xcase.spec_from_report(case)

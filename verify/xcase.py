@@ -2,9 +2,11 @@
 
 The cross-check takes every input that decides what it recomputes and how it judges it -- the
 runs (methods x step sizes) and their step counts, the output grid, the checks' metrics,
-operators and thresholds -- from the case file in verify/cases/ (found by the case id, with the
-report's recorded `--set` overrides applied, docs/case-keys.md), never from the numbers the
-report gives for them.  A run or check the file implies but the report lacks (and that the
+operators and thresholds -- from the case file (with the report's recorded `--set` overrides
+applied, docs/case-keys.md), never from the numbers the report gives for them.  The case file is
+the one the report says dampsym read (its `file`), when that is still a readable JSON file with
+the case's id -- a case of the user's own directory, `--cases DIR` or a file named on the command
+line -- else the file of that id in verify/cases/.  A run or check the file implies but the report lacks (and that the
 report's method selection does not explain) is a disagreement, and so is one the report has but
 the file does not imply.
 
@@ -22,6 +24,7 @@ import json
 import math
 import os
 import shlex
+import stat
 from typing import Any, Dict, List, Optional, Tuple
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -29,6 +32,8 @@ CASES_DIR = os.path.join(HERE, "cases")
 METHOD_LEVEL = ("order", "local-order", "stability-sweep", "trace-taylor")
 OPS = ("near", "le", "ge", "lt", "gt")
 _INDEX: Dict[str, str] = {}
+# a case file larger than this is not read as one (a report naming /dev/zero or a huge file)
+CASE_FILE_LIMIT = 16 << 20
 
 Json = Dict[str, Any]
 CheckKey = Tuple[str, str, Optional[float]]
@@ -75,10 +80,28 @@ def set_path(obj: Json, key: str, value: Any) -> None:
     obj[parts[-1]] = value
 
 
-def load_spec(cid: str, overrides: Optional[Json]) -> Optional[Json]:
-    """The case file of `cid` with the overrides applied, or None when verify/cases has none
-    (dampsym matrix builds its battery in code)."""
-    path = case_index().get(cid)
+def recorded_case_file(case: Json) -> Optional[str]:
+    """The case file the report says dampsym read (`file`), when it is still there: a regular
+    file of at most CASE_FILE_LIMIT bytes holding a JSON object with the case's id; else None."""
+    path = case.get("file")
+    if not isinstance(path, str) or not path:
+        return None
+    try:
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode) or st.st_size > CASE_FILE_LIMIT:
+            return None
+        with open(path) as fh:
+            doc = json.load(fh)
+    except (OSError, ValueError, RecursionError):
+        return None
+    return path if isinstance(doc, dict) and doc.get("id") == case.get("id") else None
+
+
+def load_spec(cid: str, overrides: Optional[Json], path: Optional[str] = None) -> Optional[Json]:
+    """The case file at `path` (the one the report names, recorded_case_file), else the file of
+    `cid` in verify/cases, with the overrides applied; None when there is neither (dampsym matrix
+    builds its battery in code)."""
+    path = path or case_index().get(cid)
     if path is None:
         return None
     with open(path) as fh:
@@ -262,7 +285,10 @@ def spec_from_report(case: Json) -> Json:
     """A case with no file in verify/cases (dampsym matrix builds its battery in code): its
     inputs as the report records them, marked as such (the structure record says so)."""
     ref = case.get("reference") or {}
-    pts = int(ref.get("points") or 0)
+    # the output grid: the reference's points, else the points the runs observed (a case without
+    # a reference whose file is not at hand)
+    pts = int(ref.get("points") or 0) or max(
+        [int(((r.get("observed") or {}).get("grid_points")) or 0) for r in case.get("runs") or []] + [0])
     spec: Json = {k: case[k] for k in ("id", "t0", "t_end", "methods", "diagnostics", "measures")
                   if k in case}
     spec["dt_ladder"] = list(case.get("dt_ladder") or [])

@@ -25,7 +25,7 @@ Key = Tuple[str, float]
 CASE_KNOWN = ("id", "problem", "methods", "t0", "t_end", "dt_ladder", "diagnostics", "runs", "method_metrics",
               "checks", "checks_not_run", "reference", "overrides", "measures")
 CASE_NOT_COMPARED = {"title": "free text", "source": "free text", "file": "the path dampsym read (we read "
-                     "verify/cases by id)", "no_checks_because": "free text", "figures": "drawing options",
+                     "it too, or verify/cases by id)", "no_checks_because": "free text", "figures": "drawing options",
                      "errors": "exceptions of the C++ tasks (their checks fail; those are compared)",
                      "problem_check": "dampsym's own check of the problem's Jacobians against central "
                      "differences of its functions (rounding-level numbers; a failure adds a failing check, "

@@ -115,8 +115,10 @@ def metric_invariants(prob: Any, traj: Any, times: Any, h: Optional[float] = Non
         if I0 != 0.0 and resolved.all():
             d["max_global_ratio_dev"] = float(np.max(np.abs(r[1:])))
             d["ratio_dev_slope"] = lsq_slope(times[1:], r[1:])
-            # our round-off band of r: n steps of u_n each
-            d["_ratio_u"] = float(np.max(np.minimum(np.exp(log_u), 1e-8)))
+            # our round-off band of r: n steps of u_n each, u_n as large as it is where r_n was
+            # resolved by its second test (u_n <= 1e-2 |r_n|: then r is known to a per cent,
+            # and the band says so rather than 1e-8)
+            d["_ratio_u"] = float(np.max(np.exp(log_u)))
         else:
             k = int(np.argmin(resolved)) if I0 != 0.0 else 0
             why = "r_n unresolved at step %d" % k
@@ -129,8 +131,9 @@ def metric_energy(prob: Any, traj: Any, times: Any, ref: Any = None) -> Dict[str
     H = prob.energy(traj)
     dH = H - H[0]
     n = len(H)
-    half = n // 2
-    a1, a2 = np.max(np.abs(dH[:half + 1])), np.max(np.abs(dH[half:]))
+    half = n // 2  # the first half: points 0..half; the second: the rest (docs/conventions.md)
+    a1 = np.max(np.abs(dH[:half + 1]))
+    a2 = np.max(np.abs(dH[half + 1:])) if n > half + 1 else 0.0
     out: Dict[str, Any] = dict(max_abs_change=float(np.max(np.abs(dH))), change_slope=lsq_slope(times, dH),
                growth_ratio=float(a2 / a1) if a1 > 0 else Undef("|H_n - H_0| = 0 on the first half"))
     if prob.energy_scale is not None:

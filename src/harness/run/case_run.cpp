@@ -4,6 +4,7 @@
 #include "diagnostics/local_error_diagnostic.hpp"
 #include "diagnostics/order_diagnostic.hpp"
 #include "diagnostics/stability_sweep_diagnostic.hpp"
+#include "harness/case/recorded_file.hpp"
 #include "harness/problem_info.hpp"
 
 #include <algorithm>
@@ -203,7 +204,7 @@ json CaseRun::case_json(json checks) const {
     json out = {{"id", c_.id},
                 {"title", c_.title},
                 {"source", c_.source},
-                {"file", c_.file},
+                {"file", recorded_case_file(c_.file)},
                 {"problem", {{"id", c_.problem_id}, {"params", params}}},
                 {"methods", c_.methods},
                 {"t0", c_.t0},

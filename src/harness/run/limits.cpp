@@ -1,6 +1,7 @@
 #include "harness/run/limits.hpp"
 
 #include "harness/case/case.hpp"
+#include "harness/case/recorded_file.hpp"
 #include "harness/finite_option.hpp"
 #include "harness/report/report.hpp"
 #include "harness/run/case_job.hpp"
@@ -222,7 +223,7 @@ nlohmann::json failed_case_record(const CaseSpec& c, const std::vector<std::stri
     nlohmann::json out = {{"id", c.id},
                           {"title", c.title},
                           {"source", c.source},
-                          {"file", c.file},
+                          {"file", recorded_case_file(c.file)},
                           {"problem", {{"id", c.problem_id}, {"params", params}}},
                           {"methods", c.methods},
                           {"t0", c.t0},
