@@ -201,17 +201,24 @@ def _csv2(prob: Any, h: Any) -> Any:
          (1 + g h/2) p_half = e^{-g h/2} p - (h/2) V'(q)
          (1 - g h/2) q1     = e^{-g h/2} [ (1 + g h/2) e^{-g h/2} q + h p_half ]
          p1                 = e^{-g h/2} [ (1 - g h/2) p_half - (h/2) V'(q1) ]
-       It needs g h < 2 (conventions §5)."""
+       Defined for g h != 2 (F (3.22): the stable region reversed for g h > 2); at g h = 2 the
+       q-update divides by zero in IEEE arithmetic (inf: the run diverges, as dampsym's csv2.hpp)."""
     g, dV = prob.gamma, prob.dV
     a, b, e = 1.0 + 0.5 * g * h, 1.0 - 0.5 * g * h, math.exp(-0.5 * g * h)
-    if b <= 0.0:
-        raise NotApplicable("csv2 needs gamma*h < 2 (gamma*h = %g)" % (g * h))
 
     def step(q: Any, p: Any) -> Any:
         ph = (e * p - 0.5 * h * dV(q)) / a
-        q1 = e * (a * e * q + h * ph) / b
+        q1 = ieee_div(e * (a * e * q + h * ph), b)
         return q1, e * (b * ph - 0.5 * h * dV(q1))
     return step
+
+
+def ieee_div(x: float, y: float) -> float:
+    """x / y as IEEE doubles divide (+-inf or nan for y = 0, where Python raises)."""
+    if y != 0.0:
+        return x / y
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(np.float64(x) / np.float64(y))
 
 
 def _cimp(prob: Any, h: Any) -> Any:

@@ -260,6 +260,8 @@ def f_stability(cx: RunCtx, key: str, ours: Any, theirs: Any) -> Comp:
         margin = abs(cx.mm["stability.half_trace"]) - math.exp(-cx.prob.g * cx.dt)
         tie = abs(margin) <= 4 * EPS * math.exp(-cx.prob.g * cx.dt)
         return comp(key, ours, theirs, ours == theirs or tie, "equal (a tie within 4 eps)", margin=margin)
+    if key in ("stability.det_abs_err", "stability.det_rel_err"):
+        return f_det_err(cx, key, ours, theirs)
     if key.endswith("_abs_err") or key.endswith("_rel_err") or key.endswith("exact_err"):
         ref_ = max(1.0, abs(float(cx.mm.get("stability.det_expected", 1.0))),
                    abs(float(cx.mm.get("stability.half_trace_formula", 1.0) or 1.0)))
@@ -268,6 +270,19 @@ def f_stability(cx: RunCtx, key: str, ours: Any, theirs: Any) -> Comp:
     if isinstance(ours, int) and not isinstance(ours, bool):
         return cmp_equal(key, ours, theirs)
     return cmp_abs(key, ours, theirs, 1e-12, 0.0, "a few roundings of a 2x2 product")
+
+
+def f_det_err(cx: RunCtx, key: str, ours: Any, theirs: Any) -> Comp:
+    """|det M - e^{-2 gamma h}| (over e^{-2 gamma h} for the relative form): det M = M00 M11 -
+    M01 M10 rounds like its two products, 8 eps (|M00 M11| + |M01 M10|), which is much more than
+    8 eps det where the products nearly cancel (gamma h > 2: det = e^{-4.3} of O(1) entries)."""
+    M = np.array(cx.mm["stability.matrix"], float)
+    prods = abs(M[0, 0] * M[1, 1]) + abs(M[0, 1] * M[1, 0])
+    fl = 8 * EPS * max(1.0, prods)
+    if key.endswith("rel_err"):
+        fl = 8 * EPS * max(1.0, prods / max(float(cx.mm.get("stability.det_expected", 1.0)), TINY))
+    cx.unc[key] = REL * abs(num(ours)) + fl
+    return cmp_abs(key, ours, theirs, REL, fl, "det of two products, each rounded")
 
 
 def f_eigenvalues(cx: RunCtx, key: str, ours: Any, theirs: Any) -> Comp:

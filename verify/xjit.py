@@ -501,8 +501,8 @@ def integrate_scalar(method: str, prob: Any, h: Any, nsteps: int, record: bool, 
     else:
         return None
     g = float(prob.g)
-    if method == "csv2" and not (1.0 - 0.5 * g * h > 0.0):
-        return None                      # refmath raises NotApplicable: let the plain path say so
+    if method == "csv2" and 1.0 - 0.5 * g * h == 0.0:
+        return None                      # a division by zero: the plain path's IEEE inf
     n, status, q, p, traj = _scalar_run(SCALAR_METHODS[method], pend, w2, g, float(h), float(prob.z0[0]),
                                         float(prob.z0[1]), int(nsteps), bool(record), float(limit))
     if status == 1:

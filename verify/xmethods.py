@@ -302,22 +302,21 @@ def csv1_step(prob: Any, h: Any) -> Any:
     return step
 
 
-def csv2_step(prob: Any, h: Any, beyond: bool = False) -> Any:
+def csv2_step(prob: Any, h: Any) -> Any:
     """F (2.16): (1 + x/2) p_half = e^{-x/2} p - (h/2) grad V(q);
     (1 - x/2) q1 = e^{-x/2} [ (1 + x/2) e^{-x/2} q + h grad T(p_half) ];
-    p1 = e^{-x/2} [ (1 - x/2) p_half - (h/2) grad V(q1) ];  needs x < 2."""
+    p1 = e^{-x/2} [ (1 - x/2) p_half - (h/2) grad V(q1) ];  defined for x != 2 (F (3.22): the
+    stable region reversed for x > 2); at x = 2 the q-update is inf (the run diverges, as
+    dampsym's csv2.hpp)."""
     nq = prob.nq
 
     def step(t: Any, z: Any) -> Any:
         x = dGamma(prob, t, h)
         a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
-        if b == 0 or (b < 0 and not beyond):
-            # F (2.16) divides by 1 - x/2; the one-step matrix of the stability sweep also
-            # exists for x > 2 (F (3.22) "reversed"), a run is confined to x < 2
-            raise NotApplicable("csv2 needs gamma h < 2")
         q, p = z[..., :nq], z[..., nq:]
         ph = (e * p + 0.5 * h * prob.force(t, q)) / a
-        q1 = e * (a * e * q + h * prob.dT(ph)) / b
+        with np.errstate(divide="ignore", invalid="ignore"):
+            q1 = e * (a * e * q + h * prob.dT(ph)) / np.float64(b)
         p1 = e * (b * ph + 0.5 * h * prob.force(t + h, q1))
         return np.concatenate([q1, p1], axis=-1), 0
     return step
@@ -680,8 +679,6 @@ def make_stepper(method: str, prob: Any, h: Any) -> Any:
     if method == "csv1":
         return csv1_step(prob, h)
     if method == "csv2":
-        if not prob.t_dependent_gamma and prob.g * h >= 2:
-            raise NotApplicable("csv2 needs gamma h < 2")
         return csv2_step(prob, h)
     if method in ("cse-if", "cse-etd"):
         return cse_step(prob, h, etd=method == "cse-etd")

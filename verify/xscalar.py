@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from . import refmath
 from . import xmethods as xm
 
 
@@ -66,11 +67,9 @@ def _csv_scalar(prob: Any, force: Any, h: Any, which: Any) -> Any:
     def step(t: Any, z: Any) -> Any:
         x = xm.dGamma(prob, t, h)
         a, b, e = 1 + 0.5 * x, 1 - 0.5 * x, math.exp(-0.5 * x)
-        if b <= 0:
-            raise xm.NotApplicable("csv2 needs gamma h < 2")
         q, p = z
         ph = (e * p + 0.5 * h * force(t, q)) / a
-        q1 = e * (a * e * q + h * ph) / b
+        q1 = refmath.ieee_div(e * (a * e * q + h * ph), b)  # x = 2: inf, as dampsym
         return [q1, e * (b * ph + 0.5 * h * force(t + h, q1))], 0
     return step
 

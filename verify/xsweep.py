@@ -54,9 +54,9 @@ def axis(spec: Dict[str, Any]) -> Any:
 
 def one_step_matrix(method: str, w: Any, g: Any, h: Any) -> Any:
     if method in ("csv2", "csv2-perk") and g * h > 2:
-        # F (2.16) beyond gamma h = 2 (F (3.22) "reversed"); runs stop at gamma h < 2
+        # F (2.16) beyond gamma h = 2 (F (3.22) "reversed")
         prob = xp.make_problem("oscillator", {"omega": w, "gamma": g, "q0": 1.0, "p0": 0.0})
-        step = xm.csv2_step(prob, h, beyond=True) if method == "csv2" else \
+        step = xm.csv2_step(prob, h) if method == "csv2" else \
             xm.perk_step(prob, xm.csv2_perk_coef(prob, h), h, (0.0, 1.0))
         return step(0.0, np.eye(2))[0].T
     if method in refmath.METHODS:

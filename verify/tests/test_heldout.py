@@ -181,3 +181,47 @@ def test_heldout_cases_agree(dampsym_bin: str, workdir: str) -> None:
         c["file"] = os.path.join(work, "moved", os.path.basename(c["file"]))
     notes = [n for r in _crosscheck(moved, work, "lost")["structure"] for n in r["notes"]]
     assert notes.count("(no case file: inputs from the report)") == 3, notes
+
+
+def _csv2_by_hand(g: float, w: float, h: float, q: float, p: float) -> Any:
+    """F (2.16) for the oscillator (V = w^2 q^2 / 2, T = p^2 / 2), written out."""
+    a, b, e = 1 + g * h / 2, 1 - g * h / 2, np.exp(-g * h / 2)
+    ph = (e * p - h / 2 * w * w * q) / a
+    q1 = e * (a * e * q + h * ph) / b
+    return q1, e * (b * ph - h / 2 * w * w * q1)
+
+
+def test_csv2_beyond_gamma_h_2() -> None:
+    """csv2 is defined for gamma h != 2 (F (3.22): its region reversed beyond 2; dampsym's
+    csv2.hpp runs it): the cross-check's steps (array, scalar and refmath) run it too and agree
+    with F (2.16) written out; at gamma h = 2 the q-update is inf (dampsym: diverged), where the
+    cross-check used to stop with a traceback (a held-out stress case at gamma h = 2.15)."""
+    from verify import refmath, xmethods, xproblems
+    g, w, h = 1.44, 0.8, 1.4960609482320342
+    prob = xproblems.make_problem("oscillator", {"omega": w, "gamma": g, "q0": 1.4, "p0": 0.0})
+    z1, _ = xmethods.make_stepper("csv2", prob, h)(0.0, np.array([1.4, 0.3]))
+    want = _csv2_by_hand(g, w, h, 1.4, 0.3)
+    assert np.allclose(z1, want, rtol=1e-14, atol=0.0)
+    q1, p1 = refmath.make_step("csv2", refmath.Oscillator(w, g, 1.4, 0.3), h)(1.4, 0.3)
+    assert np.allclose([q1, p1], want, rtol=1e-14, atol=0.0)
+    at2 = xproblems.make_problem("oscillator", {"omega": w, "gamma": 0.5, "q0": 1.4, "p0": 0.0})
+    z2, _ = xmethods.make_stepper("csv2", at2, 4.0)(0.0, np.array([1.4, 0.3]))  # gamma h = 2 exactly
+    assert np.isinf(z2).all()
+    q2, _ = refmath.make_step("csv2", refmath.Oscillator(w, 0.5, 1.4, 0.3), 4.0)(1.4, 0.3)
+    assert np.isinf(q2)
+
+
+def test_det_band_where_the_products_cancel() -> None:
+    """det M = M00 M11 - M01 M10 rounds like its products: where they nearly cancel (det
+    e^{-4.3} of O(1) entries) the relative band is 8 eps x products / det, not 8 eps."""
+    from verify import xfamilies
+    from verify.xrunctx import RunCtx
+    cx = RunCtx.__new__(RunCtx)
+    M = [[0.9, 1.1], [0.8, 1.0]]          # products 0.9 and 0.88: det 0.02
+    cx.mm = {"stability.matrix": M, "stability.det_expected": 0.02}
+    cx.unc = {}
+    band = 8 * np.finfo(float).eps * (0.9 + 0.88) / 0.02
+    agree = xfamilies.f_det_err(cx, "stability.det_rel_err", 2.6e-15, 2.6e-15 + 0.9 * band)
+    assert agree["status"] in ("agree", "not comparable")
+    far = xfamilies.f_det_err(cx, "stability.det_rel_err", 2.6e-15, 2.6e-15 + 1.2 * band)
+    assert far["status"] == "disagree"
