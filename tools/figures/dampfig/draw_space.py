@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from . import figdata as fd
-from .draw_series import coincidence_note
+from .draw_series import axes_px, coincidence_note
 from .render import PANEL_H, Ctx, Drawn, Json, dense, layout, pow10, save, sci_scale, subplots, \
     title_of
 from .styles import REFERENCE_GREY, TRANSIENT_GREY
@@ -254,10 +254,50 @@ def snapshot_errors(runs: List[Json], k: int, n_x: int) -> List[Tuple[str, List[
     return out
 
 
+def snapshot_legend(ctx: Ctx, case: Json, fig: Any, runs: List[Json], y: float) -> None:
+    """The legend of a group's rows (centred at figure height y): the PDE's solution and each
+    run with its pde-error.max_abs."""
+    handles = [Line2D([], [], color=REFERENCE_GREY, lw=3.0, alpha=0.7,
+                      label="solution of the PDE")]
+    for r in runs:
+        v = fd.run_metric(next((rr for rr in case["runs"] if rr["method"] == r["method"]
+                                and rr["dt"] == r["dt"]), {}), "pde-error.max_abs")
+        c, _, ls = ctx.style(r["method"])
+        handles.append(Line2D([], [], color=c, ls="--" if ls == ":" else ls, lw=1.2,
+                              label=r["method"] + (f" (max $|u - u_{{PDE}}|$ = {v:.2g})"
+                                                  if v is not None else "")))
+    fig.legend(handles=handles, loc="lower center", ncol=min(4, len(handles)), frameon=False,
+               fontsize=7.5, bbox_to_anchor=(0.5, y))
+
+
+def snapshot_rows(ctx: Ctx, top: Any, bottom: Any, runs: List[Json], k: int,
+                  emax: float, scale: int) -> float:
+    """The field of each run over the PDE's solution at snapshot k (top) and u − u_PDE (bottom,
+    one scale for the row); returns the pixels of the bottom panel's note on coinciding lines."""
+    first = runs[0]["series"]["snapshots"]
+    x = first["x"] or list(range(len(first["pde"][k])))
+    top.plot(x, first["pde"][k], "-", color=REFERENCE_GREY, lw=3.0, alpha=0.7)
+    for r in runs:
+        sn = r["series"]["snapshots"]
+        c, _, ls = ctx.style(r["method"])
+        if k < len(sn["u"]):
+            top.plot(x, sn["u"][k], "--" if ls == ":" else ls, color=c, lw=1.0)
+    drawn = []
+    for m, e in snapshot_errors(runs, k, len(x)):
+        c, _, ls = ctx.style(m)
+        y = [v / 10.0 ** scale for v in e]
+        bottom.plot(x[:len(e)], y, ls, color=c, lw=1.0)
+        drawn.append((m, list(x[:len(e)]), y))
+    bottom.axhline(0.0, color="k", lw=0.5)
+    top.set_title(f"t = {first['t'][k]:g}")
+    return coincidence_note(bottom, drawn, False)
+
+
 def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
-    """B Fig 5.4: top row the field u(x) of each run over the PDE's own solution (grey) at the
-    output times; bottom row u − u_PDE, the error the case checks (pde-error.max_abs), which the
-    top row cannot show (the lines coincide at its scale)."""
+    """B Fig 5.4: per group of at most six runs, a row of the field u(x) of each run over the
+    PDE's own solution (grey) at the output times and under it u − u_PDE, the error the case
+    checks (pde-error.max_abs), which the top row cannot show (the lines coincide at its
+    scale)."""
     runs = [r for r in ser["runs"] if r["series"].get("snapshots", {}).get("t")]
     if not runs:
         return []
@@ -265,49 +305,31 @@ def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     times = first["t"]
     n = min(len(times), 5)  # at most 5 times: the first, the last and 3 between
     pick = sorted({round(i * (len(times) - 1) / max(1, n - 1)) for i in range(n)})
-    height = 2 * PANEL_H + 1.4
-    fig, axs = subplots(ctx, 2, len(pick), (3.0 * len(pick) + 0.8, height), sharex=True)
+    groups = [[r for r in runs if r["method"] in g]
+              for g in fd.groups(list(dict.fromkeys(r["method"] for r in runs)))]
+    # between two groups: the x label, the next group's legend and titles (1.1 in)
+    gap = 0.25 if len(groups) == 1 else 1.1
+    height = 2 * len(groups) * PANEL_H + (2 * len(groups) - 1) * gap + 1.5
+    fig, axs = subplots(ctx, 2 * len(groups), len(pick), (3.0 * len(pick) + 0.8, height),
+                        sharex=True)
+    layout(fig, bottom=0.5 / height, top=1 - 1.0 / height, left=0.95 / fig.get_figwidth(),
+           hspace=gap / PANEL_H, wspace=0.25)
     errs = [e for k in pick for _, e in snapshot_errors(runs, k, len(first["pde"][k]))]
     scale = sci_scale(errs)
     # one error scale in every panel: how the error grows with t is seen at a glance
     emax = max((abs(v) for e in errs for v in e), default=1.0) / 10.0 ** scale or 1.0
-    for j, k in enumerate(pick):
-        x = first["x"] or list(range(len(first["pde"][k])))
-        top, bottom = axs[0, j], axs[1, j]
-        top.plot(x, first["pde"][k], "-", color=REFERENCE_GREY, lw=3.0, alpha=0.7)
-        for r in runs:
-            sn = r["series"]["snapshots"]
-            c, _, ls = ctx.style(r["method"])
-            if k < len(sn["u"]):
-                top.plot(x, sn["u"][k], "--" if ls == ":" else ls, color=c, lw=1.0)
-        drawn = []
-        for m, e in snapshot_errors(runs, k, len(x)):
-            c, _, ls = ctx.style(m)
-            y = [v / 10.0 ** scale for v in e]
-            bottom.plot(x[:len(e)], y, ls, color=c, lw=1.0)
-            drawn.append((m, list(x[:len(e)]), y))
-        bottom.axhline(0.0, color="k", lw=0.5)
-        bottom.set_ylim(-emax * 1.08, emax * 1.08)
-        coincidence_note(bottom, drawn, False, y=0.96)
-        top.set_title(f"t = {times[k]:g}")
-        bottom.set_xlabel("x")
-    axs[0, 0].set_ylabel("u(x, t)")
-    axs[1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
-    labels = []
-    for r in runs:
-        v = fd.run_metric(next((rr for rr in case["runs"] if rr["method"] == r["method"]
-                                and rr["dt"] == r["dt"]), {}), "pde-error.max_abs")
-        labels.append(r["method"] + (f" (max |u − u_PDE| = {v:.2g})" if v is not None else ""))
-    handles = [Line2D([], [], color=REFERENCE_GREY, lw=3.0, alpha=0.7,
-                      label="solution of the PDE")]
-    for r, lab in zip(runs, labels):
-        c, _, ls = ctx.style(r["method"])
-        handles.append(Line2D([], [], color=c, ls="--" if ls == ":" else ls, lw=1.2, label=lab))
-    fig.legend(handles=handles, loc="upper center", ncol=min(4, len(handles)), frameon=False,
-               fontsize=7.5, bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    for g, gruns in enumerate(groups):
+        band = max(snapshot_rows(ctx, axs[2 * g, j], axs[2 * g + 1, j], gruns, k, emax, scale)
+                   for j, k in enumerate(pick))
+        lim = fd.band_limits(-emax, emax, band / axes_px(axs[2 * g + 1, 0])[1], 0.0, False)
+        for j in range(len(pick)):
+            axs[2 * g + 1, j].set_ylim(*lim)
+            axs[2 * g + 1, j].set_xlabel("x")
+            axs[2 * g + 1, j].xaxis.set_tick_params(labelbottom=True)
+        axs[2 * g, 0].set_ylabel("u(x, t)")
+        axs[2 * g + 1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
+        snapshot_legend(ctx, case, fig, gruns, axs[2 * g, 0].get_position().y1 + 0.3 / height)
     fig.suptitle(title_of(case, "snapshots (top) and their error against the PDE's solution "
                           "(bottom)"), y=1 - 0.05 / height, va="top")
-    layout(fig, bottom=0.5 / height, top=1 - 1.0 / height, left=0.95 / fig.get_figwidth(),
-           hspace=0.25, wspace=0.25)
     return [(save(ctx, fig, case, "snapshots"), "snapshots and their error",
              ["snapshots", "pde-error.max_abs"])]

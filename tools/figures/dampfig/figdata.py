@@ -510,3 +510,58 @@ def missing_claim_metrics(case: Json, quantities: Sequence[str]) -> List[str]:
     held to this (the caller decides)."""
     drawn = {metric_family(q) for q in quantities}
     return [m for m in check_metrics(case) if metric_family(m) not in drawn]
+
+
+# --- Layout of the notes and legends drawn inside a panel (figures' readability rules) ---------
+
+def coincident_clusters(n: int, pairs: Sequence[Tuple[int, int, float]]) -> List[Tuple[List[int],
+                                                                                    float]]:
+    """The lines 0..n-1 joined by coinciding pairs (i, j, largest difference) into clusters, each
+    with the largest difference of its pairs, in the order of their first line: every line hidden
+    under another is named, and a group of six equal lines is one entry, not fifteen pairs."""
+    root = list(range(n))
+
+    def find(i: int) -> int:
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    for i, j, _ in pairs:
+        root[find(j)] = find(i)
+    worst: Dict[int, float] = {}
+    for i, _, d in pairs:
+        worst[find(i)] = max(worst.get(find(i), 0.0), d)
+    members: Dict[int, List[int]] = {}
+    for i in range(n):
+        members.setdefault(find(i), []).append(i)
+    return [(m, worst[r]) for r, m in sorted(members.items(), key=lambda kv: kv[1][0])
+            if len(m) > 1]
+
+
+def wrap_lines(text: str, chars: int) -> List[str]:
+    """text broken at spaces into lines of at most `chars` characters (a longer word alone)."""
+    out: List[str] = []
+    for word in text.split(" "):
+        if out and len(out[-1]) + 1 + len(word) <= max(1, chars):
+            out[-1] += " " + word
+        else:
+            out.append(word)
+    return out
+
+
+def band_limits(lo: float, hi: float, bottom: float, top: float, log: bool,
+                margin: float = 0.04) -> Tuple[float, float]:
+    """Axis limits that put the data [lo, hi] between the bands kept free for text: the lowest
+    `bottom` and the highest `top` fractions of the panel (notes, a legend), plus a margin on
+    each side of the data. On a log axis in decades (lo > 0)."""
+    a, b = (math.log10(lo), math.log10(hi)) if log else (lo, hi)
+    if not b > a:
+        # one value: a decade around it, or a thousandth of it (1 around 0: no 1e-12 ticks)
+        pad = 0.5 if log else (abs(a) * 1e-3 if a != 0 else 1.0)
+        a, b = a - pad, b + pad
+    free = max(0.2, 1.0 - bottom - top - 2 * margin)
+    span = (b - a) / free
+    y0 = a - (bottom + margin) * span
+    y1 = y0 + span
+    return (10.0 ** y0, 10.0 ** y1) if log else (y0, y1)
