@@ -140,8 +140,9 @@ def slope_line(window_dt: Sequence[float], errors_by_dt: Dict[float, float],
                slope: float) -> Tuple[List[float], List[float]]:
     """The fitted convergence line drawn over the asymptotic window: e(h) = C h^slope with C
     fitted in the log (least squares of log e − slope log h over the window points), from its
-    smallest to its largest h. Returns ([h_lo, h_hi], [e_lo, e_hi])."""
-    hs = sorted(window_dt)
+    smallest to its largest h (of the window's points that have an error: a failed run has
+    none). Returns ([h_lo, h_hi], [e_lo, e_hi])."""
+    hs = sorted(h for h in window_dt if h in errors_by_dt) or sorted(errors_by_dt)
     logc = sum(math.log(errors_by_dt[h]) - slope * math.log(h) for h in hs) / len(hs)
     xs = [hs[0], hs[-1]]
     return xs, [math.exp(logc) * x ** slope for x in xs]

@@ -118,25 +118,64 @@ def log_ticks(lo: float, hi: float) -> List[float]:
     return ticks
 
 
+# tick label sizes at 9 pt and 100 dpi (pixels): width per character of log_label's text, height
+TICK_CHAR_PX, TICK_HEIGHT_PX, TICK_GAP_PX = 7.4, 13.0, 6.0
+
+
+def fit_ticks(ticks: List[float], lo: float, hi: float, pixels: float,
+              horizontal: bool) -> List[float]:
+    """The log ticks whose labels do not run into each other on an axis of `pixels` over
+    [lo, hi]: from the first, each tick whose label clears the last kept one (by width on an x
+    axis, height on a y axis) and TICK_GAP_PX; 1.5×10⁻⁶ and 2×10⁻⁶ 46 px apart overlapped."""
+    if len(ticks) < 2 or not hi > lo or not pixels > 0:
+        return ticks
+    span = math.log10(hi) - math.log10(lo)
+
+    def half(t: float) -> float:
+        return (len(log_label(t)) * TICK_CHAR_PX if horizontal else TICK_HEIGHT_PX) / 2
+
+    kept = [ticks[0]]
+    for t in ticks[1:]:
+        apart = pixels * (math.log10(t) - math.log10(kept[-1])) / span
+        if apart >= half(t) + half(kept[-1]) + TICK_GAP_PX:
+            kept.append(t)
+    return kept
+
+
+def axis_pixels(ax: Any) -> Tuple[float, float]:
+    """(width, height) of an axes in pixels, from its position (set before drawing)."""
+    pos, fig = ax.get_position(), ax.get_figure()
+    return pos.width * fig.bbox.width, pos.height * fig.bbox.height
+
+
 def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
-    """Before drawing: few, labelled ticks on every axis (xticks: those fixed by the figure)."""
+    """Before drawing: few, labelled ticks on every axis (xticks: those fixed by the figure),
+    log ticks thinned so that their labels do not overlap."""
     for ax in fig.axes:
         if not ax.axison:
             continue
+        width, height = axis_pixels(ax)
         if id(ax) in xticks and ax.get_xscale() == "log":
-            ax.xaxis.set_major_locator(FixedLocator(xticks[id(ax)]))
+            x0, x1 = sorted(ax.get_xlim())
+            ax.xaxis.set_major_locator(FixedLocator(fit_ticks(sorted(xticks[id(ax)]), x0, x1,
+                                                              width, True)))
             ax.xaxis.set_major_formatter(FuncFormatter(log_label))
             ax.xaxis.set_minor_locator(NullLocator())
-            ax.yaxis.set_major_locator(FixedLocator(log_ticks(*sorted(ax.get_ylim()))))
+            lo, hi = sorted(ax.get_ylim())
+            ax.yaxis.set_major_locator(FixedLocator(fit_ticks(log_ticks(lo, hi), lo, hi,
+                                                              height, False)))
             ax.yaxis.set_major_formatter(FuncFormatter(log_label))
             ax.yaxis.set_minor_locator(NullLocator())
             ax.yaxis.set_minor_formatter(NullFormatter())
             continue
-        for axis, scale, lim in ((ax.xaxis, ax.get_xscale(), ax.get_xlim),
-                                 (ax.yaxis, ax.get_yscale(), ax.get_ylim)):
+        for axis, scale, lim, px, horizontal in ((ax.xaxis, ax.get_xscale(), ax.get_xlim, width,
+                                                  True),
+                                                 (ax.yaxis, ax.get_yscale(), ax.get_ylim, height,
+                                                  False)):
             lo, hi = sorted(lim())
             if scale == "log" and lo > 0 and hi > lo:
-                axis.set_major_locator(FixedLocator(log_ticks(lo, hi)))
+                axis.set_major_locator(FixedLocator(fit_ticks(log_ticks(lo, hi), lo, hi, px,
+                                                              horizontal)))
                 axis.set_major_formatter(FuncFormatter(log_label))
                 axis.set_minor_locator(NullLocator())
                 axis.set_minor_formatter(NullFormatter())
