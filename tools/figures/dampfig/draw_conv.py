@@ -11,7 +11,7 @@ from matplotlib.transforms import offset_copy
 
 from . import figdata as fd
 from .draw_series import coincidence_text
-from .render import Ctx, Drawn, Json, layout, save, subplots, title_of
+from .render import Ctx, Drawn, Json, label_above_gaps, layout, save, subplots, title_of
 from .styles import REFERENCE_GREY
 
 
@@ -215,34 +215,52 @@ def fig_convergence(ctx: Ctx, case: Json, timing: Any) -> List[Drawn]:
              (" and work-precision" if wp else ""), quantities)]
 
 
-def fig_trace(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
-    """F Fig 3.4: the half-trace error |½trM(h) − e^{−γh}cos βh| against h per method, with the
-    report's fitted c h⁴ line (trace-taylor.h4_coeff) and the expected coefficient."""
-    data = fd.half_trace_data(case, ser)
-    if not data:
-        return []
-    fig, axs = subplots(ctx, 1, 1, (7.0, 4.8))
-    ax = axs[0][0]
+def trace_axis(ctx: Ctx, ax: Any, data: Dict[str, Json]) -> None:
+    """One panel of F Fig 3.4: the measured half-trace errors and the fitted c h⁴ lines of at
+    most six methods, the legend under the panel."""
     for m, d in data.items():
         c, mk, _ = ctx.style(m)
         hs, es = [h for h, _ in d["points"]], [e for _, e in d["points"]]
         ax.plot(hs, es, mk, color=c, ms=4, ls="none")
+        exp = f", expected {d['c_expected']:.4g}" if d["c_expected"] is not None else ""
+        label = f"{m}: $c\\,h^4$, c = {d['c']:.4g}{exp}" if d["c"] else f"{m} (no fit)"
         if d["c"]:
-            exp = f", expected {d['c_expected']:.4g}" if d["c_expected"] is not None else ""
-            ax.plot(hs, [d["c"] * h ** 4 for h in hs], "-", color=c, lw=1,
-                    label=f"{m}: $c\\,h^4$, c = {d['c']:.4g}{exp}")
-    ax.plot([], [], "o", color="k", ms=4, ls="none", label=r"measured $|\frac{1}{2}\mathrm{tr}M"
-            r"(h) - e^{-\gamma h}\cos\beta h|$")
+            ax.plot(hs, [d["c"] * h ** 4 for h in hs], "-", color=c, lw=1)
+        ax.plot([], [], ls="-" if d["c"] else "none", marker=mk, color=c, ms=4, lw=1,
+                label=label)
+    ax.plot([], [], "o", color="k", ms=4, ls="none", label=r"marks: measured $|\frac{1}{2}"
+            r"\mathrm{tr}M(h) - e^{-\gamma h}\cos\beta h|$; lines: fitted $c\,h^4$")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("step size h")
     ax.set_ylabel(r"half-trace error $|\frac{1}{2}\mathrm{tr}M - e^{-\gamma h}\cos\beta h|$")
+    handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles, labels, loc="upper center", ncol=1, fontsize=7, frameon=False,
+              bbox_to_anchor=(0.5, 0.0), borderaxespad=0.0,
+              bbox_transform=offset_copy(ax.transAxes, ax.get_figure(), y=-LEGEND_BELOW_PX,
+                                         units="dots"))
+
+
+def fig_trace(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
+    """F Fig 3.4: the half-trace error |½trM(h) − e^{−γh}cos βh| against h per method, with the
+    report's fitted c h⁴ line (trace-taylor.h4_coeff) and the expected coefficient; a panel per
+    group of six methods, the legend under it."""
+    data = fd.half_trace_data(case, ser)
+    if not data:
+        return []
+    groups = fd.groups([m for m in ctx.styles if m in data] or list(data))
+    # rows of mathtext labels: 19 px each
+    under = (LEGEND_BELOW_PX + 19.0 * (max(len(g) for g in groups) + 1) + 8) / 100
+    width, height = 6.4 * len(groups) + 0.6, 0.8 + 3.4 + under + 0.1
+    fig, axs = subplots(ctx, 1, len(groups), (width, height), sharey=True)
+    for ax, g in zip(axs[0], groups):
+        trace_axis(ctx, ax, by_group(data, g))
     d0 = next(iter(data.values()))
-    ax.set_title(f"on the case's oscillator: ω = {d0['omega']:g}, γ = {d0['gamma']:g}; "
-                 "lines: the report's fitted h⁴ coefficient")
-    ax.legend(loc="upper left", fontsize=7)
-    fig.suptitle(title_of(case, "half-trace error against h"))
-    layout(fig, bottom=0.11, top=0.88, left=0.13)
+    fig.suptitle(title_of(case, "half-trace error against h") +
+                 f"\non the case's oscillator: ω = {d0['omega']:g}, γ = {d0['gamma']:g}",
+                 y=1 - 0.05 / height, va="top")
+    layout(fig, bottom=(under + 0.1) / height, top=1 - 0.8 / height, left=1.0 / width,
+           wspace=0.12)
     return [(save(ctx, fig, case, "trace"), "half-trace error against h",
              ["trace-taylor.h4_coeff", "trace-taylor.h4_coeff_expected",
               "stability_map.half_trace_error"])]
@@ -323,6 +341,7 @@ def fig_stability(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
         ax.set_xlabel("step size h")
         ax.set_ylabel("damping γ")
         ax.grid(False)
+    label_above_gaps(axs, n, "step size h")
     fig.legend(handles=map_legend(), loc="lower center", ncol=2, fontsize=7, frameon=False)
     fig.suptitle(title_of(case, r"where F's condition $|\frac{1}{2}\mathrm{tr}M| < e^{-\gamma h}$"
                           " holds, and where M is power-bounded"), fontsize=9,

@@ -10,16 +10,17 @@ from matplotlib.lines import Line2D
 
 from . import figdata as fd
 from .draw_series import axes_px, coincidence_note
-from .render import PANEL_H, Ctx, Drawn, Json, dense, layout, pow10, save, sci_scale, subplots, \
-    title_of
+from .render import PANEL_H, Ctx, Drawn, Json, dense, label_above_gaps, layout, pow10, save, \
+    sci_scale, subplots, title_of
 from .styles import REFERENCE_GREY, TRANSIENT_GREY
 
 # axis names of a problem's orbit; problems whose two drawn coordinates are lengths in the same
 # unit are drawn with equal aspect (a circle stays a circle: HLW Fig 2.1's precession)
-AXES = {"kepler": ("q₁", "q₂"), "hill": ("q₁", "q₂"), "lotka-volterra": ("u", "v"),
+# (Hill's equation has one degree of freedom: its orbit is the phase portrait (q, p))
+AXES = {"kepler": ("q₁", "q₂"), "hill": ("q", "p"), "lotka-volterra": ("u", "v"),
         "pendulum": ("q (rad)", "p"), "oscillator": ("q", "p"),
         "outer-solar-system": ("x (AU)", "y (AU)"), "rigid-body": ("z₁", "z₂")}
-EQUAL_ASPECT = {"kepler", "hill", "outer-solar-system"}
+EQUAL_ASPECT = {"kepler", "outer-solar-system"}
 XY = Tuple[Any, Any, str]
 
 
@@ -55,6 +56,20 @@ def shared_limits(curves: List[XY], equal: bool) -> Tuple[Tuple[float, float],
     return (x0 - px, x1 + px), (y0 - py, y1 + py)
 
 
+def rays_of(r: Json, curves: List[XY]) -> List[XY]:
+    """The ends of the perihelion rays precession_rays draws (half the orbit's size from the
+    focus), as a curve for the limits: a ray along the short side of the focus (e = 0.85: the
+    perihelion 0.15 from it) was cut to a stub at the panel's edge."""
+    p = r.get("metrics", {}).get("precession") or {}
+    if p.get("total") is None or p.get("initial_angle") is None or not curves:
+        return []
+    (x0, x1), (y0, y1) = shared_limits(curves, True)
+    reach = 0.5 * max(x1 - x0, y1 - y0)
+    angles = [p["initial_angle"], p["initial_angle"] + p["total"]]
+    return [(np.array([0.0] + [reach * math.cos(a) for a in angles]),
+             np.array([0.0] + [reach * math.sin(a) for a in angles]), "")]
+
+
 def precession_rays(ax: Any, r: Json, colour: Any, reach: float) -> Optional[str]:
     """HLW Fig 2.1: the perihelion direction at the start (grey, dashed) and at the end (the
     method's colour) from the focus at the origin; returns the turn for the panel's title."""
@@ -85,17 +100,20 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
               orbit_coords(problem, (reference_of(ser, r) or {}).get("states", []))) for r in runs]
     # one box for every panel, except a run that leaves it by far (explicit Euler's spiral),
     # which gets its own and says so: one outlier must not shrink the others to a dot
-    boxes = [shared_limits(a + b, equal) for _, a, b in drawn]
+    boxes = [shared_limits(a + b + rays_of(report_runs.get((r["method"], r["dt"]), {}), a + b),
+                           equal) for r, a, b in drawn]
     sizes = [max(x[1] - x[0], y[1] - y[0]) for x, y in boxes]
     typical = sorted(sizes)[len(sizes) // 2]
     inside = [d for d, s in zip(drawn, sizes) if s <= 3 * typical]
-    xlim, ylim = shared_limits([c for _, a, b in inside for c in a + b], equal)
+    xlim, ylim = shared_limits([c for r, a, b in inside for c in a + b + rays_of(
+        report_runs.get((r["method"], r["dt"]), {}), a + b)], equal)
     greys, turned = set(), False
     for ax, (r, curves, refs), box, size in zip(axs.flat, drawn, boxes, sizes):
         c = ctx.style(r["method"])[0]
         own = size > 3 * typical
         lims = box if own else (xlim, ylim)
-        reach = 0.5 * max(lims[0][1] - lims[0][0], lims[1][1] - lims[1][0])
+        own_x, own_y = shared_limits(curves + refs, True)  # the reach rays_of made room for
+        reach = 0.5 * max(own_x[1] - own_x[0], own_y[1] - own_y[0])
         for x, y, _ in refs:
             ax.plot(x, y, "-", color=REFERENCE_GREY, lw=2.2, alpha=0.6, rasterized=dense(len(x)))
         for x, y, _ in curves:
@@ -191,6 +209,7 @@ def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         ax.set_xlabel(names[0].replace("psi", r"$\psi$"))
         ax.set_ylabel(names[1].replace("psi", r"$\psi$"))
         ax.set_aspect("equal", adjustable="box")
+    label_above_gaps(axs, n, axs.flat[0].get_xlabel())
     handles = [Line2D([], [], color=TRANSIENT_GREY, lw=1.5, label="transient (before the "
                       "attractor statistics)"),
                Line2D([], [], color="0.2", lw=1.5, label="on the attractor (the method's colour)"),
@@ -230,6 +249,7 @@ def fig_poincare(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         ax.set_title(f"{r['method']} h={r['dt']:g} ({len(pts['q'])} points)")
         ax.set_xlabel("q mod 2π (rad)")
         ax.set_ylabel("p")
+    label_above_gaps(axs, n, "q mod 2π (rad)")
     handles = [Line2D([], [], color="0.3", marker="o", ls="none", ms=3,
                       label="the method's section (its colour)")]
     if ref:
@@ -309,23 +329,25 @@ def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
               for g in fd.groups(list(dict.fromkeys(r["method"] for r in runs)))]
     # between two groups: the x label, the next group's legend and titles (1.1 in)
     gap = 0.25 if len(groups) == 1 else 1.1
-    height = 2 * len(groups) * PANEL_H + (2 * len(groups) - 1) * gap + 1.5
+    height = 2 * len(groups) * PANEL_H + (2 * len(groups) - 1) * gap + 1.6
     fig, axs = subplots(ctx, 2 * len(groups), len(pick), (3.0 * len(pick) + 0.8, height),
                         sharex=True)
-    layout(fig, bottom=0.5 / height, top=1 - 1.0 / height, left=0.95 / fig.get_figwidth(),
+    layout(fig, bottom=0.5 / height, top=1 - 1.1 / height, left=0.95 / fig.get_figwidth(),
            hspace=gap / PANEL_H, wspace=0.25)
     errs = [e for k in pick for _, e in snapshot_errors(runs, k, len(first["pde"][k]))]
     scale = sci_scale(errs)
     # one error scale in every panel: how the error grows with t is seen at a glance
     emax = max((abs(v) for e in errs for v in e), default=1.0) / 10.0 ** scale or 1.0
+    bands = [max(snapshot_rows(ctx, axs[2 * g, j], axs[2 * g + 1, j], gruns, k, emax, scale)
+                 for j, k in enumerate(pick)) for g, gruns in enumerate(groups)]
+    # the same limits in every error row (the bands of the notes kept free in each)
+    lim = fd.band_limits(-emax, emax, max(bands) / axes_px(axs[1, 0])[1], 0.0, False)
     for g, gruns in enumerate(groups):
-        band = max(snapshot_rows(ctx, axs[2 * g, j], axs[2 * g + 1, j], gruns, k, emax, scale)
-                   for j, k in enumerate(pick))
-        lim = fd.band_limits(-emax, emax, band / axes_px(axs[2 * g + 1, 0])[1], 0.0, False)
         for j in range(len(pick)):
             axs[2 * g + 1, j].set_ylim(*lim)
             axs[2 * g + 1, j].set_xlabel("x")
             axs[2 * g + 1, j].xaxis.set_tick_params(labelbottom=True)
+            axs[2 * g + 1, j]._dampsym_relabelled = True  # hidden again by render.recycle
         axs[2 * g, 0].set_ylabel("u(x, t)")
         axs[2 * g + 1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
         snapshot_legend(ctx, case, fig, gruns, axs[2 * g, 0].get_position().y1 + 0.3 / height)

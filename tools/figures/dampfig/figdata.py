@@ -277,15 +277,14 @@ def stability_data(case: Json, series: Optional[Json]) -> Dict[str, Json]:
 
 # Step series of a run, in the order of the panels, with their axis labels and scales.
 SERIES_PANELS = [
-    ("energy.value", r"energy $H(q, p)$", "linear"),
+    ("energy.value", r"energy $H(z_n)$", "linear"),  # z: (q, p), the rigid body's z, ...
     ("energy.error", r"$H_{exact} - H_n$", "linear"),
     ("energy.change_res", r"$(H_n - H_0)\,/\,S_H(z_0)$", "linear"),
     ("error.abs", r"$\|z_n - z_{ref}(t_n)\|$", "log"),
     ("measure-pointwise.*.abs", r"$|{c}_n - {c}(t_n)|$", "log"),
     ("measure-pointwise.*.rel", r"$|{c}_n - {c}(t_n)|\,/\,|{c}(t_n)|$", "log"),
-    ("invariants.*.step_res", r"step-law residual of $\mathrm{{inv}}$ / $S(z_n)$", "log"),
-    ("invariants.*.ratio_dev", r"$e^{2\Gamma(t)}\,\mathrm{{inv}}_n / \mathrm{{inv}}_0 - 1$",
-     "linear"),
+    ("invariants.*.step_res", r"step-law residual of {word} ${inv}$ / $S(z_n)$", "log"),
+    ("invariants.*.ratio_dev", r"$e^{2\Gamma(t)}\,{inv_n} / {inv_0} - 1$ ({word})", "linear"),
     ("dissipation-drift.d", r"$d(t) = \ln \max q + \Gamma(t)$", "linear"),
     ("field-drift.d", r"$d(t) = \ln \max_x u + \Gamma(t) - \Gamma(t_0)$", "linear"),
     ("conformal-symplectic.rel", r"$E_n\,/\,(e^{-2\Delta\Gamma}\|J^{-1}\|_F)$", "log"),
@@ -302,6 +301,27 @@ SERIES_PANELS = [
 # says so with "form": "structure-matrix" (docs/conventions.md, the conformal-symplectic metric).
 STRUCTURE_MATRIX_EN_LABEL = (r"$\|\Psi D\Psi^T - \lambda D\|\,/\,(\lambda\|D\|)$, "
                              r"$\lambda = e^{-2\Delta\Gamma}$")
+
+
+# the problems' invariant names (invariant_names in src/) as the symbols of their papers: the
+# oscillator's conformal energy H_γ, Kepler's L, the rigid body's and Burgers' Casimir C, ...
+INVARIANT_SYMBOLS = {"H_gamma": (r"H_{\gamma}", ""), "angular_momentum": ("L", "angular momentum"),
+                     "casimir": ("C", "Casimir"), "energy": ("H", "energy"),
+                     "momentum": ("P", "momentum"), "mass": ("N", "mass"), "I": ("I", "")}
+
+
+def invariant_label(label: str, name: str) -> str:
+    """A series label with an invariant's symbol ({inv}; {inv_n}, {inv_0} its value at t_n and
+    t_0) and its name in words ({word}, ' ({word})'); an unknown name as upright text."""
+    sym, word = INVARIANT_SYMBOLS.get(name, (r"\mathrm{" + name.replace("_", r"\_") + "}",
+                                             name.replace("_", " ")))
+
+    def at(k: str) -> str:  # H_{\gamma} at t_n: H_{\gamma,n}
+        return sym[:-1] + "," + k + "}" if sym.endswith("}") and "_{" in sym else f"{sym}_{{{k}}}"
+
+    return (label.replace("{inv_n}", at("n")).replace("{inv_0}", at("0")).replace("{inv}", sym)
+            .replace(" ({word})", f" ({word})" if word else "")
+            .replace("{word} ", f"{word} " if word else ""))
 
 
 def component_symbol(component: str) -> str:
@@ -344,15 +364,15 @@ def series_panels(series: Json, case: Optional[Json] = None) -> List[Tuple[str, 
         if pat == "conformal-symplectic.rel" and forms.get(pat) == "structure-matrix":
             label = STRUCTURE_MATRIX_EN_LABEL
         if pat == "attractor.probe":
-            label = label.replace("{probe}", "$" + forms.get(pat, "s(t)") + "$")
+            probe = re.sub(r"\bpsi\b", r"\\psi", forms.get(pat, "s(t)"))  # ψ(0, t), not psi
+            label = label.replace("{probe}", "$" + probe + "$")
         if "*" in pat:
             pre, post = pat.split("*")
             for k in sorted(keys):
                 if k.startswith(pre) and k.endswith(post):
                     inv = k[len(pre):-len(post)]
                     sym = component_symbol(forms.get(k, inv))
-                    out.append((k, label.replace("{inv}", inv.replace("_", r"\_"))
-                                .replace("{c}", sym), scale))
+                    out.append((k, invariant_label(label, inv).replace("{c}", sym), scale))
         elif pat in keys:
             out.append((pat, label, scale))
     return out

@@ -221,6 +221,9 @@ def recycle(ctx: Ctx, fig: Any) -> None:
             ax.set_yscale("linear")
         ax.set_aspect("auto")
         ax.axis("on")
+        if getattr(ax, "_dampsym_relabelled", False):  # label_above_gaps: sharex's labels back
+            ax.xaxis.set_tick_params(labelbottom=False)
+            ax._dampsym_relabelled = False
         if not all(a._major_tick_kw.get("gridOn") for a in (ax.xaxis, ax.yaxis)):
             ax.grid(True)  # the default (rcParams above); the stability maps turn it off
         ax.set_autoscale_on(True)
@@ -266,21 +269,42 @@ def overhang(fig: Any) -> Tuple[float, float, float]:
     return left, right, bottom
 
 
+def legends_below(fig: Any) -> float:
+    """Pixels by which a legend (of an axes or the figure) reaches below the figure's bottom
+    edge after the last draw: the legends under the panels are placed from estimated sizes."""
+    renderer = fig.canvas.get_renderer()
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+    return max([0.0] + [-lg.get_window_extent(renderer).y0 for lg in legends
+                        if lg.get_visible()])
+
+
+def grow_bottom(fig: Any, pixels: float) -> None:
+    """The figure taller by `pixels` at the bottom, every axes keeping its size in pixels."""
+    p, h = fig.subplotpars, fig.bbox.height
+    new_h = h + pixels
+    fig.set_size_inches(fig.get_figwidth(), new_h / fig.dpi)
+    fig.subplots_adjust(bottom=(p.bottom * h + pixels) / new_h, top=(p.top * h + pixels) / new_h)
+
+
 def draw_inside(fig: Any) -> None:
-    """Draws the figure on its Agg canvas so that no tick label or axis label is cut off: the
-    margins are fixed fractions (layout(), without measuring text), so when a label reaches
+    """Draws the figure on its Agg canvas so that no tick label, axis label or legend is cut off:
+    the margins are fixed fractions (layout(), without measuring text), so when a label reaches
     beyond the left, right or bottom edge (a one-column panel with wide log tick labels), that
-    margin grows by the overhang and 4 px and the figure is drawn again (a figure whose labels
-    fit is drawn once, as before)."""
+    margin grows by the overhang and 4 px, and a legend below the bottom edge makes the figure
+    taller by as much, and the figure is drawn again (a figure whose labels fit is drawn once,
+    as before)."""
     fig.canvas.draw()
     for _ in range(3):
         left, right, bottom = overhang(fig)
-        if max(left, right, bottom) <= 0.5:
+        below = legends_below(fig)
+        if max(left, right, bottom, below) <= 0.5:
             return
         p, w, h = fig.subplotpars, fig.bbox.width, fig.bbox.height
         fig.subplots_adjust(left=p.left + (left + 4) / w if left > 0.5 else p.left,
                             right=p.right - (right + 4) / w if right > 0.5 else p.right,
                             bottom=p.bottom + (bottom + 4) / h if bottom > 0.5 else p.bottom)
+        if below > 0.5:
+            grow_bottom(fig, below + 4)
         fig.canvas.draw()
 
 
@@ -381,3 +405,16 @@ def coincident(a: Tuple[Sequence[float], Sequence[float]],
         return -1.0
     d = float(np.max(np.abs(ya[inside] - np.interp(ta[inside], tb, yb))))
     return d if d <= 0.01 * span else -1.0
+
+
+def label_above_gaps(axs: Any, n: int, xlabel: str) -> None:
+    """In a grid of panels sharing x whose last row is not full (n panels drawn), the panels
+    above an empty slot keep their x tick labels and label: sharex hides them on every row but
+    the last, which left those columns without a readable x axis."""
+    rows, cols = axs.shape
+    for i in range(n):
+        if i + cols >= n and i // cols < rows - 1:
+            ax = axs.flat[i]
+            ax.xaxis.set_tick_params(labelbottom=True)
+            ax.set_xlabel(xlabel)
+            ax._dampsym_relabelled = True  # hidden again by recycle for the figure's next use

@@ -90,3 +90,56 @@ def test_log_tick_labels_do_not_overlap(tmp_path: Any) -> None:
     assert render.fit_ticks([1.5e-6, 2e-6, 3e-6], 1.4e-6, 8e-6, 1000.0, True) == \
         [1.5e-6, 2e-6, 3e-6]  # room enough: every tick kept
     render.recycle(ctx, fig)
+
+
+def trace_case(n: int) -> Tuple[Json, Json]:
+    hs = [0.002 * 1.3 ** i for i in range(25)]
+    methods = [f"method-{k}" for k in range(n)]
+    mm = {m: {"trace-taylor": {"h4_coeff": 0.5 * (k + 1), "h4_coeff_expected": None}}
+          for k, m in enumerate(methods)}
+    maps = {m: {"half_trace_error": {"omega": 2.0, "gamma": 0.5, "h": hs,
+                                     "error": [0.5 * (k + 1) * h ** 4 for h in hs]}}
+            for k, m in enumerate(methods)}
+    case = {"id": "held-out", "title": "", "source": "", "checks": [], "method_metrics": mm,
+            "runs": [{"method": m, "dt": 0.1, "status": "ok", "metrics": {}} for m in methods],
+            "dt_ladder": [0.1], "problem": {"id": "oscillator", "params": {}}}
+    return case, {"stability_map": maps}
+
+
+def test_half_trace_panels_hold_six_methods_and_their_legends_fit(
+        monkeypatch: pytest.MonkeyPatch, tmp_path: Any) -> None:
+    seen: List[Any] = []
+
+    def keep(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:
+        render.draw_inside(fig)  # as save draws it: the margins and the height it needs
+        seen.append(fig)
+        return "f.png"
+
+    monkeypatch.setattr(draw_conv, "save", keep)
+    case, ser = trace_case(7)
+    ctx = Ctx(report={"cases": [case]}, out=str(tmp_path), formats=["png"])
+    ctx.styles = fd.case_styles([r["method"] for r in case["runs"]])
+    draw_conv.fig_trace(ctx, case, ser)
+    fig = seen[0]
+    axes = [ax for ax in fig.axes if ax.axison]
+    assert len(axes) == 2 and all(len([ln for ln in ax.lines if len(ln.get_xdata())]) <= 12
+                                  for ax in axes)  # six methods: points and a line each
+    assert all(n == 0 for _, n in covered(fig)), covered(fig)
+    assert not outside(fig)
+
+
+def test_a_legend_below_the_figure_makes_it_taller(tmp_path: Any) -> None:
+    ctx = Ctx(report={"cases": []}, out=str(tmp_path), formats=["png"])
+    fig, axs = render.subplots(ctx, 1, 1, (4.0, 3.0))
+    ax = axs[0][0]
+    ax.plot([0, 1], [0, 1], label="a")
+    render.layout(fig, bottom=0.2)
+    draw_conv.under_axes(ax, *ax.get_legend_handles_labels())
+    for k in range(12):  # planted: many more entries than the margin holds
+        ax.plot([], [], label=f"entry {k}")
+    draw_conv.under_axes(ax, *ax.get_legend_handles_labels())
+    height = ax.get_window_extent().height
+    render.draw_inside(fig)
+    assert render.legends_below(fig) <= 0.5 and not outside(fig)
+    assert abs(ax.get_window_extent().height - height) < 1  # the panel keeps its size
+    render.recycle(ctx, fig)
