@@ -285,7 +285,10 @@ def place_row(axes: List[Any], notes: List[Notes], log: bool) -> None:
 def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     runs = [r for r in ser["runs"] if r["series"]]
     failed = [r for r in ser["runs"] if not r["series"] and r.get("status", "ok") != "ok"]
-    panels = [p for p in fd.series_panels(ser, case) if has_data(runs, p[0], p[2])]
+    every = fd.series_panels(ser, case)
+    panels = [p for p in every if has_data(runs, p[0], p[2])]
+    # quantities kept but undefined at every point (e^{2Γ} I_n / I_0 − 1 with I_0 = 0): named
+    undefined = [p[1] for p in every if p not in panels]
     keys = [p[0] for p in panels]
     # a measure of the whole state's absolute error is error.abs itself: drawn once
     same = "measure-pointwise.state.abs" in keys and "error.abs" in keys
@@ -301,7 +304,7 @@ def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     ncol, rows = legend_grid([[run_label(r, len(dts) > 1) for r in g] +
                               [unseries_label(case, r) for r in failed if r["method"] in c]
                               for g, c in zip(per_group, cols)], 100 * (width - 1.2) / len(cols))
-    top_in, bottom_in, hspace = 0.5 + 0.14 * rows, 0.5, 0.12
+    top_in, bottom_in, hspace = 0.5 + 0.14 * rows, 0.5 + 0.2 * bool(undefined), 0.12
     height = top_in + bottom_in + PANEL_H * (len(panels) + hspace * (len(panels) - 1))
     # one y scale per row (sharey="row"): the groups of a quantity compare at a glance
     fig, axs = subplots(ctx, len(panels), len(cols), (width, height), sharex=True,
@@ -326,6 +329,9 @@ def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         group_legend(ctx, case, axs[0, j], per_group[j],
                      [r for r in failed if r["method"] in group], dts, ncol)
     fig.suptitle(title_of(case, "time series"), y=1 - 0.1 / height, va="top")
+    if undefined:
+        fig.text(0.01, 0.01, "not drawn, no finite value at any point: " + "; ".join(undefined),
+                 fontsize=7, va="bottom")
     quantities = [q for p in panels for q in fd.series_quantities(case, p[0])]
     if same:
         quantities += fd.series_quantities(case, "measure-pointwise.state.abs")

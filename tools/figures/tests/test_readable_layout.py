@@ -188,3 +188,14 @@ def test_panels_are_250_px_tall_and_the_legend_clears_the_title(
         assert b.y1 <= title.y0 + 0.5 and b.y0 >= ax.get_window_extent(renderer).y1 - 0.5
     assert not outside(fig)
     assert all(n == 0 for _, n in covered(fig)), covered(fig)  # the d(t) legend too
+
+
+def test_a_quantity_undefined_everywhere_is_named(monkeypatch: pytest.MonkeyPatch,
+                                                  tmp_path: Any) -> None:
+    case, ser = wave_case(["m0", "m1"], [0.1])
+    for r in ser["runs"]:  # the series file's form of a ratio with I_0 = 0: no finite sample
+        r["series"]["invariants.H_gamma.ratio_dev"] = {"t": [], "y": [], "nonfinite": 400}
+    fig = draw(monkeypatch, tmp_path, case, ser)
+    assert len([ax for ax in fig.axes if ax.axison]) == 1
+    assert any("not drawn" in t.get_text() and "H_{\\gamma,n}" in t.get_text()
+               for t in fig.texts), [t.get_text() for t in fig.texts]
