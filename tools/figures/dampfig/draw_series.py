@@ -160,9 +160,11 @@ def place_note(ax: Any, texts: List[str], top: bool) -> float:
     return len(lines) * NOTE_LINE_PX + 6
 
 
-def coincidence_note(ax: Any, lines: List[Line], log: bool, top: bool = False) -> float:
-    """Names the coinciding lines in the panel (bottom or top band); returns its pixels."""
-    return place_note(ax, [coincidence_text(lines, log)], top)
+def coincidence_note(ax: Any, lines: List[Line], log: bool, top: bool = False,
+                     factor: float = 1.0) -> float:
+    """Names the coinciding lines in the panel (bottom or top band; their difference times
+    factor, the panel's power of ten); returns its pixels."""
+    return place_note(ax, [coincidence_text(lines, log, factor)], top)
 
 
 def fit_bands(axes: List[Any], los: List[float], his: List[float], bottom_px: float,

@@ -310,7 +310,7 @@ def snapshot_rows(ctx: Ctx, top: Any, bottom: Any, runs: List[Json], k: int,
         drawn.append((m, list(x[:len(e)]), y))
     bottom.axhline(0.0, color="k", lw=0.5)
     top.set_title(f"t = {first['t'][k]:g}")
-    return coincidence_note(bottom, drawn, False)
+    return coincidence_note(bottom, drawn, False, factor=10.0 ** scale)
 
 
 def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:

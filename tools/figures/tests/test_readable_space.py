@@ -79,13 +79,17 @@ def test_snapshots_hold_at_most_six_methods_a_panel(monkeypatch: pytest.MonkeyPa
     pde = [[math.exp(-(v - 3) ** 2) for v in x] for _ in range(3)]
     ser = {"runs": [{"method": m, "dt": 0.1, "series": {"snapshots": {
         "t": [0.0, 1.0, 2.0], "x": x, "pde": pde,
-        "u": [[v + 1e-4 * k * i for i, v in enumerate(row)] for row in pde]}}}
+        "u": [[v + 1e-6 * i * (k // 2 + 1) + 1e-9 * k for i, v in enumerate(row)]
+              for row in pde]}}}
         for k, m in enumerate(methods)]}
     draw_space.fig_snapshots(ctx_for(case, tmp_path), case, ser)
     fig = seen[0]
     for ax in fig.axes:
         assert len([ln for ln in ax.lines if len(ln.get_xdata()) > 2]) <= 7  # PDE + six
     assert all(n == 0 for _, n in covered(fig)) and not outside(fig)
+    # m0 = m1 apart by 1e-9, in u's units (not in the row's ×10⁻⁴: "to 1e-05")
+    notes = [t.get_text().replace("\n", " ") for ax in fig.axes for t in ax.texts]
+    assert any("m0 = m1 to 1e-09" in n for n in notes), notes
     labels = [t.get_text() for lg in fig.legends for t in lg.get_texts()]
     assert any("max $|u - u_{PDE}|$ = 0.0027" in lb for lb in labels), labels  # mathtext
 
