@@ -97,6 +97,41 @@ TEST_CASE("figures: the series hook keeps series and changes no number of the re
     }
 }
 
+// e^{2Γ} I_n / I_0 − 1 has no value when I_0 = 0: the series keeps no point of it (the figure drew
+// −1 at every step for an oscillator at rest, which the report calls undefined). Negative
+// control: the same case from q0 = 1 keeps the series.
+TEST_CASE("figures: the ratio-deviation series is empty when I_0 = 0", "[series]") {
+    for (const double q0 : {0.0, 1.0}) {
+        const json spec = {{"id", "ratio-zero"},
+                           {"title", "ratio series at I_0 = 0"},
+                           {"no_checks_because", "a unit test of the figures hook"},
+                           {"problem", {{"id", "oscillator"}, {"gamma", 0.1}, {"q0", q0}}},
+                           {"methods", {"cimp"}},
+                           {"t_end", 1.0},
+                           {"dt", 0.1},
+                           {"diagnostics", {"invariants"}}};
+        const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
+        dampsym::RunOptions with;
+        with.time_budget = 0.0;
+        std::vector<json> got;
+        with.series_sink = [&](const json& s) { got.push_back(s); };
+        const json b = dampsym::run_cases({c}, with);
+        REQUIRE(got.size() == 1);
+        const json& s = got[0]["runs"][0]["series"]["invariants.H_gamma.ratio_dev"];
+        INFO("q0 = " << q0 << ": " << s.dump());
+        const auto y = s["y"].get<std::vector<double>>();
+        if (q0 == 0.0) {
+            CHECK(y.empty());
+            CHECK(s["nonfinite"].get<int>() == 10);
+            CHECK(
+                b["cases"][0]["runs"][0]["metrics"]["invariants"]["H_gamma"]["max_global_ratio_dev"]
+                    .is_null());
+        } else {
+            CHECK(y.size() == 10);
+        }
+    }
+}
+
 // A run keeps orbit samples only for a case that draws its orbit (case_draws_orbit): the problem's
 // default (Kepler draws its orbit, the oscillator a phase portrait only on request) or the case's
 // "figures" key. Negative control: the oscillator without the key keeps none.

@@ -169,7 +169,11 @@ private:
                 sign * std::exp(std::log(std::abs(now)) - std::log(std::abs(inv0_[k])) + two_gamma);
         }
         const double r = ratio - 1.0;
-        if (!ratio_series_.empty()) ratio_series_[k].push(t, r);
+        // I_0 = 0 (a state at rest, an indefinite H_γ through 0): the ratio I_n / I_0 has no
+        // value, and the series says so (skipped as non-finite) rather than drawing −1 or ∞
+        if (!ratio_series_.empty())
+            ratio_series_[k].push(t,
+                                  inv0_[k] != 0.0 ? r : std::numeric_limits<double>::quiet_NaN());
         if (!s.ratio_defined) return;
         if (!std::isfinite(r) ||
             !InvariantStats::ratio_resolved(scale_now, inv0_[k], two_gamma, r)) {

@@ -7,10 +7,11 @@ from typing import Any, Dict, List, Tuple
 
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
+from matplotlib.transforms import offset_copy
 
 from . import figdata as fd
 from .draw_series import coincidence_text
-from .render import Ctx, Drawn, Json, layout, save, subplots, title_of
+from .render import Ctx, Drawn, Json, label_above_gaps, layout, save, subplots, title_of
 from .styles import REFERENCE_GREY
 
 
@@ -43,14 +44,37 @@ def conv_axis(ctx: Ctx, ax: Any, data: Dict[str, Json], ylabel: str, fit_label: 
     handles, labels = ax.get_legend_handles_labels()
     if same:  # in the legend, where it cannot be hidden under it
         handles.append(Line2D([], [], ls="none"))
-        labels.append(textwrap.fill(same, 48))
+        labels.append(textwrap.fill(same, 34))
     if notes:
         handles.append(Line2D([], [], marker="o", mfc="none", mec="k", ls="none"))
         labels.append("hollow: dropped from the fit")
-    handles.append(Line2D([], [], color="k", ls="-", lw=2.4, alpha=0.35))
-    labels.append(fit_label)
-    ax.legend(handles, labels, loc="best", fontsize=6.5)
+    if any("fit" in d for d in data.values()):  # explained only where a fitted line is drawn
+        handles.append(Line2D([], [], color="k", ls="-", lw=2.4, alpha=0.35))
+        labels.append(fit_label)
+    under_axes(ax, handles, labels)
     return notes
+
+
+# a legend under its panel (never over the data): rows of entries, pixels from the axes' bottom
+LEGEND_BELOW_PX, LEGEND_ROW_PX = 46.0, 12.5
+
+
+def under_axes(ax: Any, handles: List[Any], labels: List[str]) -> None:
+    """The panel's legend in two columns under its x label, out of the data's way."""
+    ax.legend(handles, labels, loc="upper center", ncol=2, fontsize=6.5, frameon=False,
+              bbox_to_anchor=(0.5, 0.0), borderaxespad=0.0, columnspacing=1.0,
+              bbox_transform=offset_copy(ax.transAxes, ax.get_figure(), y=-LEGEND_BELOW_PX,
+                                         units="dots"))
+
+
+def legend_px(ax: Any) -> float:
+    """The height (pixels) of the legend under_axes placed, from its labels' lines."""
+    lg = ax.get_legend()
+    if lg is None:
+        return 0.0
+    lines = [t.get_text().count("\n") + 1 for t in lg.get_texts()]
+    half = -(-len(lines) // 2)
+    return LEGEND_ROW_PX * max(sum(lines[:half]), sum(lines[half:])) + 6
 
 
 def measure_label(case: Json, metric: str) -> str:
@@ -83,7 +107,7 @@ def ratio_axis(ctx: Ctx, ax: Any, r: Json) -> None:
     ax.set_xlabel("step size h")
     ax.set_ylabel(f"ratio {r['label']}")
     ax.set_title("the claim: ratio of the two methods")
-    ax.legend(loc="best", fontsize=6.5)
+    under_axes(ax, *ax.get_legend_handles_labels())
 
 
 def wp_axes(ctx: Ctx, axs: List[Any], data: Dict[str, List[Json]]) -> None:
@@ -100,7 +124,7 @@ def wp_axes(ctx: Ctx, axs: List[Any], data: Dict[str, List[Json]]) -> None:
         ax.set_xlabel(xl)
         ax.set_ylabel(r"final error $\|z_N - z(t_{end})\|$")
         ax.set_title("work-precision")
-    axs[1].legend(loc="best", fontsize=6.5)
+    under_axes(axs[1], *axs[1].get_legend_handles_labels())
 
 
 def convergence_panels(case: Json) -> Tuple[List[Tuple[Dict[str, Json], str, str, str]],
@@ -151,11 +175,11 @@ def fig_convergence(ctx: Ctx, case: Json, timing: Any) -> List[Drawn]:
     groups = fd.groups([m for m in ctx.styles] or list(wp))
     top = len(panels) + (1 if ratio else 0)
     rows, cols, same_row = grid_of(top, bool(wp), len(groups))
-    height = 3.9 * rows + 1.0
-    fig, axs = subplots(ctx, rows, cols, (4.6 * cols, height))
+    fig, axs = subplots(ctx, rows, cols, (4.6 * cols, 3.9 * rows + 1.0))
     for ax in axs.flat:
         ax.axis("off")
-    notes: List[str] = []
+    notes: List[str] = [f"{r['method']} h={r['dt']:g}: {r.get('status')} (not drawn)"
+                        for r in case["runs"] if r.get("status", "ok") != "ok"]
     for g, group in enumerate(groups):
         row = axs[g]
         for ax, (data, ylabel, fit_label, title) in zip(row, panels):
@@ -172,46 +196,71 @@ def fig_convergence(ctx: Ctx, case: Json, timing: Any) -> List[Drawn]:
             wp_axes(ctx, wax, by_group(wp, group))
     if wp:
         quantities += ["timing.wall_seconds_min", "rhs_evals"]
+    # the legends under the panels: the gap between rows holds the x label, the tallest legend
+    # and the next row's title; each panel 2.9 in (290 px) tall
+    under = (LEGEND_BELOW_PX + max(legend_px(ax) for ax in axs.flat)) / 100.0
+    gap, panel_h = under + 0.45, 2.9
+    bottom = under + (0.45 if notes else 0.15)
+    height = 0.75 + bottom + rows * panel_h + (rows - 1) * gap
+    fig.set_size_inches(4.6 * cols, height)
     fig.suptitle(title_of(case, "error against the step size" +
                           (" and work-precision" if wp else "")), y=1 - 0.1 / height, va="top")
     if notes:
         text = "; ".join(notes)
         fig.text(0.01, 0.01, "dropped: " + (text[:297] + "…" if len(text) > 300 else text),
                  fontsize=6, wrap=True)
-    layout(fig, bottom=(0.75 if notes else 0.5) / height, top=1 - 0.75 / height,
-           left=0.55 / (4.6 * cols) + 0.03, hspace=0.45, wspace=0.32)
+    layout(fig, bottom=bottom / height, top=1 - 0.75 / height,
+           left=0.55 / (4.6 * cols) + 0.03, hspace=gap / panel_h, wspace=0.32)
     return [(save(ctx, fig, case, "convergence"), "convergence" +
              (" and work-precision" if wp else ""), quantities)]
 
 
-def fig_trace(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
-    """F Fig 3.4: the half-trace error |½trM(h) − e^{−γh}cos βh| against h per method, with the
-    report's fitted c h⁴ line (trace-taylor.h4_coeff) and the expected coefficient."""
-    data = fd.half_trace_data(case, ser)
-    if not data:
-        return []
-    fig, axs = subplots(ctx, 1, 1, (7.0, 4.8))
-    ax = axs[0][0]
+def trace_axis(ctx: Ctx, ax: Any, data: Dict[str, Json]) -> None:
+    """One panel of F Fig 3.4: the measured half-trace errors and the fitted c h⁴ lines of at
+    most six methods, the legend under the panel."""
     for m, d in data.items():
         c, mk, _ = ctx.style(m)
         hs, es = [h for h, _ in d["points"]], [e for _, e in d["points"]]
         ax.plot(hs, es, mk, color=c, ms=4, ls="none")
+        exp = f", expected {d['c_expected']:.4g}" if d["c_expected"] is not None else ""
+        label = f"{m}: $c\\,h^4$, c = {d['c']:.4g}{exp}" if d["c"] else f"{m} (no fit)"
         if d["c"]:
-            exp = f", expected {d['c_expected']:.4g}" if d["c_expected"] is not None else ""
-            ax.plot(hs, [d["c"] * h ** 4 for h in hs], "-", color=c, lw=1,
-                    label=f"{m}: $c\\,h^4$, c = {d['c']:.4g}{exp}")
-    ax.plot([], [], "o", color="k", ms=4, ls="none", label=r"measured $|\frac{1}{2}\mathrm{tr}M"
-            r"(h) - e^{-\gamma h}\cos\beta h|$")
+            ax.plot(hs, [d["c"] * h ** 4 for h in hs], "-", color=c, lw=1)
+        ax.plot([], [], ls="-" if d["c"] else "none", marker=mk, color=c, ms=4, lw=1,
+                label=label)
+    ax.plot([], [], "o", color="k", ms=4, ls="none", label=r"marks: measured $|\frac{1}{2}"
+            r"\mathrm{tr}M(h) - e^{-\gamma h}\cos\beta h|$; lines: fitted $c\,h^4$")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("step size h")
     ax.set_ylabel(r"half-trace error $|\frac{1}{2}\mathrm{tr}M - e^{-\gamma h}\cos\beta h|$")
+    handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles, labels, loc="upper center", ncol=1, fontsize=7, frameon=False,
+              bbox_to_anchor=(0.5, 0.0), borderaxespad=0.0,
+              bbox_transform=offset_copy(ax.transAxes, ax.get_figure(), y=-LEGEND_BELOW_PX,
+                                         units="dots"))
+
+
+def fig_trace(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
+    """F Fig 3.4: the half-trace error |½trM(h) − e^{−γh}cos βh| against h per method, with the
+    report's fitted c h⁴ line (trace-taylor.h4_coeff) and the expected coefficient; a panel per
+    group of six methods, the legend under it."""
+    data = fd.half_trace_data(case, ser)
+    if not data:
+        return []
+    groups = fd.groups([m for m in ctx.styles if m in data] or list(data))
+    # rows of mathtext labels: 19 px each
+    under = (LEGEND_BELOW_PX + 19.0 * (max(len(g) for g in groups) + 1) + 8) / 100
+    width, height = 6.4 * len(groups) + 0.6, 0.8 + 3.4 + under + 0.1
+    fig, axs = subplots(ctx, 1, len(groups), (width, height), sharey=True)
+    for ax, g in zip(axs[0], groups):
+        trace_axis(ctx, ax, by_group(data, g))
     d0 = next(iter(data.values()))
-    ax.set_title(f"on the case's oscillator: ω = {d0['omega']:g}, γ = {d0['gamma']:g}; "
-                 "lines: the report's fitted h⁴ coefficient")
-    ax.legend(loc="upper left", fontsize=7)
-    fig.suptitle(title_of(case, "half-trace error against h"))
-    layout(fig, bottom=0.11, top=0.88, left=0.13)
+    fig.suptitle(title_of(case, "half-trace error against h") +
+                 f"\non the case's oscillator: ω = {d0['omega']:g}, γ = {d0['gamma']:g}",
+                 y=1 - 0.05 / height, va="top")
+    layout(fig, bottom=(under + 0.1) / height, top=1 - 0.8 / height, left=1.0 / width,
+           wspace=0.12)
     return [(save(ctx, fig, case, "trace"), "half-trace error against h",
              ["trace-taylor.h4_coeff", "trace-taylor.h4_coeff_expected",
               "stability_map.half_trace_error"])]
@@ -292,6 +341,7 @@ def fig_stability(ctx: Ctx, case: Json, ser: Any) -> List[Drawn]:
         ax.set_xlabel("step size h")
         ax.set_ylabel("damping γ")
         ax.grid(False)
+    label_above_gaps(axs, n, "step size h")
     fig.legend(handles=map_legend(), loc="lower center", ncol=2, fontsize=7, frameon=False)
     fig.suptitle(title_of(case, r"where F's condition $|\frac{1}{2}\mathrm{tr}M| < e^{-\gamma h}$"
                           " holds, and where M is power-bounded"), fontsize=9,

@@ -9,17 +9,18 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from . import figdata as fd
-from .draw_series import coincidence_note
-from .render import PANEL_H, Ctx, Drawn, Json, dense, layout, pow10, save, sci_scale, subplots, \
-    title_of
+from .draw_series import axes_px, coincidence_note
+from .render import PANEL_H, Ctx, Drawn, Json, dense, label_above_gaps, layout, pow10, save, \
+    sci_scale, subplots, title_of
 from .styles import REFERENCE_GREY, TRANSIENT_GREY
 
 # axis names of a problem's orbit; problems whose two drawn coordinates are lengths in the same
 # unit are drawn with equal aspect (a circle stays a circle: HLW Fig 2.1's precession)
-AXES = {"kepler": ("q₁", "q₂"), "hill": ("q₁", "q₂"), "lotka-volterra": ("u", "v"),
+# (Hill's equation has one degree of freedom: its orbit is the phase portrait (q, p))
+AXES = {"kepler": ("q₁", "q₂"), "hill": ("q", "p"), "lotka-volterra": ("u", "v"),
         "pendulum": ("q (rad)", "p"), "oscillator": ("q", "p"),
         "outer-solar-system": ("x (AU)", "y (AU)"), "rigid-body": ("z₁", "z₂")}
-EQUAL_ASPECT = {"kepler", "hill", "outer-solar-system"}
+EQUAL_ASPECT = {"kepler", "outer-solar-system"}
 XY = Tuple[Any, Any, str]
 
 
@@ -55,6 +56,20 @@ def shared_limits(curves: List[XY], equal: bool) -> Tuple[Tuple[float, float],
     return (x0 - px, x1 + px), (y0 - py, y1 + py)
 
 
+def rays_of(r: Json, curves: List[XY]) -> List[XY]:
+    """The ends of the perihelion rays precession_rays draws (half the orbit's size from the
+    focus), as a curve for the limits: a ray along the short side of the focus (e = 0.85: the
+    perihelion 0.15 from it) was cut to a stub at the panel's edge."""
+    p = r.get("metrics", {}).get("precession") or {}
+    if p.get("total") is None or p.get("initial_angle") is None or not curves:
+        return []
+    (x0, x1), (y0, y1) = shared_limits(curves, True)
+    reach = 0.5 * max(x1 - x0, y1 - y0)
+    angles = [p["initial_angle"], p["initial_angle"] + p["total"]]
+    return [(np.array([0.0] + [reach * math.cos(a) for a in angles]),
+             np.array([0.0] + [reach * math.sin(a) for a in angles]), "")]
+
+
 def precession_rays(ax: Any, r: Json, colour: Any, reach: float) -> Optional[str]:
     """HLW Fig 2.1: the perihelion direction at the start (grey, dashed) and at the end (the
     method's colour) from the focus at the origin; returns the turn for the panel's title."""
@@ -85,17 +100,20 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
               orbit_coords(problem, (reference_of(ser, r) or {}).get("states", []))) for r in runs]
     # one box for every panel, except a run that leaves it by far (explicit Euler's spiral),
     # which gets its own and says so: one outlier must not shrink the others to a dot
-    boxes = [shared_limits(a + b, equal) for _, a, b in drawn]
+    boxes = [shared_limits(a + b + rays_of(report_runs.get((r["method"], r["dt"]), {}), a + b),
+                           equal) for r, a, b in drawn]
     sizes = [max(x[1] - x[0], y[1] - y[0]) for x, y in boxes]
     typical = sorted(sizes)[len(sizes) // 2]
     inside = [d for d, s in zip(drawn, sizes) if s <= 3 * typical]
-    xlim, ylim = shared_limits([c for _, a, b in inside for c in a + b], equal)
+    xlim, ylim = shared_limits([c for r, a, b in inside for c in a + b + rays_of(
+        report_runs.get((r["method"], r["dt"]), {}), a + b)], equal)
     greys, turned = set(), False
     for ax, (r, curves, refs), box, size in zip(axs.flat, drawn, boxes, sizes):
         c = ctx.style(r["method"])[0]
         own = size > 3 * typical
         lims = box if own else (xlim, ylim)
-        reach = 0.5 * max(lims[0][1] - lims[0][0], lims[1][1] - lims[1][0])
+        own_x, own_y = shared_limits(curves + refs, True)  # the reach rays_of made room for
+        reach = 0.5 * max(own_x[1] - own_x[0], own_y[1] - own_y[0])
         for x, y, _ in refs:
             ax.plot(x, y, "-", color=REFERENCE_GREY, lw=2.2, alpha=0.6, rasterized=dense(len(x)))
         for x, y, _ in curves:
@@ -191,6 +209,7 @@ def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         ax.set_xlabel(names[0].replace("psi", r"$\psi$"))
         ax.set_ylabel(names[1].replace("psi", r"$\psi$"))
         ax.set_aspect("equal", adjustable="box")
+    label_above_gaps(axs, n, axs.flat[0].get_xlabel())
     handles = [Line2D([], [], color=TRANSIENT_GREY, lw=1.5, label="transient (before the "
                       "attractor statistics)"),
                Line2D([], [], color="0.2", lw=1.5, label="on the attractor (the method's colour)"),
@@ -230,6 +249,7 @@ def fig_poincare(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         ax.set_title(f"{r['method']} h={r['dt']:g} ({len(pts['q'])} points)")
         ax.set_xlabel("q mod 2π (rad)")
         ax.set_ylabel("p")
+    label_above_gaps(axs, n, "q mod 2π (rad)")
     handles = [Line2D([], [], color="0.3", marker="o", ls="none", ms=3,
                       label="the method's section (its colour)")]
     if ref:
@@ -254,10 +274,50 @@ def snapshot_errors(runs: List[Json], k: int, n_x: int) -> List[Tuple[str, List[
     return out
 
 
+def snapshot_legend(ctx: Ctx, case: Json, fig: Any, runs: List[Json], y: float) -> None:
+    """The legend of a group's rows (centred at figure height y): the PDE's solution and each
+    run with its pde-error.max_abs."""
+    handles = [Line2D([], [], color=REFERENCE_GREY, lw=3.0, alpha=0.7,
+                      label="solution of the PDE")]
+    for r in runs:
+        v = fd.run_metric(next((rr for rr in case["runs"] if rr["method"] == r["method"]
+                                and rr["dt"] == r["dt"]), {}), "pde-error.max_abs")
+        c, _, ls = ctx.style(r["method"])
+        handles.append(Line2D([], [], color=c, ls="--" if ls == ":" else ls, lw=1.2,
+                              label=r["method"] + (f" (max $|u - u_{{PDE}}|$ = {v:.2g})"
+                                                  if v is not None else "")))
+    fig.legend(handles=handles, loc="lower center", ncol=min(4, len(handles)), frameon=False,
+               fontsize=7.5, bbox_to_anchor=(0.5, y))
+
+
+def snapshot_rows(ctx: Ctx, top: Any, bottom: Any, runs: List[Json], k: int,
+                  emax: float, scale: int) -> float:
+    """The field of each run over the PDE's solution at snapshot k (top) and u − u_PDE (bottom,
+    one scale for the row); returns the pixels of the bottom panel's note on coinciding lines."""
+    first = runs[0]["series"]["snapshots"]
+    x = first["x"] or list(range(len(first["pde"][k])))
+    top.plot(x, first["pde"][k], "-", color=REFERENCE_GREY, lw=3.0, alpha=0.7)
+    for r in runs:
+        sn = r["series"]["snapshots"]
+        c, _, ls = ctx.style(r["method"])
+        if k < len(sn["u"]):
+            top.plot(x, sn["u"][k], "--" if ls == ":" else ls, color=c, lw=1.0)
+    drawn = []
+    for m, e in snapshot_errors(runs, k, len(x)):
+        c, _, ls = ctx.style(m)
+        y = [v / 10.0 ** scale for v in e]
+        bottom.plot(x[:len(e)], y, ls, color=c, lw=1.0)
+        drawn.append((m, list(x[:len(e)]), y))
+    bottom.axhline(0.0, color="k", lw=0.5)
+    top.set_title(f"t = {first['t'][k]:g}")
+    return coincidence_note(bottom, drawn, False, factor=10.0 ** scale)
+
+
 def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
-    """B Fig 5.4: top row the field u(x) of each run over the PDE's own solution (grey) at the
-    output times; bottom row u − u_PDE, the error the case checks (pde-error.max_abs), which the
-    top row cannot show (the lines coincide at its scale)."""
+    """B Fig 5.4: per group of at most six runs, a row of the field u(x) of each run over the
+    PDE's own solution (grey) at the output times and under it u − u_PDE, the error the case
+    checks (pde-error.max_abs), which the top row cannot show (the lines coincide at its
+    scale)."""
     runs = [r for r in ser["runs"] if r["series"].get("snapshots", {}).get("t")]
     if not runs:
         return []
@@ -265,49 +325,33 @@ def fig_snapshots(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     times = first["t"]
     n = min(len(times), 5)  # at most 5 times: the first, the last and 3 between
     pick = sorted({round(i * (len(times) - 1) / max(1, n - 1)) for i in range(n)})
-    height = 2 * PANEL_H + 1.4
-    fig, axs = subplots(ctx, 2, len(pick), (3.0 * len(pick) + 0.8, height), sharex=True)
+    groups = [[r for r in runs if r["method"] in g]
+              for g in fd.groups(list(dict.fromkeys(r["method"] for r in runs)))]
+    # between two groups: the x label, the next group's legend and titles (1.1 in)
+    gap = 0.25 if len(groups) == 1 else 1.1
+    height = 2 * len(groups) * PANEL_H + (2 * len(groups) - 1) * gap + 1.6
+    fig, axs = subplots(ctx, 2 * len(groups), len(pick), (3.0 * len(pick) + 0.8, height),
+                        sharex=True)
+    layout(fig, bottom=0.5 / height, top=1 - 1.1 / height, left=0.95 / fig.get_figwidth(),
+           hspace=gap / PANEL_H, wspace=0.25)
     errs = [e for k in pick for _, e in snapshot_errors(runs, k, len(first["pde"][k]))]
     scale = sci_scale(errs)
     # one error scale in every panel: how the error grows with t is seen at a glance
     emax = max((abs(v) for e in errs for v in e), default=1.0) / 10.0 ** scale or 1.0
-    for j, k in enumerate(pick):
-        x = first["x"] or list(range(len(first["pde"][k])))
-        top, bottom = axs[0, j], axs[1, j]
-        top.plot(x, first["pde"][k], "-", color=REFERENCE_GREY, lw=3.0, alpha=0.7)
-        for r in runs:
-            sn = r["series"]["snapshots"]
-            c, _, ls = ctx.style(r["method"])
-            if k < len(sn["u"]):
-                top.plot(x, sn["u"][k], "--" if ls == ":" else ls, color=c, lw=1.0)
-        drawn = []
-        for m, e in snapshot_errors(runs, k, len(x)):
-            c, _, ls = ctx.style(m)
-            y = [v / 10.0 ** scale for v in e]
-            bottom.plot(x[:len(e)], y, ls, color=c, lw=1.0)
-            drawn.append((m, list(x[:len(e)]), y))
-        bottom.axhline(0.0, color="k", lw=0.5)
-        bottom.set_ylim(-emax * 1.08, emax * 1.08)
-        coincidence_note(bottom, drawn, False, y=0.96)
-        top.set_title(f"t = {times[k]:g}")
-        bottom.set_xlabel("x")
-    axs[0, 0].set_ylabel("u(x, t)")
-    axs[1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
-    labels = []
-    for r in runs:
-        v = fd.run_metric(next((rr for rr in case["runs"] if rr["method"] == r["method"]
-                                and rr["dt"] == r["dt"]), {}), "pde-error.max_abs")
-        labels.append(r["method"] + (f" (max |u − u_PDE| = {v:.2g})" if v is not None else ""))
-    handles = [Line2D([], [], color=REFERENCE_GREY, lw=3.0, alpha=0.7,
-                      label="solution of the PDE")]
-    for r, lab in zip(runs, labels):
-        c, _, ls = ctx.style(r["method"])
-        handles.append(Line2D([], [], color=c, ls="--" if ls == ":" else ls, lw=1.2, label=lab))
-    fig.legend(handles=handles, loc="upper center", ncol=min(4, len(handles)), frameon=False,
-               fontsize=7.5, bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    bands = [max(snapshot_rows(ctx, axs[2 * g, j], axs[2 * g + 1, j], gruns, k, emax, scale)
+                 for j, k in enumerate(pick)) for g, gruns in enumerate(groups)]
+    # the same limits in every error row (the bands of the notes kept free in each)
+    lim = fd.band_limits(-emax, emax, max(bands) / axes_px(axs[1, 0])[1], 0.0, False)
+    for g, gruns in enumerate(groups):
+        for j in range(len(pick)):
+            axs[2 * g + 1, j].set_ylim(*lim)
+            axs[2 * g + 1, j].set_xlabel("x")
+            axs[2 * g + 1, j].xaxis.set_tick_params(labelbottom=True)
+            axs[2 * g + 1, j]._dampsym_relabelled = True  # hidden again by render.recycle
+        axs[2 * g, 0].set_ylabel("u(x, t)")
+        axs[2 * g + 1, 0].set_ylabel(r"$u - u_{PDE}$" + (f"  [×{pow10(scale)}]" if scale else ""))
+        snapshot_legend(ctx, case, fig, gruns, axs[2 * g, 0].get_position().y1 + 0.3 / height)
     fig.suptitle(title_of(case, "snapshots (top) and their error against the PDE's solution "
                           "(bottom)"), y=1 - 0.05 / height, va="top")
-    layout(fig, bottom=0.5 / height, top=1 - 1.0 / height, left=0.95 / fig.get_figwidth(),
-           hspace=0.25, wspace=0.25)
     return [(save(ctx, fig, case, "snapshots"), "snapshots and their error",
              ["snapshots", "pde-error.max_abs"])]

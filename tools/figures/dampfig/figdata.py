@@ -140,8 +140,9 @@ def slope_line(window_dt: Sequence[float], errors_by_dt: Dict[float, float],
                slope: float) -> Tuple[List[float], List[float]]:
     """The fitted convergence line drawn over the asymptotic window: e(h) = C h^slope with C
     fitted in the log (least squares of log e − slope log h over the window points), from its
-    smallest to its largest h. Returns ([h_lo, h_hi], [e_lo, e_hi])."""
-    hs = sorted(window_dt)
+    smallest to its largest h (of the window's points that have an error: a failed run has
+    none). Returns ([h_lo, h_hi], [e_lo, e_hi])."""
+    hs = sorted(h for h in window_dt if h in errors_by_dt) or sorted(errors_by_dt)
     logc = sum(math.log(errors_by_dt[h]) - slope * math.log(h) for h in hs) / len(hs)
     xs = [hs[0], hs[-1]]
     return xs, [math.exp(logc) * x ** slope for x in xs]
@@ -276,15 +277,14 @@ def stability_data(case: Json, series: Optional[Json]) -> Dict[str, Json]:
 
 # Step series of a run, in the order of the panels, with their axis labels and scales.
 SERIES_PANELS = [
-    ("energy.value", r"energy $H(q, p)$", "linear"),
+    ("energy.value", r"energy $H(z_n)$", "linear"),  # z: (q, p), the rigid body's z, ...
     ("energy.error", r"$H_{exact} - H_n$", "linear"),
     ("energy.change_res", r"$(H_n - H_0)\,/\,S_H(z_0)$", "linear"),
     ("error.abs", r"$\|z_n - z_{ref}(t_n)\|$", "log"),
     ("measure-pointwise.*.abs", r"$|{c}_n - {c}(t_n)|$", "log"),
     ("measure-pointwise.*.rel", r"$|{c}_n - {c}(t_n)|\,/\,|{c}(t_n)|$", "log"),
-    ("invariants.*.step_res", r"step-law residual of $\mathrm{{inv}}$ / $S(z_n)$", "log"),
-    ("invariants.*.ratio_dev", r"$e^{2\Gamma(t)}\,\mathrm{{inv}}_n / \mathrm{{inv}}_0 - 1$",
-     "linear"),
+    ("invariants.*.step_res", r"step-law residual of {word} ${inv}$ / $S(z_n)$", "log"),
+    ("invariants.*.ratio_dev", r"$e^{2\Gamma(t)}\,{inv_n} / {inv_0} - 1$ ({word})", "linear"),
     ("dissipation-drift.d", r"$d(t) = \ln \max q + \Gamma(t)$", "linear"),
     ("field-drift.d", r"$d(t) = \ln \max_x u + \Gamma(t) - \Gamma(t_0)$", "linear"),
     ("conformal-symplectic.rel", r"$E_n\,/\,(e^{-2\Delta\Gamma}\|J^{-1}\|_F)$", "log"),
@@ -301,6 +301,27 @@ SERIES_PANELS = [
 # says so with "form": "structure-matrix" (docs/conventions.md, the conformal-symplectic metric).
 STRUCTURE_MATRIX_EN_LABEL = (r"$\|\Psi D\Psi^T - \lambda D\|\,/\,(\lambda\|D\|)$, "
                              r"$\lambda = e^{-2\Delta\Gamma}$")
+
+
+# the problems' invariant names (invariant_names in src/) as the symbols of their papers: the
+# oscillator's conformal energy H_γ, Kepler's L, the rigid body's and Burgers' Casimir C, ...
+INVARIANT_SYMBOLS = {"H_gamma": (r"H_{\gamma}", ""), "angular_momentum": ("L", "angular momentum"),
+                     "casimir": ("C", "Casimir"), "energy": ("H", "energy"),
+                     "momentum": ("P", "momentum"), "mass": ("N", "mass"), "I": ("I", "")}
+
+
+def invariant_label(label: str, name: str) -> str:
+    """A series label with an invariant's symbol ({inv}; {inv_n}, {inv_0} its value at t_n and
+    t_0) and its name in words ({word}, ' ({word})'); an unknown name as upright text."""
+    sym, word = INVARIANT_SYMBOLS.get(name, (r"\mathrm{" + name.replace("_", r"\_") + "}",
+                                             name.replace("_", " ")))
+
+    def at(k: str) -> str:  # H_{\gamma} at t_n: H_{\gamma,n}
+        return sym[:-1] + "," + k + "}" if sym.endswith("}") and "_{" in sym else f"{sym}_{{{k}}}"
+
+    return (label.replace("{inv_n}", at("n")).replace("{inv_0}", at("0")).replace("{inv}", sym)
+            .replace(" ({word})", f" ({word})" if word else "")
+            .replace("{word} ", f"{word} " if word else ""))
 
 
 def component_symbol(component: str) -> str:
@@ -343,15 +364,15 @@ def series_panels(series: Json, case: Optional[Json] = None) -> List[Tuple[str, 
         if pat == "conformal-symplectic.rel" and forms.get(pat) == "structure-matrix":
             label = STRUCTURE_MATRIX_EN_LABEL
         if pat == "attractor.probe":
-            label = label.replace("{probe}", "$" + forms.get(pat, "s(t)") + "$")
+            probe = re.sub(r"\bpsi\b", r"\\psi", forms.get(pat, "s(t)"))  # ψ(0, t), not psi
+            label = label.replace("{probe}", "$" + probe + "$")
         if "*" in pat:
             pre, post = pat.split("*")
             for k in sorted(keys):
                 if k.startswith(pre) and k.endswith(post):
                     inv = k[len(pre):-len(post)]
                     sym = component_symbol(forms.get(k, inv))
-                    out.append((k, label.replace("{inv}", inv.replace("_", r"\_"))
-                                .replace("{c}", sym), scale))
+                    out.append((k, invariant_label(label, inv).replace("{c}", sym), scale))
         elif pat in keys:
             out.append((pat, label, scale))
     return out
@@ -510,3 +531,58 @@ def missing_claim_metrics(case: Json, quantities: Sequence[str]) -> List[str]:
     held to this (the caller decides)."""
     drawn = {metric_family(q) for q in quantities}
     return [m for m in check_metrics(case) if metric_family(m) not in drawn]
+
+
+# --- Layout of the notes and legends drawn inside a panel (figures' readability rules) ---------
+
+def coincident_clusters(n: int, pairs: Sequence[Tuple[int, int, float]]) -> List[Tuple[List[int],
+                                                                                    float]]:
+    """The lines 0..n-1 joined by coinciding pairs (i, j, largest difference) into clusters, each
+    with the largest difference of its pairs, in the order of their first line: every line hidden
+    under another is named, and a group of six equal lines is one entry, not fifteen pairs."""
+    root = list(range(n))
+
+    def find(i: int) -> int:
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    for i, j, _ in pairs:
+        root[find(j)] = find(i)
+    worst: Dict[int, float] = {}
+    for i, _, d in pairs:
+        worst[find(i)] = max(worst.get(find(i), 0.0), d)
+    members: Dict[int, List[int]] = {}
+    for i in range(n):
+        members.setdefault(find(i), []).append(i)
+    return [(m, worst[r]) for r, m in sorted(members.items(), key=lambda kv: kv[1][0])
+            if len(m) > 1]
+
+
+def wrap_lines(text: str, chars: int) -> List[str]:
+    """text broken at spaces into lines of at most `chars` characters (a longer word alone)."""
+    out: List[str] = []
+    for word in text.split(" "):
+        if out and len(out[-1]) + 1 + len(word) <= max(1, chars):
+            out[-1] += " " + word
+        else:
+            out.append(word)
+    return out
+
+
+def band_limits(lo: float, hi: float, bottom: float, top: float, log: bool,
+                margin: float = 0.04) -> Tuple[float, float]:
+    """Axis limits that put the data [lo, hi] between the bands kept free for text: the lowest
+    `bottom` and the highest `top` fractions of the panel (notes, a legend), plus a margin on
+    each side of the data. On a log axis in decades (lo > 0)."""
+    a, b = (math.log10(lo), math.log10(hi)) if log else (lo, hi)
+    if not b > a:
+        # one value: a decade around it, or a thousandth of it (1 around 0: no 1e-12 ticks)
+        pad = 0.5 if log else (abs(a) * 1e-3 if a != 0 else 1.0)
+        a, b = a - pad, b + pad
+    free = max(0.2, 1.0 - bottom - top - 2 * margin)
+    span = (b - a) / free
+    y0 = a - (bottom + margin) * span
+    y1 = y0 + span
+    return (10.0 ** y0, 10.0 ** y1) if log else (y0, y1)

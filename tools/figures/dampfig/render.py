@@ -118,25 +118,64 @@ def log_ticks(lo: float, hi: float) -> List[float]:
     return ticks
 
 
+# tick label sizes at 9 pt and 100 dpi (pixels): width per character of log_label's text, height
+TICK_CHAR_PX, TICK_HEIGHT_PX, TICK_GAP_PX = 7.4, 13.0, 6.0
+
+
+def fit_ticks(ticks: List[float], lo: float, hi: float, pixels: float,
+              horizontal: bool) -> List[float]:
+    """The log ticks whose labels do not run into each other on an axis of `pixels` over
+    [lo, hi]: from the first, each tick whose label clears the last kept one (by width on an x
+    axis, height on a y axis) and TICK_GAP_PX; 1.5×10⁻⁶ and 2×10⁻⁶ 46 px apart overlapped."""
+    if len(ticks) < 2 or not hi > lo or not pixels > 0:
+        return ticks
+    span = math.log10(hi) - math.log10(lo)
+
+    def half(t: float) -> float:
+        return (len(log_label(t)) * TICK_CHAR_PX if horizontal else TICK_HEIGHT_PX) / 2
+
+    kept = [ticks[0]]
+    for t in ticks[1:]:
+        apart = pixels * (math.log10(t) - math.log10(kept[-1])) / span
+        if apart >= half(t) + half(kept[-1]) + TICK_GAP_PX:
+            kept.append(t)
+    return kept
+
+
+def axis_pixels(ax: Any) -> Tuple[float, float]:
+    """(width, height) of an axes in pixels, from its position (set before drawing)."""
+    pos, fig = ax.get_position(), ax.get_figure()
+    return pos.width * fig.bbox.width, pos.height * fig.bbox.height
+
+
 def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
-    """Before drawing: few, labelled ticks on every axis (xticks: those fixed by the figure)."""
+    """Before drawing: few, labelled ticks on every axis (xticks: those fixed by the figure),
+    log ticks thinned so that their labels do not overlap."""
     for ax in fig.axes:
         if not ax.axison:
             continue
+        width, height = axis_pixels(ax)
         if id(ax) in xticks and ax.get_xscale() == "log":
-            ax.xaxis.set_major_locator(FixedLocator(xticks[id(ax)]))
+            x0, x1 = sorted(ax.get_xlim())
+            ax.xaxis.set_major_locator(FixedLocator(fit_ticks(sorted(xticks[id(ax)]), x0, x1,
+                                                              width, True)))
             ax.xaxis.set_major_formatter(FuncFormatter(log_label))
             ax.xaxis.set_minor_locator(NullLocator())
-            ax.yaxis.set_major_locator(FixedLocator(log_ticks(*sorted(ax.get_ylim()))))
+            lo, hi = sorted(ax.get_ylim())
+            ax.yaxis.set_major_locator(FixedLocator(fit_ticks(log_ticks(lo, hi), lo, hi,
+                                                              height, False)))
             ax.yaxis.set_major_formatter(FuncFormatter(log_label))
             ax.yaxis.set_minor_locator(NullLocator())
             ax.yaxis.set_minor_formatter(NullFormatter())
             continue
-        for axis, scale, lim in ((ax.xaxis, ax.get_xscale(), ax.get_xlim),
-                                 (ax.yaxis, ax.get_yscale(), ax.get_ylim)):
+        for axis, scale, lim, px, horizontal in ((ax.xaxis, ax.get_xscale(), ax.get_xlim, width,
+                                                  True),
+                                                 (ax.yaxis, ax.get_yscale(), ax.get_ylim, height,
+                                                  False)):
             lo, hi = sorted(lim())
             if scale == "log" and lo > 0 and hi > lo:
-                axis.set_major_locator(FixedLocator(log_ticks(lo, hi)))
+                axis.set_major_locator(FixedLocator(fit_ticks(log_ticks(lo, hi), lo, hi, px,
+                                                              horizontal)))
                 axis.set_major_formatter(FuncFormatter(log_label))
                 axis.set_minor_locator(NullLocator())
                 axis.set_minor_formatter(NullFormatter())
@@ -182,6 +221,9 @@ def recycle(ctx: Ctx, fig: Any) -> None:
             ax.set_yscale("linear")
         ax.set_aspect("auto")
         ax.axis("on")
+        if getattr(ax, "_dampsym_relabelled", False):  # label_above_gaps: sharex's labels back
+            ax.xaxis.set_tick_params(labelbottom=False)
+            ax._dampsym_relabelled = False
         if not all(a._major_tick_kw.get("gridOn") for a in (ax.xaxis, ax.yaxis)):
             ax.grid(True)  # the default (rcParams above); the stability maps turn it off
         ax.set_autoscale_on(True)
@@ -227,21 +269,42 @@ def overhang(fig: Any) -> Tuple[float, float, float]:
     return left, right, bottom
 
 
+def legends_below(fig: Any) -> float:
+    """Pixels by which a legend (of an axes or the figure) reaches below the figure's bottom
+    edge after the last draw: the legends under the panels are placed from estimated sizes."""
+    renderer = fig.canvas.get_renderer()
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+    return max([0.0] + [-lg.get_window_extent(renderer).y0 for lg in legends
+                        if lg.get_visible()])
+
+
+def grow_bottom(fig: Any, pixels: float) -> None:
+    """The figure taller by `pixels` at the bottom, every axes keeping its size in pixels."""
+    p, h = fig.subplotpars, fig.bbox.height
+    new_h = h + pixels
+    fig.set_size_inches(fig.get_figwidth(), new_h / fig.dpi)
+    fig.subplots_adjust(bottom=(p.bottom * h + pixels) / new_h, top=(p.top * h + pixels) / new_h)
+
+
 def draw_inside(fig: Any) -> None:
-    """Draws the figure on its Agg canvas so that no tick label or axis label is cut off: the
-    margins are fixed fractions (layout(), without measuring text), so when a label reaches
+    """Draws the figure on its Agg canvas so that no tick label, axis label or legend is cut off:
+    the margins are fixed fractions (layout(), without measuring text), so when a label reaches
     beyond the left, right or bottom edge (a one-column panel with wide log tick labels), that
-    margin grows by the overhang and 4 px and the figure is drawn again (a figure whose labels
-    fit is drawn once, as before)."""
+    margin grows by the overhang and 4 px, and a legend below the bottom edge makes the figure
+    taller by as much, and the figure is drawn again (a figure whose labels fit is drawn once,
+    as before)."""
     fig.canvas.draw()
     for _ in range(3):
         left, right, bottom = overhang(fig)
-        if max(left, right, bottom) <= 0.5:
+        below = legends_below(fig)
+        if max(left, right, bottom, below) <= 0.5:
             return
         p, w, h = fig.subplotpars, fig.bbox.width, fig.bbox.height
         fig.subplots_adjust(left=p.left + (left + 4) / w if left > 0.5 else p.left,
                             right=p.right - (right + 4) / w if right > 0.5 else p.right,
                             bottom=p.bottom + (bottom + 4) / h if bottom > 0.5 else p.bottom)
+        if below > 0.5:
+            grow_bottom(fig, below + 4)
         fig.canvas.draw()
 
 
@@ -342,3 +405,16 @@ def coincident(a: Tuple[Sequence[float], Sequence[float]],
         return -1.0
     d = float(np.max(np.abs(ya[inside] - np.interp(ta[inside], tb, yb))))
     return d if d <= 0.01 * span else -1.0
+
+
+def label_above_gaps(axs: Any, n: int, xlabel: str) -> None:
+    """In a grid of panels sharing x whose last row is not full (n panels drawn), the panels
+    above an empty slot keep their x tick labels and label: sharex hides them on every row but
+    the last, which left those columns without a readable x axis."""
+    rows, cols = axs.shape
+    for i in range(n):
+        if i + cols >= n and i // cols < rows - 1:
+            ax = axs.flat[i]
+            ax.xaxis.set_tick_params(labelbottom=True)
+            ax.set_xlabel(xlabel)
+            ax._dampsym_relabelled = True  # hidden again by recycle for the figure's next use

@@ -77,7 +77,7 @@ def test_offset_base_replaces_the_offset_text() -> None:
     base = draw_series.offset_base(near)
     assert abs(base - 0.990049833) < 1e-15
     assert all(abs(v - base) < 1e-8 for y in near for v in y)
-    # a spread of 1e-3 of the size needs no base; equal values are flat_panel's
+    # a spread of 1e-3 of the size needs no base; equal values are is_flat's
     assert draw_series.offset_base([[1.0, 1.001]]) == 0.0
     assert draw_series.offset_base([[2.0, 2.0]]) == 0.0
 
