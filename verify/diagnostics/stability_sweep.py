@@ -14,6 +14,10 @@ def method_record(mc: MethodCtx) -> Rec:
     if not isinstance(mc.prob, xp.Oscillator) or mc.method not in xm.METHODS:
         rec.update(verdict="not reproduced", reason="stability-sweep needs the oscillator and a known method")
         return rec
+    if mc.method in xm.MULTIVALUE:
+        rec.update(verdict="not reproduced", reason="%s is a multivalue method: the cross-check has no "
+                   "one-step matrix of its multivalue state" % mc.method)
+        return rec
     if not mc.spec.get("stability_sweep"):
         rec.update(verdict="not reproduced", reason="the case file has no `stability_sweep`")
         return rec

@@ -225,3 +225,23 @@ def test_det_band_where_the_products_cancel() -> None:
     assert agree["status"] in ("agree", "not comparable")
     far = xfamilies.f_det_err(cx, "stability.det_rel_err", 2.6e-15, 2.6e-15 + 1.2 * band)
     assert far["status"] == "disagree"
+
+
+def test_multivalue_one_step_matrix_not_reproduced() -> None:
+    """glm4's one-step matrix acts on its multivalue state, which the cross-check does not build:
+    a held-out stability sweep, h^4 trace or stability run of glm4 is "not reproduced" with the
+    reason (it stopped the cross-check with KeyError 'glm4'); a one-value method still is."""
+    from verify.diagnostics import MethodCtx, stability, stability_sweep, trace_taylor
+    from verify import xproblems
+    prob = xproblems.make_problem("oscillator", {"omega": 1.5, "gamma": 1.0, "q0": 1.0, "p0": 0.0})
+    spec = {"stability_sweep": {"omega": 1.5, "gamma": [0.0, 0.5, 0.25], "h": [0.1, 0.2, 0.1]}}
+    for mod in (stability_sweep, trace_taylor):
+        rec = mod.method_record(MethodCtx({"id": "x"}, spec, prob, "glm4", {}, [], {}, {}))
+        assert rec["verdict"] == "not reproduced" and "multivalue" in rec["reason"]
+    ok = stability_sweep.method_record(MethodCtx({"id": "x"}, spec, prob, "csv1", {}, [], {}, {}))
+    assert ok["verdict"] != "not reproduced"
+    from verify.xrunctx import RunCtx
+    cx = RunCtx.__new__(RunCtx)
+    cx.prob, cx.method, cx.dt, cx.mm = prob, "glm4", 0.1, {}
+    stability.recompute(cx)
+    assert cx.mm == {}
