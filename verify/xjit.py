@@ -251,12 +251,13 @@ if HAVE_NUMBA:
             t = t0 + (n - 1) * h
             for k in range(d):
                 base[k] = U[0, 0] * yv[0, k] + U[0, 1] * yv[1, k]
-            i1 = _glm_solve(code, P, m, t, h, A[0, 0], base, Mi0, Y1, K1)
+            # stage i at t + c_i h, c = A e (as xmethods.GLM; the time-dependent gamma)
+            i1 = _glm_solve(code, P, m, t + (A[0, 0] + A[0, 1]) * h, h, A[0, 0], base, Mi0, Y1, K1)
             if i1 < 0:
                 return n, 2, tot, mx
             for k in range(d):
                 base[k] = (U[1, 0] * yv[0, k] + U[1, 1] * yv[1, k]) + h * A[1, 0] * K1[k]
-            i2 = _glm_solve(code, P, m, t, h, A[1, 1], base, Mi1, Y2, K2)
+            i2 = _glm_solve(code, P, m, t + (A[1, 0] + A[1, 1]) * h, h, A[1, 1], base, Mi1, Y2, K2)
             if i2 < 0:
                 return n, 2, tot, mx
             for i in range(2):

@@ -170,9 +170,10 @@ class GLMScalar:
         A0 = xm.GLM_A0.tolist()
         Mi = self._inv(t, y0, A0)
         h, d = self.h, self.d
-        Y1, K1, _ = self._solve(t, y0, A0[0][0], Mi[0])
+        # stage i at t + c_i h, c = A0 e (xmethods.GLM: a time-dependent gamma)
+        Y1, K1, _ = self._solve(t + sum(A0[0]) * h, y0, A0[0][0], Mi[0])
         base = [y0[k] + h * A0[1][0] * K1[k] for k in range(d)]
-        Y2, K2, _ = self._solve(t, base, A0[1][1], Mi[1])
+        Y2, K2, _ = self._solve(t + sum(A0[1]) * h, base, A0[1][1], Mi[1])
         S = xm.GLM_S
         return [list(y0), [h * (S[0] * K1[k] + S[1] * K2[k]) for k in range(d)]]
 
@@ -183,9 +184,10 @@ class GLMScalar:
             self.age = 0
         self.age += 1
         Yp = [[U[i][0] * yv[0][k] + U[i][1] * yv[1][k] for k in range(d)] for i in range(2)]
-        Y1, K1, i1 = self._solve(t, Yp[0], A[0][0], self.Mi[0])
+        # stage i at t + c_i h, c = A e (BS: U's first column is e and y2 carries no time)
+        Y1, K1, i1 = self._solve(t + (A[0][0] + A[0][1]) * h, Yp[0], A[0][0], self.Mi[0])
         base = [Yp[1][k] + h * A[1][0] * K1[k] for k in range(d)]
-        Y2, K2, i2 = self._solve(t, base, A[1][1], self.Mi[1])
+        Y2, K2, i2 = self._solve(t + (A[1][0] + A[1][1]) * h, base, A[1][1], self.Mi[1])
         return [[h * (B[i][0] * K1[k] + B[i][1] * K2[k]) + V[i][0] * yv[0][k] + V[i][1] * yv[1][k]
                  for k in range(d)] for i in range(2)], i1 + i2
 

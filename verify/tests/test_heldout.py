@@ -245,3 +245,27 @@ def test_multivalue_one_step_matrix_not_reproduced() -> None:
     cx.prob, cx.method, cx.dt, cx.mm = prob, "glm4", 0.1, {}
     stability.recompute(cx)
     assert cx.mm == {}
+
+
+def test_glm4_time_dependent_damping_order_4() -> None:
+    """BS's GLM under the rigid body's gamma(t) = eps cos(2t)/2: its stages sit at t + c_i h,
+    c = A e. The cross-check's plain-float and compiled GLM evaluated both stages at t (right
+    only for constant gamma): at eps = 0.5, h = 0.1 it ended 1.6 from the solution (dampsym
+    3.75e-4, a held-out method variant of rb-fig37-glifrk). Now fourth order, and the plain-float
+    path equals the array path (xmethods.GLM, stage times from the start)."""
+    from verify import xproblems, xrun
+    prob = xproblems.make_problem("rigid-body", {"I1": 4.0, "I2": 3.0, "I3": 2.0, "epsilon": 0.5,
+                                                 "z1": 4.0, "z2": 3.0, "z3": 0.0})
+    exact = prob.exact(0.0, np.array([10.0]))[0]
+    errs = [float(np.linalg.norm(xrun.integrate("glm4", prob, h, int(round(10.0 / h)), 0.0)["z"] - exact))
+            for h in (0.1, 0.05)]
+    assert np.log2(errs[0] / errs[1]) > 3.5, errs
+    from verify import xmethods, xscalar
+    small = xscalar.make("glm4", prob, 0.1)
+    assert isinstance(small, xscalar.GLMScalar)
+    arr = xmethods.GLM(prob, 0.1)
+    ys, ya = small.start(0.0, list(prob.z0)), arr.start(0.0, prob.z0)
+    for n in range(5):
+        ys, _ = small.step(0.1 * n, ys)
+        ya, _ = arr.step(0.1 * n, ya)
+    assert np.allclose(np.array(ys), ya, rtol=1e-13, atol=1e-13)
