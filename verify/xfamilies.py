@@ -199,13 +199,31 @@ def f_energy(cx: RunCtx, key: str, ours: Any, theirs: Any) -> Comp:
     if cx.prob.energy_scale is not None:
         e0 = max(e0, float(cx.prob.energy_scale(cx.prob.z0)))
     fl = 8 * math.sqrt(max(cx.nsteps, 1)) * EPS * e0
-    if "_res" in key:
-        fl /= max(e0, TINY)
+    why = "8 sqrt(n) eps S_H"
+    # H(z_ref) - H(z_n): the reference's and the state's differences through grad H
+    ref = float(cx.priv.get("energy.grad_max", 0.0)) * (cx.state_bound + float(cx.priv.get("error.est", 0.0))) \
+        if key in REF_ENERGY else 0.0
+    if ref:
+        fl, why = fl + ref, why + " + |grad H| (state bound + our reference's estimate)"
+    per = 1.0 / max(e0, TINY) if "_res" in key else 1.0
     if "slope" in key:
-        fl /= max(cx.nsteps * cx.dt, TINY)
-    fl += _chaos(cx, key)
+        per /= max(cx.nsteps * cx.dt, TINY)
+    fl = fl * per + _chaos(cx, key)
     cx.unc[key] = REL * abs(num(ours)) + fl
-    return cmp_abs(key, ours, theirs, REL, fl, "8 sqrt(n) eps S_H")
+    c = cmp_abs(key, ours, theirs, REL, fl, why)
+    declared = num((cx.metrics.get("error") or {}).get("reference_error_estimate"))
+    est = float(cx.priv.get("error.est", 0.0))
+    if ref and c["status"] == "disagree" and math.isfinite(declared) and declared > est:
+        wider = c["tol_abs"] + float(cx.priv.get("energy.grad_max", 0.0)) * min(declared, 1e3 * max(est, TINY)) * per
+        if abs(num(ours) - num(theirs)) <= wider:
+            c.update(status="not comparable", agree=False, tol_abs=wider,
+                     reason="within the report's declared reference estimate %.3g (ours %.3g) through |grad H|"
+                     % (declared, est))
+    return c
+
+
+# energy metrics against the reference (diagnostics/energy.py energy_error)
+REF_ENERGY = ("energy.max_abs_error", "energy.final_abs_error", "energy.drift_slope", "energy.error_res_slope")
 
 
 def f_local_error(cx: RunCtx, key: str, ours: Any, theirs: Any) -> Comp:

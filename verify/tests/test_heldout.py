@@ -269,3 +269,29 @@ def test_glm4_time_dependent_damping_order_4() -> None:
         ys, _ = small.step(0.1 * n, ys)
         ya, _ = arr.step(0.1 * n, ya)
     assert np.allclose(np.array(ys), ya, rtol=1e-13, atol=1e-13)
+
+
+def test_energy_error_band_carries_the_reference() -> None:
+    """energy.max_abs_error = max |H(z_ref) - H(z_n)| moves with the reference and the state by
+    |grad H| x (state bound + our estimate); its band was round-off alone (gauss3 on the pendulum:
+    2.6e-14 against dampsym's 2.4e-13, band 1.1e-13). The gradient's scale is the pendulum's
+    |grad H| = sqrt(sin^2 q + p^2); a difference ten times the band still disagrees."""
+    from verify import xfamilies, xproblems
+    from verify.diagnostics.energy import grad_norm_max
+    from verify.xrunctx import RunCtx
+    prob = xproblems.make_problem("pendulum", {"gamma": 0.0, "q0": 1.0, "p0": 0.5})
+    Z = np.array([[1.0, 0.5], [0.3, -1.2]])
+    want = float(np.max(np.hypot(np.sin(Z[:, 0]), Z[:, 1])))
+    assert abs(grad_norm_max(prob, Z) - want) <= 1e-6 * want
+    cx = RunCtx.__new__(RunCtx)
+    cx.prob, cx.nsteps, cx.dt, cx.state_bound = prob, 4000, 0.025, 1e-12
+    cx.priv, cx.unc, cx.metrics, cx.mm, cx.chaotic = {"energy.grad_max": want, "error.est": 1e-13}, {}, {}, {}, None
+    cx.band, cx.D = {}, 0.0
+    band = want * (1e-12 + 1e-13)
+    near = xfamilies.f_energy(cx, "energy.max_abs_error", 2.6e-14, 2.6e-14 + 0.9 * band)
+    assert near["status"] in ("agree", "not comparable")
+    far = xfamilies.f_energy(cx, "energy.max_abs_error", 2.6e-14, 2.6e-14 + 10 * band)
+    assert far["status"] == "disagree"
+    # a change of H alone (no reference in it) keeps its round-off band
+    alone = xfamilies.f_energy(cx, "energy.max_abs_change", 2.6e-14, 2.6e-14 + 0.9 * band)
+    assert alone["status"] == "disagree"
