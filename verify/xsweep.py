@@ -12,7 +12,9 @@ gamma_k = from + k step, h_j = from + j step (both ends included) of the case's
                  g^2 sech(gh/2) < w^2 < 4 sech(gh/2)/h^2 for gh < 2, reversed for gh > 2, F (3.22));
   PB             power-bounded: rho(M) < 1 - 8 eps, or rho <= 1 + 8 eps with two distinct
                  eigenvalues (|l1 - l2| > 1e-7), the rule of the per-run stability metric;
-  PB_R           (explicit RK) the same from the stability polynomial R(z) = sum_k z^k b^T A^{k-1} 1
+  PB_R           (explicit RK) the same from the stability polynomial R(z) = sum_k z^k b^T A^{k-1} 1;
+                 (implicit RK on the plain form: implicit Euler, the Gauss methods) from
+                 R(z) = 1 + z b^T (I - z A)^{-1} 1
                  of OUR tableau at the eigenvalues h lambda of the oscillator's matrix.
 
 Metrics: F_violations = #not F_emp; mismatch_points = #(F_emp != F_formula);
@@ -178,12 +180,27 @@ def grid_matrices(method: str, w: float, G: np.ndarray, H: np.ndarray) -> Tuple[
     return Ms, na
 
 
+# implicit Runge-Kutta methods on the plain form (dampsym: their Butcher tableau, a power-boundary
+# formula as for the explicit ones)
+PLAIN_IMPLICIT = {"implicit-euler": ([[1.0]], [1.0]), "implicit-midpoint": xm.GAUSS[1][:2],
+                  "gauss1": xm.GAUSS[1][:2], "gauss2": xm.GAUSS[2][:2], "gauss3": xm.GAUSS[3][:2]}
+
+
+def rational_r(A: Any, b: Any, z: np.ndarray) -> np.ndarray:
+    """R(z) = 1 + z b^T (I - z A)^{-1} 1 of a Runge-Kutta tableau, at every z of an array."""
+    A, b = np.asarray(A, float), np.asarray(b, float)
+    s = len(b)
+    zz = np.asarray(z, complex)[..., None, None]
+    k = np.linalg.solve(np.eye(s) - zz * A, np.ones(zz.shape[:-2] + (s, 1), complex))
+    return 1.0 + np.asarray(z, complex) * (k[..., 0] @ b)
+
+
 def power_bounded_by_r(poly: Any, w: float, Gg: np.ndarray, Hh: np.ndarray) -> np.ndarray:
     """Power-boundedness from the stability function R(h lambda) of an explicit RK method at the
     oscillator's eigenvalues lambda = -g +- sqrt(g^2 - w^2)."""
     disc = np.sqrt(((Gg - w) * (Gg + w)).astype(complex))
     lam = np.stack([-Gg + disc, -Gg - disc], axis=-1) * Hh[..., None]
-    R = sum(c * lam ** k for k, c in enumerate(poly))
+    R = rational_r(poly[1], poly[2], lam) if poly[0] == "tableau" else sum(c * lam ** k for k, c in enumerate(poly))
     rR = np.max(np.abs(R), axis=-1)
     return (rR < 1.0 - 8 * EPS) | ((rR <= 1.0 + 8 * EPS) & (np.abs(R[..., 0] - R[..., 1]) > 1e-7))
 
@@ -194,7 +211,8 @@ def sweep(method: str, spec: Dict[str, Any]) -> Any:
     G, H = axis(spec["gamma"]), axis(spec["h"])
     nh = len(H)
     kind = FORMULA.get(method)
-    poly = stab_poly(method) if method in xm.EXPLICIT_RK else None
+    poly = (stab_poly(method) if method in xm.EXPLICIT_RK else
+            ["tableau", *PLAIN_IMPLICIT[method]] if method in PLAIN_IMPLICIT else None)
     Ms, na = grid_matrices(method, w, G, H)
     Gg, Hh = G[:, None], H[None, :]
     e = np.exp(-Gg * Hh)

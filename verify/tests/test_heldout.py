@@ -295,3 +295,20 @@ def test_energy_error_band_carries_the_reference() -> None:
     # a change of H alone (no reference in it) keeps its round-off band
     alone = xfamilies.f_energy(cx, "energy.max_abs_change", 2.6e-14, 2.6e-14 + 0.9 * band)
     assert alone["status"] == "disagree"
+
+
+def test_implicit_tableau_power_formula() -> None:
+    """dampsym gives the power-boundary formula of every plain Runge-Kutta tableau (implicit
+    midpoint, implicit Euler, Gauss), not only the explicit ones: the cross-check's R(z) =
+    1 + z b^T (I - z A)^{-1} 1 against the closed forms, and a held-out sweep of implicit-midpoint
+    now has the two metrics it lacked (power_mismatch_points, max_power_boundary_mismatch_cells)."""
+    from verify import xsweep
+    z = np.array([-0.5 + 0.3j, -1.0, -3.0 + 2.0j])
+    cases = {"implicit-euler": 1 / (1 - z), "implicit-midpoint": (1 + z / 2) / (1 - z / 2),
+             "gauss2": (1 + z / 2 + z * z / 12) / (1 - z / 2 + z * z / 12)}
+    for m, want in cases.items():
+        A, b = xsweep.PLAIN_IMPLICIT[m]
+        assert np.allclose(xsweep.rational_r(A, b, z), want, rtol=1e-13, atol=0.0)
+    out = xsweep.sweep.__wrapped__("implicit-midpoint", {"omega": 3.51, "gamma": [0.0, 1.0, 0.5],
+                                                          "h": [0.1, 1.0, 0.1]})
+    assert "power_mismatch_points" in out and "max_power_boundary_mismatch_cells" in out
