@@ -309,6 +309,6 @@ def test_implicit_tableau_power_formula() -> None:
     for m, want in cases.items():
         A, b = xsweep.PLAIN_IMPLICIT[m]
         assert np.allclose(xsweep.rational_r(A, b, z), want, rtol=1e-13, atol=0.0)
-    out = xsweep.sweep.__wrapped__("implicit-midpoint", {"omega": 3.51, "gamma": [0.0, 1.0, 0.5],
+    out = xsweep.sweep("implicit-midpoint", {"omega": 3.51, "gamma": [0.0, 1.0, 0.5],
                                                           "h": [0.1, 1.0, 0.1]})
     assert "power_mismatch_points" in out and "max_power_boundary_mismatch_cells" in out
