@@ -2,6 +2,7 @@
 // their coefficient-level checks).
 #include "cli/cli_detail.hpp"
 
+#include "diagnostics/diagnostic.hpp"
 #include "diagnostics/invariants_diagnostic.hpp"
 #include "harness/case/case.hpp"
 #include "harness/problem_info.hpp"
@@ -63,6 +64,22 @@ json problem_json(const ProblemInfo& p) {
             {"diagnostics", diagnostics}};
 }
 
+// What a diagnostic needs, in words, from its registry entry: of the problem (its requirement),
+// of the case (a step ladder) and of the run (a reference, an observer, a Jacobian pass).
+std::string needs_text(const DiagnosticInfo& d) {
+    std::vector<std::string> parts;
+    if (!d.requirement.empty()) parts.push_back(d.requirement);
+    if (d.needs.min_dts > 0)
+        parts.push_back("a dt_ladder of at least " + std::to_string(d.needs.min_dts) +
+                        " step sizes");
+    if (d.needs.reference || d.needs.reference_grid) parts.push_back("a reference");
+    if (d.needs.observer) parts.push_back("a hook in the step loop");
+    if (d.needs.jacobian_pass) parts.push_back("a separate pass with the exact step Jacobian");
+    std::string out;
+    for (const auto& p : parts) out += (out.empty() ? "" : "; ") + p;
+    return out;
+}
+
 // Everything `list --json` prints: the selected cases, problems, diagnostics and methods.
 json list_json(const Selected& selected) {
     json cases = json::array();
@@ -76,11 +93,17 @@ json list_json(const Selected& selected) {
     json problems = json::array();
     for (const auto& p : problem_catalog()) problems.push_back(problem_json(p));
     json diagnostics = json::array();
-    for (const auto& d : known_diagnostics())
-        diagnostics.push_back({{"id", d},
-                               {"per_method", diagnostic_is_method_level(d)},
-                               {"metrics", diagnostic_metric_names(d, {})}});
+    // what each measures and needs comes from its own file (info()); its definition is its
+    // entry in docs/conventions.md §5
+    for (const DiagnosticInfo& d : diagnostic_registry())
+        diagnostics.push_back({{"id", d.name},
+                               {"what", d.what},
+                               {"needs", needs_text(d)},
+                               {"per_method", diagnostic_is_method_level(d.name)},
+                               {"metrics", diagnostic_metric_names(d.name, {})}});
     diagnostics.push_back({{"id", "run"},
+                           {"what", "the run record itself; checkable in every case"},
+                           {"needs", ""},
                            {"per_method", false},
                            {"metrics", diagnostic_metric_names("run", {})},
                            {"note", "the run record itself; checkable in every case"}});
@@ -147,11 +170,15 @@ void print_list(const json& doc, const std::string& cases_dir, std::ostream& out
     }
     out << "Problems (parameters: default, valid range, meaning; set as problem.NAME):\n";
     for (const auto& p : doc["problems"]) print_problem(p, out);
-    out << "Diagnostics (metrics, for \"expect\": \"<diagnostic>.<metric>\"):\n";
-    for (const auto& d : doc["diagnostics"])
+    out << "Diagnostics (what each measures, what it needs, its metrics for "
+           "\"expect\": \"<diagnostic>.<metric>\"; definitions: docs/conventions.md §5):\n";
+    for (const auto& d : doc["diagnostics"]) {
+        const std::string needs = d["needs"].get<std::string>();
         out << "  " << d["id"].get<std::string>()
             << (d["per_method"].get<bool>() ? " (per method)" : "") << ": "
-            << joined(d["metrics"], ", ") << "\n";
+            << d["what"].get<std::string>() << (needs.empty() ? "" : " (needs " + needs + ")")
+            << "\n      metrics: " << joined(d["metrics"], ", ") << "\n";
+    }
     out << "Case file keys: docs/case-keys.md\nMethods:\n";
     for (const auto& m : doc["methods"])
         out << "  " << m["id"].get<std::string>() << "  order " << m["order"].get<int>()
