@@ -375,6 +375,28 @@ def series_panels(series: Json, case: Optional[Json] = None) -> List[Tuple[str, 
                     out.append((k, invariant_label(label, inv).replace("{c}", sym), scale))
         elif pat in keys:
             out.append((pat, label, scale))
+    return out + declared_panels(series, keys - {k for k, _, _ in out} - DRAWN_WITH_ANOTHER)
+
+
+# Series drawn inside another series' panel (the reference's d(t) beside the methods').
+DRAWN_WITH_ANOTHER = {"dissipation-drift.d_reference"}
+# What a series that no panel above knows may declare of itself (a new diagnostic's series: its
+# C++ part writes them beside "t" and "y"): its axis label and scale.
+DECLARED_SCALES = ("linear", "log")
+MAX_LABEL = 120
+
+
+def declared_panels(series: Json, keys: Set[str]) -> List[Tuple[str, str, str]]:
+    """[(key, label, scale)] of the step series no entry of SERIES_PANELS draws, in name order:
+    each with the "label" and "scale" its series declares (its name and linear otherwise), so
+    that a new diagnostic's series is drawn without a change here."""
+    out = []
+    for k in sorted(keys):
+        v = next(r["series"][k] for r in series.get("runs", []) if k in r["series"])
+        label, scale = v.get("label"), v.get("scale")
+        ok_label = isinstance(label, str) and 0 < len(label) <= MAX_LABEL
+        out.append((k, label if ok_label else k.replace("$", r"\$"),
+                    scale if scale in DECLARED_SCALES else "linear"))
     return out
 
 
