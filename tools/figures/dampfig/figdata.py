@@ -384,14 +384,17 @@ DRAWN_WITH_ANOTHER = {"dissipation-drift.d_reference"}
 # C++ part writes them beside "t" and "y"): its axis label and scale.
 DECLARED_SCALES = ("linear", "log")
 MAX_LABEL = 120
+# At most this many such panels (in name order): a series file with thousands of unknown keys
+# (hand-made or damaged) must not make a figure of thousands of panels.
+MAX_DECLARED = 8
 
 
 def declared_panels(series: Json, keys: Set[str]) -> List[Tuple[str, str, str]]:
     """[(key, label, scale)] of the step series no entry of SERIES_PANELS draws, in name order:
     each with the "label" and "scale" its series declares (its name and linear otherwise), so
-    that a new diagnostic's series is drawn without a change here."""
+    that a new diagnostic's series is drawn without a change here; the first MAX_DECLARED."""
     out = []
-    for k in sorted(keys):
+    for k in sorted(keys)[:MAX_DECLARED]:
         v = next(r["series"][k] for r in series.get("runs", []) if k in r["series"])
         label, scale = v.get("label"), v.get("scale")
         ok_label = isinstance(label, str) and 0 < len(label) <= MAX_LABEL

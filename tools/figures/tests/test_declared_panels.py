@@ -53,3 +53,14 @@ def test_a_declared_series_is_drawn(monkeypatch: pytest.MonkeyPatch, tmp_path: A
     assert [q for _, _, q in drawn] == [["state-norm.norm"]]
     (ax,) = [a for a in seen[0].axes if a.lines]
     assert ax.get_yscale() == "log" and ax.get_ylabel() == r"$\|z_n\|_2$"
+
+
+def test_declared_panels_are_capped() -> None:
+    """A series file with many unknown keys (hand-made or damaged) gives at most MAX_DECLARED
+    panels, the first in name order."""
+    ser = series_file({})
+    one = ser["runs"][0]["series"].pop("state-norm.norm")
+    for k in range(50):
+        ser["runs"][0]["series"][f"x{k:02d}"] = one
+    panels = fd.series_panels(ser)
+    assert [p[0] for p in panels] == [f"x{k:02d}" for k in range(fd.MAX_DECLARED)]
