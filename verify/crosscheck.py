@@ -22,7 +22,9 @@ disagreement (group "structure").  Checks of unselected methods may be absent (o
 case's `checks_not_run`).  Cases without a file (dampsym matrix builds them in code) take their
 inputs from the report, marked so.  Every "ours" value is computed from scratch by
 verify/xproblems.py, verify/xmethods.py, verify/xrun.py and verify/xmetrics.py (written from the
-papers and docs/, never from the C++ sources or coefficient tables).
+papers and docs/, never from the C++ sources or coefficient tables); a user's method comes from
+its method file, read by verify/xmethodfile.py (the files the run loaded: each case file's
+`method_files`, the run's `--methods`, methods/ beside its cases directory).
 
 Outcomes (verify/xtol.py): a comparison agrees inside its tolerance and disagrees outside; inside
 a tolerance that is not small against the value (>= 0.1 x) it is "not comparable", counted apart
@@ -145,6 +147,7 @@ from . import xcase
 from . import xcaserec
 from . import xjit
 from . import xmethods as xm
+from . import xmethodfile
 from . import xmetrics as xmt
 from . import xrunrec
 from .xmetrics import BadInput
@@ -192,8 +195,9 @@ def run_contexts(case: Rec, spec: Rec, prob: Any) -> Tuple[List[Rec], List[RunCt
         if (method, dt) not in want:
             continue
         if method not in xm.METHODS:
+            why = xmethodfile.UNSUPPORTED.get(method, "unknown method '%s'" % method)
             recs.append(dict(case=case["id"], method=method, dt=dt, verdict="not reproduced",
-                             reason="unknown method '%s'" % method, comparisons=[], notes=[]))
+                             reason=why, comparisons=[], notes=[]))
             continue
         cx = RunCtx(case, spec, prob, run, method, dt, xcase.steps_for(spec, dt), xcase.grid_stride(spec, dt), diags)
         recs.append(xrunrec.check_run(cx))
@@ -440,31 +444,49 @@ def run_all(report: Rec, jobs: int) -> List[Rec]:
     return [r for _, r in sorted(zip(order, res), key=lambda x: x[0])]
 
 
+def load_method_files(report: Rec) -> List[str]:
+    """The user's methods of the run (verify/xmethodfile.py): from each case's file, the run's
+    --methods and the methods/ beside its cases directory."""
+    index = xcase.case_index(run_cases_dir(report.get("provenance") or {}))
+    files = [xcase.recorded_case_file(c) or index.get(c["id"]) for c in report["cases"]]
+    return xmethodfile.load_all(report, [f for f in files if f])
+
+
+def run_cases_dir(prov: Rec) -> str:
+    """The cases directory of the run (its `--cases`, recorded as provenance.cases_dir) when it
+    is still a directory, else verify/cases."""
+    d = prov.get("cases_dir")
+    return d if isinstance(d, str) and d and os.path.isdir(d) else xcase.CASES_DIR
+
+
 def suite_cases(report: Rec) -> Optional[List[str]]:
     """The case ids the run's command line selects when it names a suite and no case (the
-    suite's case files in verify/cases); None when it cannot be told (named cases, a shard,
-    a merge, dampsym matrix)."""
+    suite's case files in the run's cases directory; "all": every one); None when it cannot be
+    told (named cases, a shard, a merge, dampsym matrix)."""
     prov = report.get("provenance") or {}
     if "shard" in prov or "merged_from" in prov:
         return None
     words = xcase.shlex_split(prov.get("command_line") or "")
     if "run" not in words:
         return None
-    rest, suite, i = words[words.index("run") + 1:], "default", 0
+    rest, suites, i = words[words.index("run") + 1:], [], 0
     with_value = {"--out", "--jobs", "--suite", "--method", "--set", "--time-budget", "--shard", "--junit",
                   "--case-timeout", "--max-memory", "--figure-format", "--cases", "--methods"}
     while i < len(rest):
         w = rest[i]
         if w in with_value:
-            suite = rest[i + 1] if w == "--suite" and i + 1 < len(rest) else suite
+            suites += [rest[i + 1]] if w == "--suite" and i + 1 < len(rest) else []
             i += 2
             continue
         if w.startswith("--suite="):
-            suite = w.split("=", 1)[1]
+            suites.append(w.split("=", 1)[1])
         elif not w.startswith("-"):
             return None
         i += 1
-    return sorted(cid for cid, path in xcase.case_index().items() if suite in xcase.suites_of(path))
+    suites = suites or ["default"]
+    index = xcase.case_index(run_cases_dir(prov))
+    return sorted(cid for cid, path in index.items()
+                  if "all" in suites or set(suites) & set(xcase.suites_of(path)))
 
 
 SUMMARY_KNOWN = ("cases", "failed_cases", "runs", "checks_passed", "checks_failed", "checks_not_run")
@@ -535,6 +557,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     try:
         xcache.configure(args.cache, write=not args.cache_read_only)
         report = load_report(args.report)
+        load_method_files(report)   # registered here: the forked workers inherit them
         warm_s = xjit.warm()   # compile the loops once here; the forked workers inherit them
         res = run_all(report, args.jobs)
     except BadInput as exc:

@@ -31,7 +31,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 CASES_DIR = os.path.join(HERE, "cases")
 METHOD_LEVEL = ("order", "local-order", "stability-sweep", "trace-taylor")
 OPS = ("near", "le", "ge", "lt", "gt")
-_INDEX: Dict[str, str] = {}
+_INDEX: Dict[str, Dict[str, str]] = {}
 # a case file larger than this is not read as one (a report naming /dev/zero or a huge file)
 CASE_FILE_LIMIT = 16 << 20
 
@@ -44,17 +44,22 @@ class CaseFileError(Exception):
 
 
 def case_index(cases_dir: str = CASES_DIR) -> Dict[str, str]:
-    """id -> path of every case file in verify/cases (read once)."""
-    if not _INDEX:
-        for path in sorted(glob.glob(os.path.join(cases_dir, "*.json"))):
+    """id -> path of every case file in a cases directory (verify/cases unless named; each
+    directory read once)."""
+    key = os.path.abspath(cases_dir)
+    if key not in _INDEX:
+        index: Dict[str, str] = {}
+        for path in sorted(glob.glob(os.path.join(key, "*.json"))):
             try:
                 with open(path) as fh:
-                    cid = json.load(fh).get("id")
-            except (OSError, ValueError) as exc:
+                    doc = json.load(fh)
+            except (OSError, ValueError, RecursionError) as exc:
                 raise CaseFileError("%s: not readable JSON (%s)" % (path, exc))
+            cid = doc.get("id") if isinstance(doc, dict) else None
             if isinstance(cid, str):
-                _INDEX[cid] = path
-    return _INDEX
+                index[cid] = path
+        _INDEX[key] = index
+    return _INDEX[key]
 
 
 def suites_of(path: str) -> List[str]:

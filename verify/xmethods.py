@@ -494,6 +494,9 @@ IMPLICIT = {"implicit-euler", "implicit-midpoint", "gauss1", "gauss2", "gauss3",
 NEEDS_SEPARABLE = {"csv1", "csv2", "csv1-perk", "csv2-perk", "etdprk2", "cse-if", "cse-etd",
                    "symplectic-euler", "symplectic-euler-adjoint", "stormer-verlet"}
 NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
+# Tableaux of the user's method files (verify/xmethodfile.py registers them) other than explicit
+# plain ones (those join EXPLICIT_RK): id -> (form "plain" | "if", A, b, c)
+FILE_RK: Dict[str, Any] = {}
 # General linear methods (BS): a step maps r values y^[n] (here r = 2), not the state alone, so a
 # run from a mid-run state needs y^[n], the one-step map of the state has no Jacobian to test for
 # conformal symplecticity, and the Newton counts follow the GLM's own stages.
@@ -650,7 +653,21 @@ def kg_box_step(prob: Any, h: Any) -> Any:
     return step
 
 
+def file_coef(method: str, prob: Any, h: Any) -> Any:
+    """(G, coef) of a method file's tableau: the plain form, or B (2.5) on the conformal form."""
+    form, A, b, c = FILE_RK[method]
+    A, b, c = np.array(A, float), np.array(b, float), np.array(c, float)
+    if form == "if":
+        if not hasattr(prob, "N"):
+            raise NotApplicable("%s (integrating factor) needs the conformal form" % method)
+        return prob.N, ifrk_coef(prob, A, b, c, h)
+    return prob.f, plain_coef(A, b, c)
+
+
 def make_stepper(method: str, prob: Any, h: Any) -> Any:
+    if method in FILE_RK:
+        G, coef = file_coef(method, prob, h)
+        return rk_family_step(G, coef, h, implicit=method in IMPLICIT)
     if method == "kg-box":
         return kg_box_step(prob, h)
     if method in BURGERS_B:

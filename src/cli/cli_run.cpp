@@ -4,6 +4,7 @@
 #include "cli/cli_progress.hpp"
 
 #include "harness/case/case.hpp"
+#include "harness/case/recorded_file.hpp"
 #include "harness/ci/junit.hpp"
 #include "harness/ci/shard.hpp"
 #include "harness/figures/figures.hpp"
@@ -186,12 +187,15 @@ int cmd_run(const Selection& sel, const OutputOptions& o, int jobs, double time_
     if (!output_errors.empty()) report["output_errors"] = output_errors; // recorded, not fatal
     report["provenance"] = make_provenance(command_line, jobs, start);
     report["provenance"]["cases_dir"] = fs::absolute(cases_dir).lexically_normal().string();
-    // what was run, so that merge refuses shards of different selections or overrides
-    report["provenance"]["selection"] = {
-        {"targets", sel.targets}, {"suites", sel.suites},
-        {"filters", sel.filters}, {"problems", sel.problems},
-        {"methods", sel.methods}, {"method_files", sel.method_files},
-        {"plugins", sel.plugins}, {"sets", sets}};
+    // what was run, so that merge refuses shards of different selections or overrides; the
+    // method files absolute, as a case's file, for a reader in another directory (the
+    // cross-check steps their methods)
+    std::vector<std::string> method_files;
+    for (const auto& f : sel.method_files) method_files.push_back(recorded_case_file(f));
+    report["provenance"]["selection"] = {{"targets", sel.targets}, {"suites", sel.suites},
+                                         {"filters", sel.filters}, {"problems", sel.problems},
+                                         {"methods", sel.methods}, {"method_files", method_files},
+                                         {"plugins", sel.plugins}, {"sets", sets}};
     if (selected.shard)
         report["provenance"]["shard"] = {{"index", selected.shard->index},
                                          {"count", selected.shard->count},

@@ -1,0 +1,144 @@
+"""The user's own methods in the cross-check (verify/xmethodfile.py): a method file's tableau is
+read from the file by the cross-check's own grammar and stepped by its own engines.
+
+Unit tests (no dampsym needed): the coefficient grammar of docs/method-files.md (values, the
+errors it names), an `rk` file registered as explicit, implicit or integrating-factor method, a
+file of another family named with its reason.
+
+With --bin (ctest crosscheck.heldout): a case with its own method files (an explicit SSP RK3, a
+two-stage Radau IIA under the integrating factor) is run by dampsym and cross-checked with
+--strict: every run reproduced and agreeing. Negative control: the same report against the
+Radau file with one coefficient changed by 1e-6 (relative) disagrees. dampsym's own evaluation
+of expression coefficients (its export writes the doubles) equals the cross-check's bit for bit."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from typing import Any, Dict, List
+
+import mpmath
+import pytest
+
+from verify import xmethodfile as xf
+from verify import xmethods as xm
+from verify import xnewton
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+Json = Dict[str, Any]
+EXPRESSIONS = ["1/2 - sqrt(3)/6", "(3 + 2*sqrt(3))/3", "1/6", "-1/12", "0.1", "2/3", "5/12",
+               "sqrt(2) - 1", "1/7 + 1/11 - 1/13", "-(1 - sqrt(5))/10", "3.14159/2",
+               # long double rounds these to another double than exact arithmetic would (and
+               # double arithmetic the first three to yet another): the test tells them apart
+               "536/61 - sqrt(922)/576", "14/441 - sqrt(813)/850", "775/869 - sqrt(928)/140"]
+
+
+def _write(path: str, doc: Any) -> str:
+    with open(path, "w") as fh:
+        json.dump(doc, fh)
+    return path
+
+
+def test_coefficient_grammar() -> None:
+    with mpmath.workdps(60):
+        exact = float(mpmath.mpf(1) / 2 - mpmath.sqrt(3) / 6)
+    assert xf.coefficient("1/2 - sqrt(3)/6") == exact
+    assert xf.coefficient(" ( 3 + 2*sqrt(3) ) / 3") == xf.coefficient("(3 + 2*sqrt(3))/3")
+    assert xf.coefficient("--1/4") == 0.25 and xf.coefficient(0.5) == 0.5 and xf.coefficient(2) == 2.0
+    assert xf.coefficient("1/6") == 1 / 6
+    for bad in ("1e-3", "sqrt(-1)", "1/0", "exp(1)", "1/", "(1", "1 2", "", True, None, [1]):
+        with pytest.raises(xf.MethodFileError):
+            xf.coefficient(bad)
+
+
+def _method_files(d: str) -> List[str]:
+    """An explicit SSP RK3, a two-stage Radau IIA under the integrating factor, an ERK file."""
+    ssp = _write(os.path.join(d, "ssp.json"), {
+        "id": "xc-ssprk3", "family": "rk", "order": 3,
+        "tableau": {"A": [["0", "0", "0"], ["1", "0", "0"], ["1/4", "1/4", "0"]],
+                    "b": ["1/6", "1/6", "2/3"], "c": ["0", "1", "1/2"]}})
+    radau = _write(os.path.join(d, "radau.json"), {
+        "id": "xc-radau-if", "family": "rk", "order": 3, "integrating_factor": True,
+        "tableau": {"A": [["5/12", "-1/12"], ["3/4", "1/4"]], "b": ["3/4", "1/4"], "c": ["1/3", "1"]}})
+    other = _write(os.path.join(d, "erk.json"), {"id": "xc-etd", "family": "exponential-rk", "order": 2})
+    return [ssp, radau, other]
+
+
+def test_rk_files_join_the_engines(tmp_path: Any) -> None:
+    files = _method_files(str(tmp_path))
+    assert [xf.load(p) for p in files] == ["xc-ssprk3", "xc-radau-if", "xc-etd"]
+    assert xm.EXPLICIT_RK["xc-ssprk3"][1] == [1 / 6, 1 / 6, 2 / 3] and xm.EXPLICIT_EVALS["xc-ssprk3"] == 3
+    assert xm.FILE_RK["xc-radau-if"][0] == "if" and "xc-radau-if" in xm.IMPLICIT
+    assert xnewton.supported("xc-radau-if") and "xc-radau-if" in xm.NEEDS_CONFORMAL
+    assert "xc-etd" not in xm.METHODS and "exponential-rk" in xf.UNSUPPORTED["xc-etd"]
+    assert xf.load(str(tmp_path / "none.json")) is None
+
+
+def _case(work: str, methods_dir: str) -> str:
+    with open(os.path.join(ROOT, "verify", "cases", "hill-orders.json")) as fh:
+        spec = json.load(fh)
+    spec.update(id="hill-user-methods", suites=["heldout"], methods=["xc-ssprk3", "xc-radau-if"],
+                method_files=[os.path.relpath(os.path.join(methods_dir, f), work)
+                              for f in ("ssp.json", "radau.json")],
+                expect={"both converge at order 3": {"metric": "order.slope", "methods": ["xc-ssprk3", "xc-radau-if"],
+                                                      "near": 3.0, "tol": 0.2}})
+    spec.pop("figures", None)
+    return _write(os.path.join(work, "hill-user-methods.json"), spec)
+
+
+def _crosscheck(report_path: str, out: str) -> Json:
+    subprocess.run([sys.executable, "-m", "verify.crosscheck", report_path, "--out", out, "--strict", "--jobs", "2"],
+                   cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with open(os.path.join(out, "crosscheck.json")) as fh:
+        return dict(json.load(fh))
+
+
+def test_user_methods_reproduced(dampsym_bin: str, workdir: str) -> None:
+    work = os.path.join(workdir, "user-methods")
+    mdir = os.path.join(work, "methods")
+    os.makedirs(mdir, exist_ok=True)
+    _method_files(mdir)
+    case = _case(work, mdir)
+    out = os.path.join(work, "report")
+    rc = subprocess.run([os.path.abspath(dampsym_bin), "run", case, "--out", out, "-q"],
+                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
+    assert rc == 0
+    report = os.path.join(out, "report.json")
+    s = _crosscheck(report, os.path.join(work, "good"))["summary"]
+    assert s["runs"]["not reproduced"] == 0 and s["runs"]["agree"] > 0, s
+    assert s["comparisons"]["disagree"] == 0 and s["checks"]["agree"] > 0, s
+    # negative control: the Radau file's a_21 = 3/4 times (1 + 1e-6) after the run
+    radau = os.path.join(mdir, "radau.json")
+    with open(radau) as fh:
+        doc = json.load(fh)
+    doc["tableau"]["A"][1][0] = "3/4 * (1 + 1/1000000)"
+    _write(radau, doc)
+    bad = _crosscheck(report, os.path.join(work, "planted"))
+    assert bad["summary"]["comparisons"]["disagree"] >= 1
+    assert all(r["method"] == "xc-radau-if" for r in bad["runs"] if r["verdict"] == "disagree")
+
+
+def test_coefficients_as_dampsym_evaluates_them(dampsym_bin: str, workdir: str) -> None:
+    """One explicit step z1 = z + h e f(z) of a one-stage method with b = [e], on the oscillator
+    from (q, p) = (0, 1) with h = 1: q1 = e exactly, so dampsym's final q is the double it
+    evaluated e to. Equal to the cross-check's long-double evaluation bit for bit."""
+    work = os.path.join(workdir, "coefficients")
+    os.makedirs(work, exist_ok=True)
+    files, ids = [], []
+    for k, e in enumerate(EXPRESSIONS):
+        ids.append("xc-coef-%d" % k)
+        files.append(_write(os.path.join(work, ids[-1] + ".json"), {
+            "id": ids[-1], "family": "rk", "order": 1, "explicit": True,
+            "tableau": {"A": [["0"]], "b": [e], "c": ["0"]}}))
+    case = _write(os.path.join(work, "coef.json"), {
+        "id": "xc-coefficients", "title": "coefficients", "source": "test", "suites": ["heldout"],
+        "problem": {"id": "oscillator", "omega": 1.0, "gamma": 0.0, "q0": 0.0, "p0": 1.0},
+        "methods": ids, "method_files": [os.path.basename(f) for f in files], "t_end": 1.0, "dt": 1.0,
+        "no_checks_because": "reads the coefficients back"})
+    out = os.path.join(work, "report")
+    subprocess.run([os.path.abspath(dampsym_bin), "run", case, "--out", out, "-q"], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with open(os.path.join(out, "report.json")) as fh:
+        runs = {r["method"]: r["final_state"][0] for r in json.load(fh)["cases"][0]["runs"]}
+    assert [runs[i] for i in ids] == [xf.coefficient(e) for e in EXPRESSIONS]

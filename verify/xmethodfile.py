@@ -1,0 +1,225 @@
+"""The user's own methods: the cross-check reads the method files a run loaded (docs/method-files.md)
+and steps their tableaux with its own engines, so a method brought as a file is reproduced like a
+built-in one.  Independent of dampsym's parser: the coefficients are evaluated here from the
+file's text by the grammar docs/method-files.md gives (an expression in +, -, *, /, sqrt and
+parentheses, or a JSON number), in long-double arithmetic (mpmath at a 64-bit mantissa, every
+operation rounded to nearest, as the documented "evaluated in long double") and rounded to
+double once.
+
+Families stepped here: `rk` -- explicit tableaux as the built-in explicit RK methods
+(xmethods.EXPLICIT_RK: the compiled loops, the stability polynomial), implicit tableaux by the
+RK-family Newton step (xmethods.rk_family_step, Newton counts by xnewton), and either under the
+integrating factor B(2.5) (xmethods.ifrk_coef, as glifrk).  A method file of another family is
+named with the reason in the runs it leaves "not reproduced".
+
+Where the files are found (as dampsym finds them): every case file's `method_files` (relative to
+the case file), the run's `--methods` (provenance.selection.method_files) and every *.json in
+`methods/` beside the run's cases directory."""
+from __future__ import annotations
+
+import glob
+import json
+import os
+import re
+import stat
+from typing import Any, Dict, List, Optional, Tuple
+
+import mpmath
+
+from . import xmethods as xm
+from . import xnewton
+
+# a method file larger than this is not read (as dampsym: docs/method-files.md "The format")
+FILE_LIMIT = 16 << 20
+# method id -> why the cross-check does not step it (a family without an engine here, a file it
+# cannot read): the reason its runs are not reproduced
+UNSUPPORTED: Dict[str, str] = {}
+Json = Dict[str, Any]
+
+
+class MethodFileError(ValueError):
+    """A coefficient or a file the cross-check cannot read."""
+
+
+_TOKEN = re.compile(r"\s*(?:(\d+(?:\.\d+)?)|(sqrt)|([-+*/()]))")
+
+
+def _tokens(text: str) -> List[str]:
+    out, pos, text = [], 0, text.rstrip()
+    while pos < len(text):
+        m = _TOKEN.match(text, pos)
+        if m is None or m.end() == pos:
+            raise MethodFileError("coefficient %r: cannot read it at position %d" % (text, pos))
+        out.append(m.group(0).strip())
+        pos = m.end()
+    return out
+
+
+class _Parser:
+    """expr := term (('+'|'-') term)*; term := factor (('*'|'/') factor)*;
+    factor := ('+'|'-') factor | number | 'sqrt' '(' expr ')' | '(' expr ')'."""
+
+    def __init__(self, text: str) -> None:
+        self.text, self.toks, self.i = text, _tokens(text), 0
+
+    def peek(self) -> Optional[str]:
+        return self.toks[self.i] if self.i < len(self.toks) else None
+
+    def take(self, want: Optional[str] = None) -> str:
+        tok = self.peek()
+        if tok is None or (want is not None and tok != want):
+            raise MethodFileError("coefficient %r: expected %s" % (self.text, want or "more"))
+        self.i += 1
+        return tok
+
+    def expr(self) -> Any:
+        v = self.term()
+        while self.peek() in ("+", "-"):
+            v = v + self.term() if self.take() == "+" else v - self.term()
+        return v
+
+    def term(self) -> Any:
+        v = self.factor()
+        while self.peek() in ("*", "/"):
+            if self.take() == "*":
+                v = v * self.factor()
+                continue
+            d = self.factor()
+            if d == 0:
+                raise MethodFileError("coefficient %r: division by zero" % self.text)
+            v = v / d
+        return v
+
+    def factor(self) -> Any:
+        tok = self.take()
+        if tok in ("+", "-"):
+            v = self.factor()
+            return v if tok == "+" else -v
+        if tok == "sqrt":
+            self.take("(")
+            v = self.expr()
+            self.take(")")
+            if v < 0:
+                raise MethodFileError("coefficient %r: sqrt of a negative number" % self.text)
+            return mpmath.sqrt(v)
+        if tok == "(":
+            v = self.expr()
+            self.take(")")
+            return v
+        if tok[0].isdigit():
+            return mpmath.mpf(tok)
+        raise MethodFileError("coefficient %r: unexpected %r" % (self.text, tok))
+
+
+def coefficient(v: Any) -> float:
+    """A coefficient of a method file: a JSON number as it is, an expression string evaluated
+    in long double (64-bit mantissa, each operation rounded) and rounded to double once."""
+    if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+        raise MethodFileError("coefficient %r: neither a number nor an expression" % (v,))
+    if not isinstance(v, str):
+        return float(v)
+    with mpmath.workprec(64):
+        p = _Parser(v)
+        x = p.expr()
+        if p.peek() is not None:
+            raise MethodFileError("coefficient %r: unexpected %r" % (v, p.peek()))
+        out = float(x)
+    if out != out or out in (float("inf"), float("-inf")):
+        raise MethodFileError("coefficient %r: not finite" % v)
+    return out
+
+
+def tableau(t: Any) -> Tuple[List[List[float]], List[float], List[float]]:
+    """(A, b, c) of a {"A", "b", "c"} object, A square s x s, b and c of length s."""
+    if not isinstance(t, dict) or not all(k in t for k in ("A", "b", "c")):
+        raise MethodFileError("tableau: needs A, b and c")
+    A = [[coefficient(x) for x in row] for row in t["A"]]
+    b, c = [coefficient(x) for x in t["b"]], [coefficient(x) for x in t["c"]]
+    s = len(b)
+    if s < 1 or len(c) != s or len(A) != s or any(len(row) != s for row in A):
+        raise MethodFileError("tableau: A must be s x s and b, c of length s")
+    return A, b, c
+
+
+def register_rk(mid: str, A: List[List[float]], b: List[float], c: List[float], integrating_factor: bool,
+                source: str) -> None:
+    """An `rk` method file's method, known to the engines of xmethods (and xnewton's counts)."""
+    explicit = all(A[i][j] == 0.0 for i in range(len(b)) for j in range(i, len(b)))
+    if explicit and not integrating_factor:
+        xm.EXPLICIT_RK[mid] = (A, b, c)
+    else:
+        xm.FILE_RK[mid] = ("if" if integrating_factor else "plain", A, b, c)
+    if explicit:
+        xm.EXPLICIT_EVALS[mid] = len(b)
+    else:
+        xm.IMPLICIT.add(mid)
+        xnewton.SUPPORTED.add(mid)
+    if integrating_factor:
+        xm.NEEDS_CONFORMAL.add(mid)
+    xm.METHODS.add(mid)
+    xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
+
+
+def read_file(path: str) -> Json:
+    """A method file: a regular file of at most FILE_LIMIT bytes holding a JSON object with an id."""
+    try:
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode) or st.st_size > FILE_LIMIT:
+            raise MethodFileError("%s: not a regular file of at most 16 MiB" % path)
+        with open(path) as fh:
+            doc = json.load(fh)
+    except (OSError, ValueError, RecursionError) as exc:
+        raise MethodFileError("%s: %s" % (path, exc))
+    if not isinstance(doc, dict) or not isinstance(doc.get("id"), str):
+        raise MethodFileError("%s: not a method file (no id)" % path)
+    return doc
+
+
+def load(path: str) -> Optional[str]:
+    """Registers the method of one file; its id (None when the file has none to read)."""
+    try:
+        doc = read_file(path)
+    except MethodFileError:
+        return None
+    mid = doc["id"]
+    if mid in xm.METHODS or mid in UNSUPPORTED:
+        return mid        # the same file named twice, or a built-in id dampsym refused anyway
+    family = doc.get("family")
+    try:
+        if family != "rk":
+            raise MethodFileError("a method file of family %r: the cross-check steps only the "
+                                  "'rk' family's tableaux" % family)
+        A, b, c = tableau(doc.get("tableau"))
+        register_rk(mid, A, b, c, doc.get("integrating_factor") is True, os.path.abspath(path))
+    except (MethodFileError, TypeError) as exc:
+        UNSUPPORTED[mid] = "%s: %s" % (path, exc)
+    return mid
+
+
+def paths(report: Json, case_files: List[str]) -> List[str]:
+    """The method files the run loaded: each case file's `method_files` (relative to the case
+    file), the run's --methods and the *.json of methods/ beside its cases directory."""
+    out: List[str] = []
+    for f in case_files:
+        try:
+            with open(f) as fh:
+                spec = json.load(fh)
+        except (OSError, ValueError, RecursionError):
+            continue
+        mf = spec.get("method_files") if isinstance(spec, dict) else None
+        for p in mf if isinstance(mf, list) else []:
+            if isinstance(p, str):
+                out.append(os.path.join(os.path.dirname(os.path.abspath(f)), p))
+    prov = report.get("provenance") or {}
+    sel = (prov.get("selection") or {}).get("method_files")
+    out += [p for p in sel if isinstance(p, str)] if isinstance(sel, list) else []
+    cdir = prov.get("cases_dir")
+    if isinstance(cdir, str) and cdir:
+        out += sorted(glob.glob(os.path.join(os.path.dirname(os.path.abspath(cdir)), "methods", "*.json")))
+    return list(dict.fromkeys(out))
+
+
+def load_all(report: Json, case_files: List[str]) -> List[str]:
+    """Registers every method file of the run; the ids read."""
+    ids = [load(p) for p in paths(report, case_files)]
+    return [i for i in ids if i is not None]
