@@ -77,7 +77,8 @@ Tolerance table, by metric family (verify/xfamilies.py FAMILIES, one compare fun
   max_rel_step      E_n above 1e-10: equal, or a tie to 1e-9; below: a step in 1..n (not
                     comparable: the argmax of round-off); 1e9 disagrees.
   energy.*          rel 1e-6 + 8 sqrt(n) eps S_H(z0) (random-walk round-off of H = T + V; on S_H for
-                    *_res, over the run time for slopes); growth_ratio when the change is at
+                    *_res, over the run time for slopes); growth_ratio r = a2/a1 + r u (1/a1 + 1/a2)
+                    (u the change's round-off, a1, a2 the halves' maxima); when the change is at
                     round-off: a ratio of two round-off maxima, any positive number (not comparable);
                     the errors against the reference (max/final_abs_error, drift_slope,
                     error_res_slope) + max|grad H(z_ref)| x (state bound + our reference's
@@ -489,7 +490,8 @@ def suite_cases(report: Rec) -> Optional[List[str]]:
                   if "all" in suites or set(suites) & set(xcase.suites_of(path)))
 
 
-SUMMARY_KNOWN = ("cases", "failed_cases", "runs", "checks_passed", "checks_failed", "checks_not_run")
+SUMMARY_KNOWN = ("cases", "failed_cases", "runs", "checks_passed", "checks_failed", "checks_not_run",
+                 "methods_refuted")
 
 
 def summary_record(report: Rec) -> Rec:
@@ -500,7 +502,8 @@ def summary_record(report: Rec) -> Rec:
                 checks_passed=sum(1 for k in chks if k.get("passed")),
                 checks_failed=sum(1 for k in chks if not k.get("passed")),
                 failed_cases=sum(1 for c in cases if any(not k.get("passed") for k in c.get("checks") or [])),
-                checks_not_run=sum(len(c.get("checks_not_run") or []) for c in cases))
+                checks_not_run=sum(len(c.get("checks_not_run") or []) for c in cases),
+                methods_refuted=len({r.get("method") for c in cases for r in c["runs"] if r.get("coefficients_refuted")}))
     comps = [dict(quantity="summary." + k, ours=ours[k], theirs=s[k], tolerance="equal: counted from its cases",
                   agree=ours[k] == s[k], status="agree" if ours[k] == s[k] else "disagree") for k in SUMMARY_KNOWN if k in s]
     rec = dict(case="(report)", method="(summary)", comparisons=comps, notes=[],

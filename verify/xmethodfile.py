@@ -6,7 +6,8 @@ parentheses, or a JSON number), in long-double arithmetic (mpmath at a 64-bit ma
 operation rounded to nearest, as the documented "evaluated in long double") and rounded to
 double once.
 
-Families stepped here: `rk` -- explicit tableaux as the built-in explicit RK methods
+Families stepped here: `partitioned-rk` (xmethods.prk_file_step, on the separable form) and
+`rk` -- explicit tableaux as the built-in explicit RK methods
 (xmethods.EXPLICIT_RK: the compiled loops, the stability polynomial), implicit tableaux by the
 RK-family Newton step (xmethods.rk_family_step, Newton counts by xnewton), and either under the
 integrating factor B(2.5) (xmethods.ifrk_coef, as glifrk).  A method file of another family is
@@ -160,6 +161,24 @@ def register_rk(mid: str, A: List[List[float]], b: List[float], c: List[float], 
     xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
 
 
+def register_prk(mid: str, q: Any, p: Any, source: str) -> None:
+    """A `partitioned-rk` file's pair (q and p tableaux of one size), stepped by
+    xmethods.prk_file_step: stage by stage when its stages can be ordered (then one force
+    evaluation per stage whose F_i some weight reads), else by Newton."""
+    if len(q[1]) != len(p[1]):
+        raise MethodFileError("partitioned-rk: the q and p tableaux must have the same size")
+    xm.FILE_PRK[mid] = (q, p)
+    s = len(q[1])
+    if xm.prk_schedule(q[0], p[0]) is not None:
+        xm.EXPLICIT_EVALS[mid] = sum(1 for i in range(s)
+                                     if p[1][i] != 0 or any(p[0][k][i] != 0 for k in range(s)))
+    else:
+        xm.IMPLICIT.add(mid)
+    xm.NEEDS_SEPARABLE.add(mid)
+    xm.METHODS.add(mid)
+    xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
+
+
 def read_file(path: str) -> Json:
     """A method file: a regular file of at most FILE_LIMIT bytes holding a JSON object with an id."""
     try:
@@ -186,11 +205,14 @@ def load(path: str) -> Optional[str]:
         return mid        # the same file named twice, or a built-in id dampsym refused anyway
     family = doc.get("family")
     try:
-        if family != "rk":
-            raise MethodFileError("a method file of family %r: the cross-check steps only the "
-                                  "'rk' family's tableaux" % family)
-        A, b, c = tableau(doc.get("tableau"))
-        register_rk(mid, A, b, c, doc.get("integrating_factor") is True, os.path.abspath(path))
+        if family == "rk":
+            A, b, c = tableau(doc.get("tableau"))
+            register_rk(mid, A, b, c, doc.get("integrating_factor") is True, os.path.abspath(path))
+        elif family == "partitioned-rk":
+            register_prk(mid, tableau(doc.get("q")), tableau(doc.get("p")), os.path.abspath(path))
+        else:
+            raise MethodFileError("a method file of family %r: the cross-check steps the 'rk' and "
+                                  "'partitioned-rk' families' tableaux" % family)
     except (MethodFileError, TypeError) as exc:
         UNSUPPORTED[mid] = "%s: %s" % (path, exc)
     return mid

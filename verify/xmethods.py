@@ -7,7 +7,7 @@ leading batch axes and may be complex (the complex step of the step map gives it
 Jacobian; implicit stages are then iterated until both the real and the imaginary parts have
 converged, i.e. the implicit-function-theorem derivative).
 """
-from typing import Any, Dict
+from typing import Any, Dict, List
 import math
 from fractions import Fraction
 
@@ -497,6 +497,8 @@ NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
 # Tableaux of the user's method files (verify/xmethodfile.py registers them) other than explicit
 # plain ones (those join EXPLICIT_RK): id -> (form "plain" | "if", A, b, c)
 FILE_RK: Dict[str, Any] = {}
+# Partitioned pairs of the user's method files: id -> (q tableau (A, b, c), p tableau (A, b, c))
+FILE_PRK: Dict[str, Any] = {}
 # General linear methods (BS): a step maps r values y^[n] (here r = 2), not the state alone, so a
 # run from a mid-run state needs y^[n], the one-step map of the state has no Jacobian to test for
 # conformal symplecticity, and the Newton counts follow the GLM's own stages.
@@ -664,7 +666,104 @@ def file_coef(method: str, prob: Any, h: Any) -> Any:
     return prob.f, plain_coef(A, b, c)
 
 
+def prk_schedule(Aq: Any, Ap: Any) -> Any:
+    """An order in which the stages of a partitioned pair can be computed one after the other
+    (docs/method-files.md "explicit"): Q_i once every P_j with a_ij != 0 is known; P_i once
+    every Q_j with a^_ij != 0 (F_j = F(Q_j)) and every other P_j with a^_ij != 0 is known (its
+    own damping term a^_ii 2 gamma_i P_i is linear: solved in closed form).  [("q"|"p", i)], or
+    None when the stages are coupled (then solved together by Newton)."""
+    s = len(Aq)
+    known: Dict[Any, bool] = {}
+    order: List[Any] = []
+    while len(order) < 2 * s:
+        ready = [(k, i) for k in ("q", "p") for i in range(s) if (k, i) not in known and all(
+            known.get(dep, False) for dep in
+            ([("p", j) for j in range(s) if Aq[i][j] != 0] if k == "q" else
+             [("q", j) for j in range(s) if Ap[i][j] != 0] + [("p", j) for j in range(s) if Ap[i][j] != 0 and j != i]))]
+        if not ready:
+            return None
+        known[ready[0]] = True
+        order.append(ready[0])
+    return order
+
+
+def prk_file_step(prob: Any, h: Any, method: str) -> Any:
+    """A partitioned pair on the separable form q' = dT(p), p' = F(t, q) - 2 gamma p (docs/
+    method-files.md "partitioned-rk": stage times from the q tableau's c):
+        Q_i = q + h sum_j a_ij dT(P_j),   P_i = p + h sum_j a^_ij (F(t_j, Q_j) - 2 gamma_j P_j),
+        q1 = q + h sum_i b_i dT(P_i),     p1 = p + h sum_i b^_i (F(t_i, Q_i) - 2 gamma_i P_i),
+    stage by stage when prk_schedule finds an order, else by Newton on all stages at once."""
+    if not getattr(prob, "separable", False):
+        raise NotApplicable("%s needs a separable q/p problem" % method)
+    (Aq, bq, cq), (Ap, bp, _) = FILE_PRK[method]
+    Aq, bq, cq, Ap, bp = (np.array(x, float) for x in (Aq, bq, cq, Ap, bp))
+    order, nq, s = prk_schedule(Aq, Ap), prob.nq, len(bq)
+
+    def finish(t: Any, q: Any, p: Any, Q: Any, P: Any) -> Any:
+        F = [prob.force(t + cq[i] * h, Q[i]) - 2 * prob.gamma(t + cq[i] * h) * P[i] for i in range(s)]
+        q1 = q + h * sum(bq[i] * prob.dT(P[i]) for i in range(s) if bq[i] != 0)
+        p1 = p + h * sum(bp[i] * F[i] for i in range(s) if bp[i] != 0)
+        return np.concatenate([q1, p1], axis=-1)
+
+    def staged(t: Any, z: Any) -> Any:
+        q, p = z[..., :nq], z[..., nq:]
+        Q, P, F = [q] * s, [p] * s, [q] * s
+        g = [prob.gamma(t + cq[i] * h) for i in range(s)]
+        for kind, i in order:
+            if kind == "q":
+                Q[i] = q + h * sum(Aq[i, j] * prob.dT(P[j]) for j in range(s) if Aq[i, j] != 0)
+                F[i] = prob.force(t + cq[i] * h, Q[i])
+                continue
+            acc = p + h * sum(Ap[i, j] * (F[j] - (2 * g[j] * P[j] if j != i else 0))
+                              for j in range(s) if Ap[i, j] != 0)
+            P[i] = acc / (1 + 2 * h * Ap[i, i] * g[i])
+        return finish(t, q, p, Q, P), 0
+
+    def residual(t: Any, q: Any, p: Any, Q: Any, P: Any) -> Any:
+        rq = [Q[i] - q - h * sum(Aq[i, j] * prob.dT(P[j]) for j in range(s) if Aq[i, j] != 0) for i in range(s)]
+        rp = [P[i] - p - h * sum(Ap[i, j] * (prob.force(t + cq[j] * h, Q[j]) - 2 * prob.gamma(t + cq[j] * h) * P[j])
+                                 for j in range(s) if Ap[i, j] != 0) for i in range(s)]
+        return np.concatenate(rq + rp)
+
+    def coupled(t: Any, z: Any) -> Any:
+        """Simplified Newton: the stage Jacobian I - h [[0, A (x) T''], [A^ (x) F', -A^ (x) 2 gamma]]
+        with T'' and F' at the step's start (the field's complex-step Jacobian), iterated to
+        round-off (xmethods._converged)."""
+        q, p = z[:nq], z[nq:]
+        Jf = jac_cs(prob.f, t, np.asarray(z.real, float))
+        Tpp, Fq = Jf[:nq, nq:], Jf[nq:, :nq] + 0.0
+        g = np.array([prob.gamma(t + cq[j] * h) for j in range(s)])
+        M = np.eye(2 * s * nq)
+        M[:s * nq, s * nq:] -= h * np.kron(Aq, Tpp)
+        M[s * nq:, :s * nq] -= h * np.kron(Ap, Fq)
+        M[s * nq:, s * nq:] += h * np.kron(Ap * 2 * g[None, :], np.eye(nq))
+        Minv = np.linalg.inv(M)
+        Q, P, last = [q] * s, [p] * s, np.inf
+        for it in range(1, 101):
+            dX = -(Minv @ residual(t, q, p, Q, P))
+            Q = [Q[i] + dX[i * nq:(i + 1) * nq] for i in range(s)]
+            P = [P[i] + dX[(s + i) * nq:(s + i + 1) * nq] for i in range(s)]
+            X = np.concatenate(Q + P)
+            if not np.all(np.isfinite(X)):
+                raise SolveFailed("non-finite Newton iterate")
+            done, last = _converged(dX, X, last, it)
+            if done:
+                return finish(t, q, p, Q, P), it
+        raise SolveFailed("Newton did not converge")
+
+    def batched(t: Any, z: Any) -> Any:
+        z = np.asarray(z)
+        if z.ndim == 1:
+            return coupled(t, z)
+        flat = z.reshape(-1, z.shape[-1])
+        outs = [coupled(t, zz) for zz in flat]
+        return np.stack([o[0] for o in outs]).reshape(z.shape), max(o[1] for o in outs)
+    return staged if order is not None else batched
+
+
 def make_stepper(method: str, prob: Any, h: Any) -> Any:
+    if method in FILE_PRK:
+        return prk_file_step(prob, h, method)
     if method in FILE_RK:
         G, coef = file_coef(method, prob, h)
         return rk_family_step(G, coef, h, implicit=method in IMPLICIT)

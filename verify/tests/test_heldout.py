@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import os
 import subprocess
 import sys
@@ -312,3 +313,45 @@ def test_implicit_tableau_power_formula() -> None:
     out = xsweep.sweep("implicit-midpoint", {"omega": 3.51, "gamma": [0.0, 1.0, 0.5],
                                                           "h": [0.1, 1.0, 0.1]})
     assert "power_mismatch_points" in out and "max_power_boundary_mismatch_cells" in out
+
+
+def _energy_ctx(prob: Any, nsteps: int, max_change: float) -> Any:
+    from verify.xrunctx import RunCtx
+    cx = RunCtx.__new__(RunCtx)
+    cx.prob, cx.nsteps, cx.dt, cx.state_bound = prob, nsteps, 0.01, 0.0
+    cx.priv, cx.unc, cx.metrics, cx.chaotic = {}, {}, {}, None
+    cx.mm, cx.band, cx.D = {"energy.max_abs_change": max_change}, {}, 0.0
+    return cx
+
+
+def test_growth_ratio_band_from_the_halves() -> None:
+    """energy.growth_ratio = a2/a1, each half's maximum known to the energy change's round-off
+    u = 8 sqrt(n) eps S_H (energy.max_abs_change's band): a 4th-order Lobatto pair on Kepler (1e5
+    steps, maxima 1.1e-9, u = 2.5e-12) gave 0.999989 against dampsym's 0.999951 under rel 1e-6.
+    The band is r u (1/a1 + 1/a2): that difference agrees, ten times the band does not."""
+    from verify import xfamilies, xproblems
+    prob = xproblems.make_problem("kepler", {"e": 0.6})
+    cx = _energy_ctx(prob, 100000, 1.148e-9)
+    u = 8 * math.sqrt(1e5) * np.finfo(float).eps * abs(float(prob.energy(prob.z0)))
+    band = 0.999989 * u * (1 / 1.148e-9 + 1 / (1.148e-9 * 0.999989))
+    assert xfamilies.f_growth_ratio(cx, "energy.growth_ratio", 0.999989, 0.999951)["status"] == "agree"
+    far = xfamilies.f_growth_ratio(cx, "energy.growth_ratio", 0.999989, 0.999989 + 10 * band)
+    assert far["status"] == "disagree"
+
+
+def test_decorrelated_temperature_extremes() -> None:
+    """A chaotic run that decorrelates by its end (D > 1e-3): the extremes of T get 16 x the
+    range of our T (argon with Stormer-Verlet as a method file: ours and four members 2.8819,
+    dampsym 2.7819); T(t0) keeps its band; a run that stays correlated keeps all of them."""
+    from verify.diagnostics import temperature
+    from verify.xrunctx import RunCtx
+    cx = RunCtx.__new__(RunCtx)
+    cx.mm = {"temperature.min": 2.88, "temperature.max": 29.88, "temperature.initial": 22.72,
+             "temperature.max_abs_dev_initial": 19.84}
+    cx.band, cx.D = {"temperature.min": 3e-5}, 0.129
+    temperature.member(cx, {})
+    assert cx.band["temperature.min"] == cx.band["temperature.max"] == 16 * (29.88 - 2.88)
+    assert "temperature.initial" not in cx.band
+    cx.band, cx.D = {"temperature.min": 3e-5}, 1e-6
+    temperature.member(cx, {})
+    assert cx.band == {"temperature.min": 3e-5}

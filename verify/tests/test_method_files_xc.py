@@ -13,6 +13,7 @@ of expression coefficients (its export writes the doubles) equals the cross-chec
 from __future__ import annotations
 
 import json
+import math
 import os
 import subprocess
 import sys
@@ -62,25 +63,75 @@ def _method_files(d: str) -> List[str]:
         "id": "xc-radau-if", "family": "rk", "order": 3, "integrating_factor": True,
         "tableau": {"A": [["5/12", "-1/12"], ["3/4", "1/4"]], "b": ["3/4", "1/4"], "c": ["1/3", "1"]}})
     other = _write(os.path.join(d, "erk.json"), {"id": "xc-etd", "family": "exponential-rk", "order": 2})
-    return [ssp, radau, other]
+    sv = _write(os.path.join(d, "sv.json"), {
+        "id": "xc-sv-prk", "family": "partitioned-rk", "order": 2, "explicit": True,
+        "q": {"A": [["0", "0"], ["1/2", "1/2"]], "b": ["1/2", "1/2"], "c": ["0", "1"]},
+        "p": {"A": [["1/2", "0"], ["1/2", "0"]], "b": ["1/2", "1/2"], "c": ["1/2", "1/2"]}})
+    lob = _write(os.path.join(d, "lobatto3.json"), {
+        "id": "xc-lobatto3", "family": "partitioned-rk", "order": 4,
+        "q": {"A": [["0", "0", "0"], ["5/24", "1/3", "-1/24"], ["1/6", "2/3", "1/6"]],
+              "b": ["1/6", "2/3", "1/6"], "c": ["0", "1/2", "1"]},
+        "p": {"A": [["1/6", "-1/6", "0"], ["1/6", "1/3", "0"], ["1/6", "5/6", "0"]],
+              "b": ["1/6", "2/3", "1/6"], "c": ["0", "1/2", "1"]}})
+    return [ssp, radau, other, sv, lob]
 
 
 def test_rk_files_join_the_engines(tmp_path: Any) -> None:
     files = _method_files(str(tmp_path))
-    assert [xf.load(p) for p in files] == ["xc-ssprk3", "xc-radau-if", "xc-etd"]
+    assert [xf.load(p) for p in files] == ["xc-ssprk3", "xc-radau-if", "xc-etd", "xc-sv-prk", "xc-lobatto3"]
     assert xm.EXPLICIT_RK["xc-ssprk3"][1] == [1 / 6, 1 / 6, 2 / 3] and xm.EXPLICIT_EVALS["xc-ssprk3"] == 3
     assert xm.FILE_RK["xc-radau-if"][0] == "if" and "xc-radau-if" in xm.IMPLICIT
     assert xnewton.supported("xc-radau-if") and "xc-radau-if" in xm.NEEDS_CONFORMAL
     assert "xc-etd" not in xm.METHODS and "exponential-rk" in xf.UNSUPPORTED["xc-etd"]
     assert xf.load(str(tmp_path / "none.json")) is None
+    assert xm.EXPLICIT_EVALS["xc-sv-prk"] == 2 and "xc-lobatto3" in xm.IMPLICIT
+
+
+def test_partitioned_pairs(tmp_path: Any) -> None:
+    """Lobatto IIIA-IIIB as a file: stage by stage it is the cross-check's own Stormer-Verlet
+    (HLW (3.7)) to round-off, damped and time-dependent alike; the three-stage pair, whose stages
+    are coupled, is solved by Newton and converges at order 4 (a p weight moved by 1e-6 does
+    not: below order 1.5 at small steps)."""
+    import numpy as np
+    from verify import xproblems
+    for f in _method_files(str(tmp_path)):
+        xf.load(f)
+    assert xm.prk_schedule([[0, 0], [0.5, 0.5]], [[0.5, 0], [0.5, 0]]) == [("q", 0), ("p", 0), ("p", 1), ("q", 1)]
+    assert xm.prk_schedule([[0, 0, 0], [5 / 24, 1 / 3, -1 / 24], [1 / 6, 2 / 3, 1 / 6]],
+                           [[1 / 6, -1 / 6, 0], [1 / 6, 1 / 3, 0], [1 / 6, 5 / 6, 0]]) is None
+    prob = xproblems.make_problem("driven-pendulum", {"f": 1.2, "gamma": 0.1, "lambda": 1.0, "q0": 0.7, "p0": -0.4})
+    z = np.array([0.7, -0.4])
+    for t in (0.0, 1.3):
+        ours = xm.make_stepper("xc-sv-prk", prob, 0.05)(t, z)[0]
+        sv = xm.make_stepper("stormer-verlet", prob, 0.05)(t, z)[0]
+        assert np.max(np.abs(ours - sv)) <= 4 * xm.EPS * np.max(np.abs(sv))
+
+    def err(method: str, h: float) -> float:
+        st, zz = xm.make_stepper(method, prob, h), z.copy()
+        for k in range(int(round(0.8 / h))):
+            zz = st(k * h, zz)[0]
+        return float(np.max(np.abs(zz - ref)))
+    ref = z.copy()
+    st = xm.make_stepper("xc-lobatto3", prob, 0.8 / 512)
+    for k in range(512):
+        ref = st(k * 0.8 / 512, ref)[0]
+    e = [err("xc-lobatto3", 0.8 / n) for n in (8, 16)]
+    assert 3.8 < math.log2(e[0] / e[1]) < 4.2, e
+    q, p = xm.FILE_PRK["xc-lobatto3"]
+    bad = list(p[1])
+    bad[1] *= 1 + 1e-6
+    xm.FILE_PRK["xc-lobatto3-planted"] = (q, (p[0], bad, p[2]))
+    xm.IMPLICIT.add("xc-lobatto3-planted")
+    e = [err("xc-lobatto3-planted", 0.8 / n) for n in (32, 64)]
+    assert math.log2(e[0] / e[1]) < 1.5, e   # the weights' 1e-6 inconsistency dominates
 
 
 def _case(work: str, methods_dir: str) -> str:
     with open(os.path.join(ROOT, "verify", "cases", "hill-orders.json")) as fh:
         spec = json.load(fh)
-    spec.update(id="hill-user-methods", suites=["heldout"], methods=["xc-ssprk3", "xc-radau-if"],
+    spec.update(id="hill-user-methods", suites=["heldout"], methods=["xc-ssprk3", "xc-radau-if", "xc-sv-prk"],
                 method_files=[os.path.relpath(os.path.join(methods_dir, f), work)
-                              for f in ("ssp.json", "radau.json")],
+                              for f in ("ssp.json", "radau.json", "sv.json")],
                 expect={"both converge at order 3": {"metric": "order.slope", "methods": ["xc-ssprk3", "xc-radau-if"],
                                                       "near": 3.0, "tol": 0.2}})
     spec.pop("figures", None)
