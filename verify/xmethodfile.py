@@ -6,8 +6,10 @@ parentheses, or a JSON number), in long-double arithmetic (mpmath at a 64-bit ma
 operation rounded to nearest, as the documented "evaluated in long double") and rounded to
 double once.
 
-Families stepped here: `partitioned-rk` (xmethods.prk_file_step, on the separable form) and
-`rk` -- explicit tableaux as the built-in explicit RK methods
+Families stepped here: `exponential-rk` (B (2.7), (2.10): rk_family_step on the conformal form,
+coefficients at x = Gamma(t + h) - Gamma(t)), `partitioned-exponential-rk` (B (2.14), perk_step at
+B's x_B = 2x, pairs whose stages can be ordered), `partitioned-rk` (xmethods.prk_file_step, on the
+separable form) and `rk` -- explicit tableaux as the built-in explicit RK methods
 (xmethods.EXPLICIT_RK: the compiled loops, the stability polynomial), implicit tableaux by the
 RK-family Newton step (xmethods.rk_family_step, Newton counts by xnewton), and either under the
 integrating factor B(2.5) (xmethods.ifrk_coef, as glifrk).  A method file of another family is
@@ -179,6 +181,71 @@ def register_prk(mid: str, q: Any, p: Any, source: str) -> None:
     xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
 
 
+def phi_terms(v: Any) -> List[Tuple[float, Optional[str], float]]:
+    """A coefficient of an exponential tableau (docs/method-files.md): a constant, a term
+    {"coef": C, "phi": NAME, "arg": K} = C NAME(K x), or a list of terms (their sum)."""
+    if isinstance(v, list):
+        if not v:
+            raise MethodFileError("an empty list of terms")
+        return [t for e in v for t in phi_terms(e)]
+    if not isinstance(v, dict):
+        return [(coefficient(v), None, 0.0)]
+    name = v.get("phi")
+    if name not in xm.PHI or set(v) - {"coef", "phi", "arg"}:
+        raise MethodFileError("term %r: phi must be one of %s" % (v, ", ".join(sorted(xm.PHI))))
+    return [(coefficient(v.get("coef", 1)), name, coefficient(v.get("arg", 1)))]
+
+
+def exp_tableau(t: Any) -> Tuple[Any, Any, Any, Any, Any]:
+    """(c, A, phi, b, phi0) of an exponential tableau, each entry's terms (phi_terms)."""
+    if not isinstance(t, dict) or not all(k in t for k in ("c", "A", "phi", "b", "phi0")):
+        raise MethodFileError("tableau: needs c, A, phi, b and phi0")
+    c = [coefficient(x) for x in t["c"]]
+    A = [[phi_terms(x) for x in row] for row in t["A"]]
+    phi, b = [phi_terms(x) for x in t["phi"]], [phi_terms(x) for x in t["b"]]
+    s = len(c)
+    if s < 1 or len(phi) != s or len(b) != s or len(A) != s or any(len(r) != s for r in A):
+        raise MethodFileError("tableau: A must be s x s and c, phi, b of length s")
+    return c, A, phi, b, phi_terms(t["phi0"])
+
+
+def _nonzero(A: Any) -> List[List[float]]:
+    """1 where an entry of an exponential A is not identically 0, else 0."""
+    return [[float(any(c != 0.0 for c, _, _ in e)) for e in row] for row in A]
+
+
+def register_erk(mid: str, tab: Any, source: str) -> None:
+    """An `exponential-rk` file (B (2.7), (2.10)), on the conformal form, by rk_family_step."""
+    nz, s = _nonzero(tab[1]), len(tab[0])
+    xm.FILE_ERK[mid] = tab
+    if all(nz[i][j] == 0.0 for i in range(s) for j in range(i, s)):
+        xm.EXPLICIT_EVALS[mid] = s
+    else:
+        xm.IMPLICIT.add(mid)
+        xnewton.SUPPORTED.add(mid)
+    xm.NEEDS_CONFORMAL.add(mid)
+    xm.METHODS.add(mid)
+    xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
+
+
+def register_perk(mid: str, q: Any, p: Any, source: str) -> None:
+    """A `partitioned-exponential-rk` pair (B (2.14)) whose stages can be ordered (perk_step's
+    sweeps are then exact); a coupled pair is not stepped here."""
+    s = len(q[0])
+    if len(p[0]) != s:
+        raise MethodFileError("partitioned-exponential-rk: the q and p tableaux must have the same size")
+    if xm.prk_schedule(_nonzero(q[1]), _nonzero(p[1]), damped=False) is None:
+        raise MethodFileError("a partitioned-exponential-rk pair with coupled stages: the cross-check "
+                              "steps only pairs whose stages can be computed one after the other")
+    xm.FILE_PERK[mid] = (q, p)
+    nzp = _nonzero(p[1])
+    xm.EXPLICIT_EVALS[mid] = sum(1 for j in range(s) if any(nzp[k][j] for k in range(s))
+                                 or any(c != 0.0 for c, _, _ in p[3][j]))
+    xm.NEEDS_SEPARABLE.add(mid)
+    xm.METHODS.add(mid)
+    xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
+
+
 def read_file(path: str) -> Json:
     """A method file: a regular file of at most FILE_LIMIT bytes holding a JSON object with an id."""
     try:
@@ -210,11 +277,19 @@ def load(path: str) -> Optional[str]:
             register_rk(mid, A, b, c, doc.get("integrating_factor") is True, os.path.abspath(path))
         elif family == "partitioned-rk":
             register_prk(mid, tableau(doc.get("q")), tableau(doc.get("p")), os.path.abspath(path))
+        elif family == "exponential-rk":
+            register_erk(mid, exp_tableau(doc.get("tableau")), os.path.abspath(path))
+        elif family == "partitioned-exponential-rk":
+            register_perk(mid, exp_tableau(doc.get("q")), exp_tableau(doc.get("p")), os.path.abspath(path))
         else:
-            raise MethodFileError("a method file of family %r: the cross-check steps the 'rk' and "
-                                  "'partitioned-rk' families' tableaux" % family)
+            raise MethodFileError("a method file of family %r: the cross-check steps the 'rk', "
+                                  "'partitioned-rk', 'exponential-rk' and 'partitioned-exponential-rk' "
+                                  "families" % family)
     except (MethodFileError, TypeError) as exc:
         UNSUPPORTED[mid] = "%s: %s" % (path, exc)
+        return mid
+    claims = doc.get("claims")
+    xm.FILE_CLAIMS[mid] = [c for c in claims if isinstance(c, str)] if isinstance(claims, list) else []
     return mid
 
 

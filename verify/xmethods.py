@@ -499,6 +499,13 @@ NEEDS_CONFORMAL = {"cimp", "glifrk1", "glifrk2", "glifrk3", "etdrk2"}
 FILE_RK: Dict[str, Any] = {}
 # Partitioned pairs of the user's method files: id -> (q tableau (A, b, c), p tableau (A, b, c))
 FILE_PRK: Dict[str, Any] = {}
+# Exponential tableaux of the user's method files (B (2.7), (2.10)): id -> (c, A, phi, b, phi0),
+# every coefficient a function of the damping argument (xmethodfile.phi_terms: sums of
+# coef * NAME(arg * x)); partitioned pairs (B (2.14)): id -> (q tableau, p tableau)
+FILE_ERK: Dict[str, Any] = {}
+FILE_PERK: Dict[str, Any] = {}
+# the claims a method file declares (its linear-momentum factor, B Table 3.1, follows from them)
+FILE_CLAIMS: Dict[str, Any] = {}
 # General linear methods (BS): a step maps r values y^[n] (here r = 2), not the state alone, so a
 # run from a mid-run state needs y^[n], the one-step map of the state has no Jacobian to test for
 # conformal symplecticity, and the Newton counts follow the GLM's own stages.
@@ -666,11 +673,12 @@ def file_coef(method: str, prob: Any, h: Any) -> Any:
     return prob.f, plain_coef(A, b, c)
 
 
-def prk_schedule(Aq: Any, Ap: Any) -> Any:
+def prk_schedule(Aq: Any, Ap: Any, damped: bool = True) -> Any:
     """An order in which the stages of a partitioned pair can be computed one after the other
     (docs/method-files.md "explicit"): Q_i once every P_j with a_ij != 0 is known; P_i once
     every Q_j with a^_ij != 0 (F_j = F(Q_j)) and every other P_j with a^_ij != 0 is known (its
-    own damping term a^_ii 2 gamma_i P_i is linear: solved in closed form).  [("q"|"p", i)], or
+    own damping term a^_ii 2 gamma_i P_i is linear: solved in closed form; `damped` False: an
+    exponential pair, whose damping is in its factors, has no P_j terms).  [("q"|"p", i)], or
     None when the stages are coupled (then solved together by Newton)."""
     s = len(Aq)
     known: Dict[Any, bool] = {}
@@ -679,7 +687,8 @@ def prk_schedule(Aq: Any, Ap: Any) -> Any:
         ready = [(k, i) for k in ("q", "p") for i in range(s) if (k, i) not in known and all(
             known.get(dep, False) for dep in
             ([("p", j) for j in range(s) if Aq[i][j] != 0] if k == "q" else
-             [("q", j) for j in range(s) if Ap[i][j] != 0] + [("p", j) for j in range(s) if Ap[i][j] != 0 and j != i]))]
+             [("q", j) for j in range(s) if Ap[i][j] != 0] + [("p", j) for j in range(s)
+                                                              if damped and Ap[i][j] != 0 and j != i]))]
         if not ready:
             return None
         known[ready[0]] = True
@@ -761,7 +770,72 @@ def prk_file_step(prob: Any, h: Any, method: str) -> Any:
     return staged if order is not None else batched
 
 
+def _phi_k(z: float, k: int) -> float:
+    """phi_k(z) = (e^z - sum_{m<k} z^m/m!)/z^k by its series for |z| < 1 (no cancellation)."""
+    if abs(z) < 1.0:
+        term, total = 1.0 / math.factorial(k), 0.0
+        for m in range(30):
+            total += term
+            term *= z / (m + k + 1)
+        return total
+    return (math.expm1(z) - sum(z ** m / math.factorial(m) for m in range(1, k))) / z ** k
+
+
+PHI = {"exp": math.exp, "phi0": math.exp, "phi1": lambda z: _phi_k(z, 1), "phi2": lambda z: _phi_k(z, 2),
+       "phi3": lambda z: _phi_k(z, 3), "sinhc": lambda z: math.sinh(z) / z if z != 0.0 else 1.0}
+
+
+def phi_value(terms: Any, x: float) -> float:
+    """A coefficient of an exponential tableau at the damping argument x: sum coef * NAME(arg x)
+    (NAME None: the constant coef)."""
+    return float(sum(c if name is None else c * PHI[name](a * x) for c, name, a in terms))
+
+
+def exp_tableau_at(tab: Any, x: float) -> Any:
+    """(Phi, A, b, phi0, c) of an exponential tableau (c, A, phi, b, phi0) at x."""
+    c, A, phi, b, phi0 = tab
+    return (np.array([phi_value(e, x) for e in phi]), np.array([[phi_value(e, x) for e in row] for row in A]),
+            np.array([phi_value(e, x) for e in b]), phi_value(phi0, x), np.array(c, float))
+
+
+def file_erk_coef(method: str, prob: Any, h: Any) -> Any:
+    """(G, coef) of an exponential-rk file: on the conformal form N, at x = Gamma(t + h) - Gamma(t)
+    (docs/method-files.md: our gamma; re-evaluated every step for a time-dependent gamma)."""
+    if not hasattr(prob, "N"):
+        raise NotApplicable("%s (exponential) needs the conformal form" % method)
+    tab = FILE_ERK[method]
+    memo: Dict[float, Any] = {}
+
+    def coef(t: Any) -> Any:
+        x = dGamma(prob, t, h)
+        if x not in memo:
+            memo.clear()
+            memo[x] = exp_tableau_at(tab, x)
+        return memo[x]
+    return prob.N, coef
+
+
+def file_perk_coef(method: str, prob: Any, h: Any) -> Any:
+    """perk_step's coefficients of a partitioned-exponential-rk file at B's argument
+    x_B = 2 (Gamma(t + h) - Gamma(t)) (B's gamma is twice ours: docs/method-files.md)."""
+    qt, pt = FILE_PERK[method]
+
+    def coef(t: Any) -> Any:
+        x = 2.0 * dGamma(prob, t, h)
+        ph, Ah, bh, ph0, _ = exp_tableau_at(qt, x)
+        pp, At, bt, pt0, _ = exp_tableau_at(pt, x)
+        return ph, Ah, bh, ph0, pp, At, bt, pt0
+    return coef
+
+
 def make_stepper(method: str, prob: Any, h: Any) -> Any:
+    if method in FILE_ERK:
+        G, coef = file_erk_coef(method, prob, h)
+        return rk_family_step(G, coef, h, implicit=method in IMPLICIT)
+    if method in FILE_PERK:
+        if not getattr(prob, "separable", False):
+            raise NotApplicable("%s needs a separable q/p problem" % method)
+        return perk_step(prob, file_perk_coef(method, prob, h), h, np.array(FILE_PERK[method][0][0], float))
     if method in FILE_PRK:
         return prk_file_step(prob, h, method)
     if method in FILE_RK:

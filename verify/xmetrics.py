@@ -347,11 +347,19 @@ def metric_precession(prob: Any, traj: Any, ref: Any = None) -> Dict[str, Any]:
 
 
 def table_factor(method: str, g: float, h: float) -> Optional[float]:
-    """B Table 3.1: per-step linear-momentum factor each conformal method achieves."""
-    if method in ("csv1", "csv1-perk"):
-        return math.exp(-2 * g * h)
-    if method in ("csv2", "csv2-perk", "cimp"):   # csv2-perk is csv2 as a PERK pair (B (2.21))
+    """B Table 3.1: per-step linear-momentum factor each conformal method achieves (cse-if and
+    cse-etd, B (2.18), (2.19): p1 = e^{-2 g h} p + h c F(q) with sum F = 0, the law itself); a
+    method file's factor is the one its claims declare (docs/method-files.md)."""
+    claims = xm.FILE_CLAIMS.get(method)
+    if claims is not None:
+        cayley, exact = "linear-momentum-cayley" in claims, "linear-momentum" in claims
+    else:
+        exact = method in ("csv1", "csv1-perk", "cse-if", "cse-etd")
+        cayley = method in ("csv2", "csv2-perk", "cimp")   # csv2-perk is csv2 as a PERK pair (B (2.21))
+    if cayley:
         return math.exp(-g * h) * (2 - g * h) / (2 + g * h)
+    if exact:
+        return math.exp(-2 * g * h)
     return None
 
 

@@ -41,6 +41,8 @@ EPS = np.finfo(float).eps
 def _coef(method: str, prob: Any, h: Any) -> Any:
     if method in xm.FILE_RK:
         return xm.file_coef(method, prob, h)
+    if method in xm.FILE_ERK:
+        return xm.file_erk_coef(method, prob, h)
     if method == "implicit-euler":
         return prob.f, xm.plain_coef([[1.0]], [1.0], [1.0])
     if method in ("implicit-midpoint", "gauss1", "gauss2", "gauss3"):

@@ -9,7 +9,9 @@ With --bin (ctest crosscheck.heldout): a case with its own method files (an expl
 two-stage Radau IIA under the integrating factor) is run by dampsym and cross-checked with
 --strict: every run reproduced and agreeing. Negative control: the same report against the
 Radau file with one coefficient changed by 1e-6 (relative) disagrees. dampsym's own evaluation
-of expression coefficients (its export writes the doubles) equals the cross-check's bit for bit."""
+of expression coefficients equals the cross-check's bit for bit. Partitioned pairs (Stormer-Verlet
+and a coupled Lobatto IIIA-IIIB pair) and the exponential families (dampsym's exports of its
+built-ins, read back) step as the cross-check's own methods do."""
 from __future__ import annotations
 
 import json
@@ -54,7 +56,8 @@ def test_coefficient_grammar() -> None:
 
 
 def _method_files(d: str) -> List[str]:
-    """An explicit SSP RK3, a two-stage Radau IIA under the integrating factor, an ERK file."""
+    """An explicit SSP RK3, a two-stage Radau IIA under the integrating factor, a GLM file (a family
+    the cross-check does not step), Stormer-Verlet and a three-stage Lobatto IIIA-IIIB pair."""
     ssp = _write(os.path.join(d, "ssp.json"), {
         "id": "xc-ssprk3", "family": "rk", "order": 3,
         "tableau": {"A": [["0", "0", "0"], ["1", "0", "0"], ["1/4", "1/4", "0"]],
@@ -62,7 +65,7 @@ def _method_files(d: str) -> List[str]:
     radau = _write(os.path.join(d, "radau.json"), {
         "id": "xc-radau-if", "family": "rk", "order": 3, "integrating_factor": True,
         "tableau": {"A": [["5/12", "-1/12"], ["3/4", "1/4"]], "b": ["3/4", "1/4"], "c": ["1/3", "1"]}})
-    other = _write(os.path.join(d, "erk.json"), {"id": "xc-etd", "family": "exponential-rk", "order": 2})
+    other = _write(os.path.join(d, "glm.json"), {"id": "xc-glm", "family": "general-linear", "order": 2})
     sv = _write(os.path.join(d, "sv.json"), {
         "id": "xc-sv-prk", "family": "partitioned-rk", "order": 2, "explicit": True,
         "q": {"A": [["0", "0"], ["1/2", "1/2"]], "b": ["1/2", "1/2"], "c": ["0", "1"]},
@@ -78,11 +81,11 @@ def _method_files(d: str) -> List[str]:
 
 def test_rk_files_join_the_engines(tmp_path: Any) -> None:
     files = _method_files(str(tmp_path))
-    assert [xf.load(p) for p in files] == ["xc-ssprk3", "xc-radau-if", "xc-etd", "xc-sv-prk", "xc-lobatto3"]
+    assert [xf.load(p) for p in files] == ["xc-ssprk3", "xc-radau-if", "xc-glm", "xc-sv-prk", "xc-lobatto3"]
     assert xm.EXPLICIT_RK["xc-ssprk3"][1] == [1 / 6, 1 / 6, 2 / 3] and xm.EXPLICIT_EVALS["xc-ssprk3"] == 3
     assert xm.FILE_RK["xc-radau-if"][0] == "if" and "xc-radau-if" in xm.IMPLICIT
     assert xnewton.supported("xc-radau-if") and "xc-radau-if" in xm.NEEDS_CONFORMAL
-    assert "xc-etd" not in xm.METHODS and "exponential-rk" in xf.UNSUPPORTED["xc-etd"]
+    assert "xc-glm" not in xm.METHODS and "general-linear" in xf.UNSUPPORTED["xc-glm"]
     assert xf.load(str(tmp_path / "none.json")) is None
     assert xm.EXPLICIT_EVALS["xc-sv-prk"] == 2 and "xc-lobatto3" in xm.IMPLICIT
 
@@ -193,3 +196,40 @@ def test_coefficients_as_dampsym_evaluates_them(dampsym_bin: str, workdir: str) 
     with open(os.path.join(out, "report.json")) as fh:
         runs = {r["method"]: r["final_state"][0] for r in json.load(fh)["cases"][0]["runs"]}
     assert [runs[i] for i in ids] == [xf.coefficient(e) for e in EXPRESSIONS]
+
+
+def test_exported_exponential_methods_step_as_ours(dampsym_bin: str, workdir: str) -> None:
+    """The exponential families through their files: dampsym's exports of etdrk2 (exponential-rk),
+    cse-etd, csv1-perk and etdprk2 (partitioned-exponential-rk, B's x_B = 2x) and glifrk2 (rk under
+    the integrating factor), read by the cross-check, step as its own built-in steps do, to 2 ulps,
+    on Hill's problem (time-dependent gamma) and the driven pendulum. A file's claims give its
+    momentum factor (B Table 3.1); a planted 1e-6 in etdrk2's phi1 coefficient moves the step."""
+    import numpy as np
+    from verify import xmetrics, xproblems
+    work = os.path.join(workdir, "exports")
+    os.makedirs(work, exist_ok=True)
+    methods = ["etdrk2", "cse-etd", "csv1-perk", "etdprk2", "glifrk2"]
+    for m in methods:
+        out = os.path.join(work, m + ".json")
+        subprocess.run([os.path.abspath(dampsym_bin), "methods", "--export", m, "--as", "xc-" + m, "--out", out],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        assert xf.load(out) == "xc-" + m and "xc-" + m not in xf.UNSUPPORTED
+    probs = [xproblems.make_problem("hill", {"epsilon": 0.5, "kappa": 0.3, "q0": 0.7, "p0": -0.4}),
+             xproblems.make_problem("driven-pendulum", {"f": 1.2, "gamma": 0.1, "lambda": 1.0, "q0": 0.7, "p0": -0.4})]
+    for prob in probs:
+        z = np.array(prob.z0, float)
+        for m in methods:
+            for t in (0.0, 0.7):
+                ours = xm.make_stepper(m, prob, 0.05)(t, z)[0]
+                via_file = xm.make_stepper("xc-" + m, prob, 0.05)(t, z)[0]
+                assert np.max(np.abs(ours - via_file)) <= 2 * xm.EPS * np.max(np.abs(ours)), (m, t)
+    assert xmetrics.table_factor("xc-csv1-perk", 0.1, 0.05) == xmetrics.table_factor("csv1", 0.1, 0.05)
+    assert xmetrics.table_factor("xc-etdprk2", 0.1, 0.05) is None       # it claims nothing
+    c, A, phi, b, phi0 = xm.FILE_ERK["xc-etdrk2"]
+    xm.FILE_ERK["xc-etdrk2-planted"] = (c, A, phi, [[(co * (1 + 1e-6), n, a) for co, n, a in b[0]]], phi0)
+    xm.IMPLICIT.add("xc-etdrk2-planted")
+    prob = probs[1]
+    z = np.array(prob.z0, float)
+    good = xm.make_stepper("xc-etdrk2", prob, 0.05)(0.0, z)[0]
+    bad = xm.make_stepper("xc-etdrk2-planted", prob, 0.05)(0.0, z)[0]
+    assert np.max(np.abs(good - bad)) > 1e-9 * np.max(np.abs(good))
