@@ -182,9 +182,14 @@ def not_reproduced_case(case: Rec, why: str) -> Rec:
                 problem=(case.get("problem") or {}).get("id"))
 
 
-def run_contexts(case: Rec, spec: Rec, prob: Any) -> Tuple[List[Rec], List[RunCtx]]:
+PLUGIN_WHY = ("method '%s' is not defined here: with a C plugin loaded (docs/plugins.md) it may be "
+              "the plugin's compiled code, which the cross-check has no definition of to step")
+
+
+def run_contexts(case: Rec, spec: Rec, prob: Any, plugins: bool = False) -> Tuple[List[Rec], List[RunCtx]]:
     """Our run of every report run the case file implies (runs it does not imply are named in
-    the structure record), integrated over the case file's step count."""
+    the structure record), integrated over the case file's step count; `plugins`: the run loaded
+    C plugins (an unknown method is then said to be possibly theirs)."""
     want = {(m, h) for m in spec.get("methods") or [] for h in xcase.step_sizes(spec)}
     diags = xcase.diagnostics(spec)
     recs, ctxs = [], []
@@ -196,7 +201,7 @@ def run_contexts(case: Rec, spec: Rec, prob: Any) -> Tuple[List[Rec], List[RunCt
         if (method, dt) not in want:
             continue
         if method not in xm.METHODS:
-            why = xmethodfile.UNSUPPORTED.get(method, "unknown method '%s'" % method)
+            why = xmethodfile.UNSUPPORTED.get(method, PLUGIN_WHY % method if plugins else "unknown method '%s'" % method)
             recs.append(dict(case=case["id"], method=method, dt=dt, verdict="not reproduced",
                              reason=why, comparisons=[], notes=[]))
             continue
@@ -231,7 +236,7 @@ def check_case(case: Rec, selection: Optional[List[str]]) -> Rec:
     if prob is None:
         return not_reproduced_case(case, why or "problem not modelled")
     struct = xcaserec.structure(case, spec, selection)
-    runs, ctxs = run_contexts(case, spec, prob)
+    runs, ctxs = run_contexts(case, spec, prob, bool(xcase.RUN_PLUGINS))
     ours: Dict[Any, Rec] = {(cx.method, cx.dt): cx.mm for cx in ctxs}
     unc: Dict[Any, Rec] = {(cx.method, cx.dt): cx.unc for cx in ctxs}
     status = {(cx.method, cx.dt): cx.mine.get("status", "ok") for cx in ctxs}
@@ -561,6 +566,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         xcache.configure(args.cache, write=not args.cache_read_only)
         report = load_report(args.report)
         load_method_files(report)   # registered here: the forked workers inherit them
+        xcase.RUN_PLUGINS[:] = ((report.get("provenance") or {}).get("selection") or {}).get("plugins") or []
         warm_s = xjit.warm()   # compile the loops once here; the forked workers inherit them
         res = run_all(report, args.jobs)
     except BadInput as exc:

@@ -32,6 +32,8 @@ CASES_DIR = os.path.join(HERE, "cases")
 METHOD_LEVEL = ("order", "local-order", "stability-sweep", "trace-taylor")
 OPS = ("near", "le", "ge", "lt", "gt")
 _INDEX: Dict[str, Dict[str, str]] = {}
+# the C plugins the report's run loaded (crosscheck.main; a plugin's methods are compiled code)
+RUN_PLUGINS: List[Any] = []
 # a case file larger than this is not read as one (a report naming /dev/zero or a huge file)
 CASE_FILE_LIMIT = 16 << 20
 

@@ -10,6 +10,7 @@ import numpy as np
 
 from . import diagnostics
 from . import xcase
+from . import xmethods as xm
 from . import xmetrics as xmt
 from . import xsweep
 from .refmath import fit_order
@@ -257,7 +258,11 @@ def comparison_value(hd: Dict[str, Any], spec: Dict[str, Any], ours: Ours, unc: 
 
 
 def _ours_for(hd: Dict[str, Any], spec: Dict[str, Any], ours: Ours, unc: Ours, status: Dict[Any, str]) -> Any:
-    """(value, band), an Undef, or a string (not recomputed / a run that did not finish)."""
+    """(value, band), an Undef, or a string (not recomputed / a run that did not finish / a
+    method the cross-check does not step, whose checks are not reproduced either)."""
+    unknown = [m for m in (hd.get("members") or [hd.get("method")]) if isinstance(m, str) and m not in xm.METHODS]
+    if unknown:
+        return "method %s is not reproduced (its runs say why)" % unknown[0]
     if hd.get("form", "per-method") != "per-method" or hd.get("across_dt"):
         return comparison_value(hd, spec, ours, unc)
     key = (hd["method"], hd.get("dt"))

@@ -233,3 +233,18 @@ def test_exported_exponential_methods_step_as_ours(dampsym_bin: str, workdir: st
     good = xm.make_stepper("xc-etdrk2", prob, 0.05)(0.0, z)[0]
     bad = xm.make_stepper("xc-etdrk2-planted", prob, 0.05)(0.0, z)[0]
     assert np.max(np.abs(good - bad)) > 1e-9 * np.max(np.abs(good))
+
+
+def test_checks_of_a_method_not_stepped_are_not_reproduced() -> None:
+    """A check on a method the cross-check does not step (a plugin's, a general-linear file's) is
+    "not reproduced" like its runs; it was judged from an empty fit ("ours undefined, verdict
+    False") and called a disagreement. Alone or in a comparison between methods."""
+    from verify import xcaserec
+    heads: List[Json] = [{"method": "plugin-csv1", "metric": "order.slope"},
+                         {"method": "csv1 / plugin-csv1", "members": ["csv1", "plugin-csv1"], "form": "ratio",
+                          "metric": "error.final_abs"}]
+    for hd in heads:
+        val = xcaserec._ours_for(hd, {}, {}, {}, {})
+        assert isinstance(val, str) and "plugin-csv1" in val
+    assert not isinstance(xcaserec._ours_for({"method": "csv1", "metric": "order.slope"}, {},
+                                             {("csv1", None): {"order.slope": 2.0}}, {}, {}), str)
