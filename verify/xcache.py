@@ -68,9 +68,11 @@ def sources_digest() -> str:
                 h.update(os.path.relpath(path, root).encode() + b"\0")
                 with open(path, "rb") as fh:
                     h.update(fh.read() + b"\0")
-        # and the planted tableau fault of the negative control wrongcoef (xmethods.py)
+        # and the planted tableau fault of the negative control wrongcoef (xmethods.py), and the
+        # method files' definitions (verify/xmethodfile.py: a method's id alone is not its method)
+        from . import xmethods
         h.update(repr((sys.version, np.__version__, scipy.__version__, xjit.HAVE_NUMBA,
-                       os.environ.get("XC_PERTURB_GAUSS"))).encode())
+                       os.environ.get("XC_PERTURB_GAUSS"), sorted(xmethods.FILE_DEFS.items()))).encode())
         _state["sources"] = h.hexdigest()
     return str(_state["sources"])
 
@@ -109,6 +111,11 @@ def _feed(h: Any, x: Any) -> None:
         _feed(h, {k: v for k, v in vars(x).items() if k not in _OUTPUT_ATTRS})
     else:
         raise TypeError("not a cacheable argument: %s" % type(x).__name__)
+
+
+def sources_changed() -> None:
+    """The digest is computed again at the next key (a method file was registered)."""
+    _state["sources"] = None
 
 
 def key(name: str, args: Any, kwargs: Dict[str, Any]) -> str:

@@ -29,11 +29,14 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import mpmath
 
+from . import xcache
 from . import xmethods as xm
 from . import xnewton
 
 # a method file larger than this is not read (as dampsym: docs/method-files.md "The format")
 FILE_LIMIT = 16 << 20
+# where a registered file method's coefficients are kept (xmethods)
+FILE_TABLES = ("FILE_RK", "FILE_PRK", "FILE_ERK", "FILE_PERK")
 # method id -> why the cross-check does not step it (a family without an engine here, a file it
 # cannot read): the reason its runs are not reproduced
 UNSUPPORTED: Dict[str, str] = {}
@@ -290,6 +293,8 @@ def load(path: str) -> Optional[str]:
         return mid
     claims = doc.get("claims")
     xm.FILE_CLAIMS[mid] = [c for c in claims if isinstance(c, str)] if isinstance(claims, list) else []
+    xm.FILE_DEFS[mid] = repr((family, [getattr(xm, t).get(mid) for t in FILE_TABLES], xm.EXPLICIT_RK.get(mid)))
+    xcache.sources_changed()
     return mid
 
 

@@ -506,6 +506,9 @@ FILE_ERK: Dict[str, Any] = {}
 FILE_PERK: Dict[str, Any] = {}
 # the claims a method file declares (its linear-momentum factor, B Table 3.1, follows from them)
 FILE_CLAIMS: Dict[str, Any] = {}
+# every method file's definition as registered (id -> its family and coefficients, repr): part of
+# the key of our cached results (xcache), so that a file edited between runs is recomputed
+FILE_DEFS: Dict[str, str] = {}
 # General linear methods (BS): a step maps r values y^[n] (here r = 2), not the state alone, so a
 # run from a mid-run state needs y^[n], the one-step map of the state has no Jacobian to test for
 # conformal symplecticity, and the Newton counts follow the GLM's own stages.

@@ -212,7 +212,8 @@ def sweep(method: str, spec: Dict[str, Any]) -> Any:
     nh = len(H)
     kind = FORMULA.get(method)
     poly = (stab_poly(method) if method in xm.EXPLICIT_RK else
-            ["tableau", *PLAIN_IMPLICIT[method]] if method in PLAIN_IMPLICIT else None)
+            ["tableau", *PLAIN_IMPLICIT[method]] if method in PLAIN_IMPLICIT else
+            ["tableau", *xm.FILE_RK[method][1:3]] if xm.FILE_RK.get(method, ("",))[0] == "plain" else None)
     Ms, na = grid_matrices(method, w, G, H)
     Gg, Hh = G[:, None], H[None, :]
     e = np.exp(-Gg * Hh)

@@ -248,3 +248,23 @@ def test_checks_of_a_method_not_stepped_are_not_reproduced() -> None:
         assert isinstance(val, str) and "plugin-csv1" in val
     assert not isinstance(xcaserec._ours_for({"method": "csv1", "metric": "order.slope"}, {},
                                              {("csv1", None): {"order.slope": 2.0}}, {}, {}), str)
+
+
+def test_file_methods_in_sweeps_and_cache_keys(tmp_path: Any) -> None:
+    """A plain implicit tableau from a file has the stability sweep's power-boundary metrics (R(z)
+    of its tableau, as dampsym gives them for every plain tableau; they were 'unknown to us'), and
+    a file's definition is part of the key of our cached results: the same id with other
+    coefficients is another computation."""
+    from verify import xcache, xsweep
+    _method_files(str(tmp_path))
+    xf.load(os.path.join(str(tmp_path), "radau.json"))
+    path = _write(os.path.join(str(tmp_path), "radau-plain.json"), {
+        "id": "xc-radau-plain", "family": "rk", "order": 3,
+        "tableau": {"A": [["5/12", "-1/12"], ["3/4", "1/4"]], "b": ["3/4", "1/4"], "c": ["1/3", "1"]}})
+    assert xf.load(path) == "xc-radau-plain"
+    out = xsweep.sweep("xc-radau-plain", {"omega": 3.51, "gamma": [0.0, 1.0, 0.5], "h": [0.1, 1.0, 0.1]})
+    assert "power_mismatch_points" in out and "max_power_boundary_mismatch_cells" in out
+    before = xcache.sources_digest()
+    xm.FILE_DEFS["xc-radau-plain"] = xm.FILE_DEFS["xc-radau-plain"].replace("0.75", "0.7500001")
+    xcache.sources_changed()
+    assert xcache.sources_digest() != before
