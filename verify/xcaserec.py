@@ -134,12 +134,20 @@ def local_orders(dts: List[float], es: List[float], window: List[float], theirs:
 
 
 def order_fit(cid: str, method: str, theirs: Dict[str, Any], errs: Dict[float, Tuple[float, float, float]],
-              ladder: List[float], ref_norm: float, kind: str) -> Dict[str, Any]:
+              ladder: List[float], ref_norm: float, kind: str, ran: bool = False) -> Dict[str, Any]:
     """An order fit: ours from our errors; the report's slope and R^2 against OUR errors fitted
     over the report's window (abs 1e-4, 1e-5: errors agreeing to 1e-6 move them less), its
     window valid by our floor, its ok/status against ours, its local orders against ours."""
     rec: Dict[str, Any] = dict(case=cid, method=method if kind == "order" else "%s (%s)" % (method, kind),
                                comparisons=[], notes=[])
+    if not errs and ran:
+        # every run of ours failed (diverged, solve failed): no point to fit, as for the report
+        comps = rec["comparisons"]
+        comps.append(comp("ok", False, theirs.get("ok"), theirs.get("ok") is False, "equal"))
+        comps.append(comp("status", "too few points", theirs.get("status"),
+                          theirs.get("status", "too few points") == "too few points", "equal: no run of ours has an error"))
+        rec["verdict"] = worst_status(comps)
+        return rec
     if not errs:
         rec.update(verdict="not reproduced", reason="no errors of our own for %s" % method)
         return rec

@@ -15,7 +15,9 @@ Errors = Dict[float, Tuple[float, float, float]]
 def fit_record(mc: MethodCtx, kind: str, errs: Errors, ref_norm: float) -> Rec:
     """The fit's record; our slope and R^2 (and their bands: how far our errors' bands can move
     the fit) go where the checks read them."""
-    rec = xcaserec.order_fit(mc.case["id"], mc.method, mc.theirs, errs, xcase.step_sizes(mc.spec), ref_norm, kind)
+    ran = any(cx.method == mc.method for cx in mc.ctxs)
+    rec = xcaserec.order_fit(mc.case["id"], mc.method, mc.theirs, errs, xcase.step_sizes(mc.spec), ref_norm, kind,
+                             ran)
     xcaserec.order_known(rec, mc.theirs, kind)
     fit = rec.pop("fit", None) or {}
     mc.mine[kind + ".slope"] = fit.get("slope") if fit.get("ok") else xmt.Undef("no fit")

@@ -355,3 +355,16 @@ def test_decorrelated_temperature_extremes() -> None:
     cx.band, cx.D = {"temperature.min": 3e-5}, 1e-6
     temperature.member(cx, {})
     assert cx.band == {"temperature.min": 3e-5}
+
+
+def test_order_fit_of_runs_that_all_failed() -> None:
+    """Every run of a method diverged (an explicit RK3 on the Burgers box scheme's problem at the
+    suite's steps), ours and dampsym's: both fits have no point, which is compared (it was "not
+    reproduced: no errors of our own"); a report claiming a fit there disagrees; a method with no
+    run of ours stays not reproduced."""
+    from verify import xcaserec
+    theirs = {"ok": False, "status": "too few points", "window_dt": []}
+    assert xcaserec.order_fit("c", "m", theirs, {}, [0.1, 0.05], 1.0, "order", True)["verdict"] == "agree"
+    claimed = {"ok": True, "status": "ok"}
+    assert xcaserec.order_fit("c", "m", claimed, {}, [0.1, 0.05], 1.0, "order", True)["verdict"] == "disagree"
+    assert xcaserec.order_fit("c", "m", theirs, {}, [0.1, 0.05], 1.0, "order")["verdict"] == "not reproduced"
