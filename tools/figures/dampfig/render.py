@@ -28,6 +28,7 @@ from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa
                                NullFormatter, NullLocator)
 
 from . import figdata as fd  # noqa: E402
+from . import layoutcache  # noqa: E402
 from . import safeio as sio  # noqa: E402
 from . import textcache  # noqa: E402
 from . import tickmemo  # noqa: E402
@@ -42,6 +43,8 @@ plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "axes.titley": 1.0, "axes.titlepad": 4.0})
 # text measured, drawn and mathtext parsed once per process (textcache: the same pixels)
 textcache.install()
+# a text's lines aligned and rotated once per process (layoutcache: the same pixels)
+layoutcache.install()
 # an axis's ticks updated and measured once per draw, not twice (tickmemo: the same pixels)
 tickmemo.install()
 
