@@ -31,6 +31,7 @@ from . import figdata as fd  # noqa: E402
 from . import layoutcache  # noqa: E402
 from . import safeio as sio  # noqa: E402
 from . import textcache  # noqa: E402
+from . import tickclone  # noqa: E402
 from . import tickmemo  # noqa: E402
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
@@ -47,6 +48,8 @@ textcache.install()
 layoutcache.install()
 # an axis's ticks updated and measured once per draw, not twice (tickmemo: the same pixels)
 tickmemo.install()
+# an axis's new ticks copied from one it built (tickclone: the same pixels)
+tickclone.install()
 
 Json = Dict[str, Any]
 # what a figure function returns per file: (file, caption, quantities drawn on its axes)
