@@ -1,22 +1,25 @@
-"""New ticks of an axis copied from one built by matplotlib (the cost of --figures,
-docs/reports.md "Cost"): the same pixels, without building every tick from scratch.
+"""New ticks copied from one built by matplotlib (the cost of --figures, docs/reports.md
+"Cost"): the same pixels, without building every tick from scratch.
 
 matplotlib 3.6 builds a Tick (Axis._get_tick) from the axis's tick keywords and rcParams: three
 Line2D and two Text artists, each set property by property (0.3-0.6 ms a tick); an axis builds its
-first tick when created and another whenever a draw needs more than it has, 1500 ticks for the
-default suite's figures (a tenth of the drawing time). Every tick an axis builds is the same
-until its keywords, rcParams or the axes' tick and grid transforms change. install() wraps
-Axis._get_tick so that an XAxis or YAxis of plain Axes builds one tick per (major, minor) as
-before, keeps it untouched (a template) with a snapshot of what it was built from (the keywords,
-every rcParams value, the identities of the axes' tick1/tick2/grid transforms), and hands out
-copies of it: each artist's attribute dictionary copied, with the state an artist owns made
-afresh (its callback registry, its sticky edges, a Text's FontProperties, which setters change
-in place). Everything else the copies share with the template is never changed in place by
+first tick when created and another whenever a draw needs more than it has, 1543 ticks for the
+default suite's figures (a tenth of the drawing time). Two XTicks (or YTicks) built from the same
+keywords and rcParams differ only in what XTick/YTick.__init__ take from their axes: the tick's
+axes and figure, its lines' transforms (the axes' tick1, tick2 and grid transforms) and its
+labels' transforms and alignments (get_xaxis_text1_transform etc. of the axes at the tick's pad).
+install() wraps Axis._get_tick so that for an XAxis or YAxis a tick is built as before only when
+no template of that kind of axis (and axes, major or minor) was built from the same keywords and
+rcParams (a snapshot of every value); it is kept untouched as a template, and every tick handed
+out is a copy of it placed on its own axes (place(): what __init__ takes from the axes, asked of
+the axes again). A copy gets each artist's attribute dictionary copied, with the state an artist
+owns made afresh (its callback registry, its sticky edges, a Text's FontProperties, which setters
+change in place); everything else it shares with the template is never changed in place by
 matplotlib (numbers, strings, tuples, the data arrays and paths, which set_data and recache
-replace, the MarkerStyle, which set_marker replaces, the transforms, which the tick's setters
-replace). When the snapshot differs, a new template is built. tests/test_tickclone.py draws
-figures both ways and compares the pixels, and compares a copy with a built tick attribute by
-attribute.
+replace, the MarkerStyle, which set_marker replaces). Unlike a built tick, a copy does not mark
+its axes stale (only interactive redrawing reads that). 12 ticks are built for the default
+suite. tests/test_tickclone.py draws figures both ways and compares the pixels, and compares a
+copy with a tick built on the same axes attribute by attribute.
 
 Applied only to the matplotlib versions whose constructors it was written against (their code is
 checked); any other version builds every tick as before."""
@@ -47,7 +50,8 @@ SOURCES_SHA256 = {
     "Line2D.set_ydata": "3ee56836b3cba47329f8e4b1cdd6b3d3db91b1a7a957d3264972da8805aa8162",
     "Text.__init__": "346f2e60c0a6af71478cf704b7862072cd9b0fa565b4431ae1567e5341193520",
 }
-TEMPLATES = "_dampsym_tick_templates"
+# templates kept per kind of axis and tick (different tick keywords: labels hidden or shown)
+KEEP = 8
 ARTISTS = ("tick1line", "tick2line", "gridline", "label1", "label2")
 
 
@@ -83,16 +87,14 @@ def copy_tick(tick: Any) -> Any:
 
 
 def snapshot(axis: Any, major: bool) -> Optional[Tuple[Any, ...]]:
-    """What a tick of this axis is built from; None for an axis this does not reason about."""
+    """What a tick of this axis is built from besides its axes (the keywords, every rcParams
+    value); None for an axis this does not reason about."""
     if type(axis) not in (maxis.XAxis, maxis.YAxis) or axis._tick_class not in (maxis.XTick,
                                                                                   maxis.YTick):
         return None
-    transform = getattr(axis.axes, f"get_{axis.axis_name}axis_transform")
     kw = {k: v[:] if type(v) is list else v
           for k, v in (axis._major_tick_kw if major else axis._minor_tick_kw).items()}
-    rc = [v[:] if type(v) is list else v for v in dict.values(mpl.rcParams)]
-    return (kw, rc, [id(transform(which)) for which in ("tick1", "tick2", "grid")],
-            id(axis.figure))
+    return kw, [v[:] if type(v) is list else v for v in dict.values(mpl.rcParams)]
 
 
 def same(a: Tuple[Any, ...], b: Tuple[Any, ...]) -> bool:
@@ -102,18 +104,43 @@ def same(a: Tuple[Any, ...], b: Tuple[Any, ...]) -> bool:
         return False
 
 
-def copied_get_tick(original: Callable[..., Any]) -> Callable[..., Any]:
-    """Axis._get_tick handing out copies of a template built by the original."""
+def place(tick: Any, axes: Any) -> Any:
+    """A copied tick made the tick of `axes` as XTick/YTick.__init__ make it: its axes and
+    figure, its lines' transforms from the axes, its labels' transforms and alignments from the
+    axes and its pad."""
+    tick._axes = axes
+    tick.figure = axes.figure
+    for name in ARTISTS:
+        getattr(tick, name).figure = axes.figure
+    transform = getattr(axes, f"get_{tick.__name__[0]}axis_transform")
+    for line, which in ((tick.tick1line, "tick1"), (tick.tick2line, "tick2"),
+                        (tick.gridline, "grid")):
+        line._transform = transform(which)
+    for label, (trans, va, ha) in ((tick.label1, tick._get_text1_transform()),
+                                   (tick.label2, tick._get_text2_transform())):
+        label._transform = trans
+        label.set_verticalalignment(va)
+        label.set_horizontalalignment(ha)
+    return tick
+
+
+def copied_get_tick(original: Callable[..., Any],
+                    templates: Dict[Any, List[Any]]) -> Callable[..., Any]:
+    """Axis._get_tick handing out copies of templates built by the original (kept in
+    `templates`, at most KEEP per kind of axis and tick)."""
     @functools.wraps(original)
     def get_tick(self: Any, major: bool) -> Any:
         now = snapshot(self, major)
         if now is None:
             return original(self, major)
-        templates: Dict[bool, List[Any]] = self.__dict__.setdefault(TEMPLATES, {})
-        kept = templates.get(major)
-        if kept is None or not same(kept[0], now):
-            kept = templates[major] = [now, original(self, major)]
-        return copy_tick(kept[1])
+        kept = templates.setdefault((type(self), type(self.axes), major), [])
+        for built_from, template in kept:
+            if same(built_from, now):
+                return place(copy_tick(template), self.axes)
+        template = original(self, major)
+        kept.append((now, template))
+        del kept[:-KEEP]
+        return place(copy_tick(template), self.axes)
     return get_tick
 
 
@@ -125,6 +152,6 @@ def install() -> bool:
         return True
     if any(source_hash(f) != SOURCES_SHA256[name] for name, f in sources().items()):
         return False
-    axis._get_tick = copied_get_tick(axis._get_tick)
+    axis._get_tick = copied_get_tick(axis._get_tick, {})
     axis._dampsym_tick_clone = True
     return True
