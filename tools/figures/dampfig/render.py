@@ -29,6 +29,7 @@ from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa
 
 from . import figdata as fd  # noqa: E402
 from . import layoutcache  # noqa: E402
+from . import legendmemo  # noqa: E402
 from . import safeio as sio  # noqa: E402
 from . import textcache  # noqa: E402
 from . import tickclone  # noqa: E402
@@ -50,6 +51,8 @@ layoutcache.install()
 tickmemo.install()
 # an axis's new ticks copied from one it built (tickclone: the same pixels)
 tickclone.install()
+# a legend's entries packed once per draw (legendmemo: the same pixels)
+legendmemo.install()
 
 Json = Dict[str, Any]
 # what a figure function returns per file: (file, caption, quantities drawn on its axes)
