@@ -28,7 +28,7 @@ from matplotlib.backends import backend_agg
 
 # The SHA-256 of the source of Text._get_layout this reasons about (matplotlib 3.6.3).
 LAYOUT_SHA256 = "5510996d846ca0f2ff04f767e9fbf7344506ef9dc8763c916c6070b9be053819"
-MAX_ENTRIES = 50_000  # a default-suite run needs about 3000
+MAX_ENTRIES = 50_000  # a default-suite run needs about 900
 
 Key = Tuple[Any, ...]
 

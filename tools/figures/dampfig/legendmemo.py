@@ -21,7 +21,7 @@ code is checked); any other version draws without it."""
 import functools
 import hashlib
 import inspect
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, Optional, Tuple
 
 from matplotlib import legend as mlegend
 from matplotlib import offsetbox as mob
@@ -99,8 +99,7 @@ def install() -> bool:
         return False
     memo = Memo()
     legend.draw = memo_draw(legend.draw, memo)
-    packers: List[Any] = [mob.VPacker, mob.HPacker]
-    for packer in packers:
-        packer.get_extent_offsets = memo_packing(packer.get_extent_offsets, memo)
+    for packer in (mob.VPacker, mob.HPacker):
+        setattr(packer, "get_extent_offsets", memo_packing(packer.get_extent_offsets, memo))
     legend._dampsym_legend_memo = True
     return True
