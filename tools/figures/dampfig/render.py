@@ -8,9 +8,15 @@ Cost (a run with --figures at most 2x one without): log axes get few ticks (matp
 objects were most of the drawing time), lines are thinned to min/max per pixel column
 (figdata.decimate_columns: the drawn line is the same), legends are placed at fixed spots, dense
 lines are rasterised in svg/pdf, PNGs are encoded by figdata.encode_png from buffers reused across
-figures, blank figures of a grid are reused (resized), text is laid out once per process
-(textcache) and an axis's ticks are updated once per draw (tickmemo)."""
+figures, blank figures of a grid are reused (resized) and a figure resized to an earlier figure's
+size gets that figure's Agg renderer (reuse_renderer), text is measured and drawn once per process
+(textcache) and laid out once per process (layoutcache), ticks are copied from a template rather
+than built (tickclone), an axis's ticks are updated once per draw (tickmemo) and a legend's entries
+packed once per draw (legendmemo). Each of these modules is guarded by the SHA-256 of the
+matplotlib 3.6.3 code it reasons about, and its test draws figures both ways and compares pixels."""
 
+import hashlib
+import inspect
 import io
 import math
 import os
@@ -23,13 +29,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa: E402
                                NullFormatter, NullLocator)
 
 from . import figdata as fd  # noqa: E402
+from . import layoutcache  # noqa: E402
+from . import legendmemo  # noqa: E402
 from . import safeio as sio  # noqa: E402
 from . import textcache  # noqa: E402
+from . import tickclone  # noqa: E402
 from . import tickmemo  # noqa: E402
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
@@ -42,8 +52,14 @@ plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 7,
                      "axes.titley": 1.0, "axes.titlepad": 4.0})
 # text measured, drawn and mathtext parsed once per process (textcache: the same pixels)
 textcache.install()
+# a text's lines aligned and rotated once per process (layoutcache: the same pixels)
+layoutcache.install()
 # an axis's ticks updated and measured once per draw, not twice (tickmemo: the same pixels)
 tickmemo.install()
+# an axis's new ticks copied from one it built (tickclone: the same pixels)
+tickclone.install()
+# a legend's entries packed once per draw (legendmemo: the same pixels)
+legendmemo.install()
 
 Json = Dict[str, Any]
 # what a figure function returns per file: (file, caption, quantities drawn on its axes)
@@ -52,6 +68,12 @@ Drawn = Tuple[str, str, List[str]]
 COLUMNS = 700
 # blank figures kept for reuse at most (each holds its axes' memory)
 KEEP_BLANK = 30
+# Agg renderers kept for figures of the same size at most (reuse_renderer)
+KEEP_RENDERERS = 8
+# FigureCanvasAgg.get_renderer of matplotlib 3.6.3 (its SHA-256), which reuse_renderer reasons
+# about: another version's canvases make their own renderers
+GET_RENDERER_KNOWN = hashlib.sha256(inspect.getsource(FigureCanvasAgg.get_renderer).encode(
+    )).hexdigest() == "7469d922d24b685266f842b2d3bcd4589b001766216eeba38bf57d03eefc5eaa"
 # a panel at least this tall (inches at 100 dpi: 250 px)
 PANEL_H = 2.6
 
@@ -67,6 +89,8 @@ class Ctx:
     xticks: Dict[int, List[float]] = field(default_factory=dict)
     # the byte buffers png_bytes reuses from figure to figure
     scratch: List[Any] = field(default_factory=list)
+    # Agg renderers of earlier figures by size (reuse_renderer), oldest first
+    renderers: Dict[Any, Any] = field(default_factory=dict)
 
     def style(self, m: str) -> fd.Style:
         """(colour, marker, line style) of method m in the case being drawn."""
@@ -335,12 +359,36 @@ def png_bytes(fig: Any, scratch: Optional[List[Any]] = None, drawn: bool = False
     return fd.png_of_filtered_rows(raw.data, w, h, channels)
 
 
+def reuse_renderer(pool: Dict[Any, Any], fig: Any) -> None:
+    """Before a figure is drawn: its canvas gets a renderer of its size kept from an earlier
+    figure, and keeps the one it has for a later figure, when its size changed (a new Agg
+    renderer, a 2-15 MB buffer, cost 10 ms; the canvas clears it before drawing). At most
+    KEEP_RENDERERS are kept. Only where FigureCanvasAgg.get_renderer is the one this reasons
+    about (it reuses canvas.renderer while (width, height, dpi) equal canvas._lastKey)."""
+    canvas = fig.canvas
+    if type(canvas) is not FigureCanvasAgg or not GET_RENDERER_KNOWN:
+        return
+    w, h = fig.bbox.size
+    key = (w, h, fig.dpi)
+    if canvas._lastKey == key:
+        return
+    if canvas._lastKey is not None and getattr(canvas, "renderer", None) is not None:
+        pool.pop(canvas._lastKey, None)
+        pool[canvas._lastKey] = canvas.renderer
+    hit = pool.pop(key, None)
+    if hit is not None:
+        canvas.renderer, canvas._lastKey = hit, key
+    while len(pool) > KEEP_RENDERERS:
+        pool.pop(next(iter(pool)))
+
+
 def save(ctx: Ctx, fig: Any, case: Json, kind: str) -> str:
     """Writes the figure in every format as figures/<case id>-<kind>.<format> (the id through
     safeio.output_name; each name listed in the manifest before its file is written)."""
     name = sio.output_name(case["id"], f"-{kind}")
     tidy(fig, ctx.xticks)
     ctx.xticks.clear()
+    reuse_renderer(ctx.renderers, fig)
     draw_inside(fig)  # the margins the labels need, for every format
     figdir = os.path.join(ctx.out, "figures")
     for i, ext in enumerate(ctx.formats):

@@ -105,3 +105,36 @@ def test_draw_inside_widens_a_margin_only_where_a_label_is_cut_off(tmp_path: Any
     assert (fig.subplotpars.left, fig.subplotpars.right) == (0.3, 0.8)
     assert max(render.overhang(fig)) <= 0.5
     render.recycle(ctx, fig)
+
+
+def test_a_renderer_kept_from_another_figure_draws_the_same_pixels() -> None:
+    """reuse_renderer: a figure drawn on a renderer of its size kept from another figure (whose
+    size changed) is the same pixels as on a new renderer."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+    assert render.GET_RENDERER_KNOWN, "matplotlib's get_renderer changed: check reuse_renderer"
+
+    def figure(label: str) -> Any:
+        fig, ax = plt.subplots(figsize=(4, 3), dpi=100)
+        ax.plot([0, 1, 2], [1, 0, 2], "o-", label=label)
+        ax.legend()
+        return fig
+
+    pool: Dict[Any, Any] = {}
+    first = figure("first")
+    render.reuse_renderer(pool, first)
+    first.canvas.draw()
+    kept = first.canvas.get_renderer()
+    first.set_size_inches(5, 3)
+    render.reuse_renderer(pool, first)  # its 4x3 renderer kept for another figure
+    first.canvas.draw()
+    second = figure("second")
+    render.reuse_renderer(pool, second)
+    second.canvas.draw()
+    assert second.canvas.get_renderer() is kept and first.canvas.get_renderer() is not kept
+    fresh = figure("second")
+    fresh.canvas.draw()
+    assert np.array_equal(np.asarray(second.canvas.buffer_rgba()),
+                          np.asarray(fresh.canvas.buffer_rgba()))
+    for f in (first, second, fresh):
+        plt.close(f)
