@@ -1012,9 +1012,9 @@ class NLSDriven(NLS):
 
     def N(self, t: Any, z: Any) -> Any:
         out = super().N(t, z)
-        th = self.w0 * t + self.al
-        out[..., :self.M] += self.G * math.sin(th)
-        out[..., self.M:] += -self.G * math.cos(th)
+        th = self.w0 * np.asarray(t) + self.al   # t may be the stages' times (s, 1) of an RK step
+        out[..., :self.M] += self.G * np.sin(th)
+        out[..., self.M:] += -self.G * np.cos(th)
         return out
 
     def invariants(self) -> Any:

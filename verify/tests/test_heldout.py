@@ -368,3 +368,23 @@ def test_order_fit_of_runs_that_all_failed() -> None:
     claimed = {"ok": True, "status": "ok"}
     assert xcaserec.order_fit("c", "m", claimed, {}, [0.1, 0.05], 1.0, "order", True)["verdict"] == "disagree"
     assert xcaserec.order_fit("c", "m", theirs, {}, [0.1, 0.05], 1.0, "order")["verdict"] == "not reproduced"
+
+
+def test_driven_nls_field_at_stage_times() -> None:
+    """The driven NLS's field at the stages' times at once (an s-stage implicit step evaluates
+    N(t + c h, Z) with t an (s, 1) array): it took math.sin of the array and stopped the
+    cross-check of gauss2 / glifrk2 / a two-stage method file on nls-driven. Equal to the field
+    stage by stage."""
+    from verify import xmethods, xproblems
+    # the parameters as pde-nls-driven-cs's report gives them ("initial" 2: the sech profile)
+    prob = xproblems.make_problem("nls-driven", {"A": 3.0, "Gamma": 0.45, "L": 4.442882938158366, "M": 8.0,
+                                                 "alpha": 0.0, "gamma": 0.2, "initial": 2.0, "k": 1.0,
+                                                 "lambda": 2.0, "omega0": 1.0})
+    z = np.asarray(prob.z0, float)
+    tt = np.array([[0.1], [0.35]])
+    Z = np.stack([z, 1.01 * z])
+    both = prob.N(tt, Z)
+    for i in range(2):
+        assert np.array_equal(both[i], prob.N(float(tt[i, 0]), Z[i]))
+    z1, _ = xmethods.make_stepper("gauss2", prob, 0.01)(0.0, z)
+    assert np.all(np.isfinite(z1))
