@@ -97,6 +97,30 @@ TEST_CASE("figures: the series hook keeps series and changes no number of the re
     }
 }
 
+// With the error diagnostic alone the exact reference is evaluated on the fly (nothing stored);
+// --figures stores it on the grid. The problem check looked at the reference's middle state only
+// when it was stored: report.json's problem_check moved with --figures (3 states against 2).
+TEST_CASE("figures: a streamed case's report does not move with --figures", "[series]") {
+    const json spec = {{"id", "series-streamed"},
+                       {"title", "series hook, streamed grid"},
+                       {"no_checks_because", "a unit test of the figures hook"},
+                       {"problem", {{"id", "oscillator"}, {"omega", 1.0}, {"gamma", 0.1}}},
+                       {"methods", {"csv1"}},
+                       {"t_end", 10.0},
+                       {"dt", 0.01},
+                       {"output_dt", 0.1},
+                       {"diagnostics", {"error"}}};
+    const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
+    dampsym::RunOptions plain;
+    plain.time_budget = 0.0;
+    const json a = dampsym::run_cases({c}, plain);
+    dampsym::RunOptions with = plain;
+    with.series_sink = [](const json&) {};
+    const json b = dampsym::run_cases({c}, with);
+    CHECK(a["cases"][0]["problem_check"]["states"] == 3);
+    CHECK(a["cases"] == b["cases"]);
+}
+
 // e^{2Γ} I_n / I_0 − 1 has no value when I_0 = 0: the series keeps no point of it (the figure drew
 // −1 at every step for an oscillator at rest, which the report calls undefined). Negative
 // control: the same case from q0 = 1 keeps the series.

@@ -274,7 +274,9 @@ private:
 
     // The problem's Jacobians against its functions (problem_check.hpp) at the initial state and
     // at the reference's middle and last states, or, without a reference, at the final state of
-    // the first run that finished.
+    // the first run that finished. The same states whether the reference is stored on the grid
+    // (--figures stores it) or evaluated on the fly: the middle one is then evaluated here as the
+    // stored grid would hold it, so that report.json does not move with --figures.
     json problem_check() const {
         ProblemCheck pc;
         pc.parts = problem_check_parts<P>();
@@ -287,7 +289,16 @@ private:
         at(c_.t0, problem_.initial_state());
         const Eigen::Index cols = facts_.ref.cols();
         if (cols > 0 && static_cast<std::size_t>(cols) == ref_times_.size()) {
-            if (cols >= 3) at(ref_times_[(cols - 1) / 2], facts_.ref.col((cols - 1) / 2));
+            if (cols >= 3) {
+                at(ref_times_[(cols - 1) / 2], facts_.ref.col((cols - 1) / 2));
+            } else if constexpr (HasExactSolution<P>) {
+                if (exact_on_the_fly() && facts_.points >= 2) {
+                    const double t = facts_.grid_time(facts_.points / 2); // = ref_times_ stored
+                    Vec z(problem_.dim());
+                    problem_.exact(c_.t0, problem_.initial_state(), t, z);
+                    at(t, z);
+                }
+            }
             at(ref_times_.back(), facts_.ref.col(cols - 1));
             return problem_check_json(pc, states);
         }
