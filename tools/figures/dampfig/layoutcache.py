@@ -18,13 +18,13 @@ Applied only to the matplotlib versions whose Text it was written against (the c
 _get_layout is checked); any other version draws without it."""
 
 import functools
-import hashlib
-import inspect
 from typing import Any, Callable, Dict, Tuple
 
 import matplotlib as mpl
 from matplotlib import text as mtext
 from matplotlib.backends import backend_agg
+
+from . import mplsource
 
 # The SHA-256 of the source of Text._get_layout this reasons about (matplotlib 3.6.3).
 LAYOUT_SHA256 = "5510996d846ca0f2ff04f767e9fbf7344506ef9dc8763c916c6070b9be053819"
@@ -34,7 +34,7 @@ Key = Tuple[Any, ...]
 
 
 def source_hash() -> str:
-    return hashlib.sha256(inspect.getsource(mtext.Text._get_layout).encode()).hexdigest()
+    return mplsource.source_hash(mtext.Text._get_layout)
 
 
 def font_key(prop: Any) -> Key:

@@ -19,12 +19,12 @@ Applied only to the matplotlib versions whose legend and packers it was written 
 code is checked); any other version draws without it."""
 
 import functools
-import hashlib
-import inspect
 from typing import Any, Callable, Dict, Optional, Tuple
 
 from matplotlib import legend as mlegend
 from matplotlib import offsetbox as mob
+
+from . import mplsource
 
 # The SHA-256 of the sources this reasons about (matplotlib 3.6.3).
 SOURCES_SHA256 = {
@@ -48,8 +48,7 @@ def sources() -> Dict[str, Any]:
             for name in SOURCES_SHA256 for cls, meth in [name.split(".")]}
 
 
-def source_hash(function: Any) -> str:
-    return hashlib.sha256(inspect.getsource(function).encode()).hexdigest()
+source_hash = mplsource.source_hash
 
 
 class Memo:

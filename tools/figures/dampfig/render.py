@@ -15,8 +15,6 @@ than built (tickclone), an axis's ticks are updated once per draw (tickmemo) and
 packed once per draw (legendmemo). Each of these modules is guarded by the SHA-256 of the
 matplotlib 3.6.3 code it reasons about, and its test draws figures both ways and compares pixels."""
 
-import hashlib
-import inspect
 import io
 import math
 import os
@@ -34,6 +32,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import (FixedLocator, FuncFormatter, MaxNLocator,  # noqa: E402
                                NullFormatter, NullLocator)
 
+from . import mplsource  # noqa: E402
 from . import figdata as fd  # noqa: E402
 from . import layoutcache  # noqa: E402
 from . import legendmemo  # noqa: E402
@@ -72,8 +71,8 @@ KEEP_BLANK = 30
 KEEP_RENDERERS = 8
 # FigureCanvasAgg.get_renderer of matplotlib 3.6.3 (its SHA-256), which reuse_renderer reasons
 # about: another version's canvases make their own renderers
-GET_RENDERER_KNOWN = hashlib.sha256(inspect.getsource(FigureCanvasAgg.get_renderer).encode(
-    )).hexdigest() == "7469d922d24b685266f842b2d3bcd4589b001766216eeba38bf57d03eefc5eaa"
+GET_RENDERER_KNOWN = mplsource.source_hash(FigureCanvasAgg.get_renderer) == \
+    "7469d922d24b685266f842b2d3bcd4589b001766216eeba38bf57d03eefc5eaa"
 # a panel at least this tall (inches at 100 dpi: 250 px)
 PANEL_H = 2.6
 

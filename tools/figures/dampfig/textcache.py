@@ -19,8 +19,6 @@ draw_text and get_text_width_height_descent is checked); any other version draws
 caches."""
 
 import functools
-import hashlib
-import inspect
 from math import cos, radians, sin
 from typing import Any, Callable, Dict, Tuple
 
@@ -28,6 +26,8 @@ import matplotlib as mpl
 import matplotlib.mathtext
 import numpy as np
 from matplotlib.backends import backend_agg
+
+from . import mplsource
 
 # The SHA-256 of the sources of RendererAgg.draw_text and get_text_width_height_descent these
 # wrappers reproduce (matplotlib 3.6.3).
@@ -42,8 +42,7 @@ def draw_text_source_hash() -> str:
     return source_hash(backend_agg.RendererAgg.draw_text)
 
 
-def source_hash(function: Any) -> str:
-    return hashlib.sha256(inspect.getsource(function).encode()).hexdigest()
+source_hash = mplsource.source_hash
 
 
 def _key(renderer: Any, s: str, prop: Any) -> Key:

@@ -25,8 +25,6 @@ Applied only to the matplotlib versions whose constructors it was written agains
 checked); any other version builds every tick as before."""
 
 import functools
-import hashlib
-import inspect
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import matplotlib as mpl
@@ -35,6 +33,8 @@ from matplotlib import axis as maxis
 from matplotlib import cbook
 from matplotlib import lines as mlines
 from matplotlib import text as mtext
+
+from . import mplsource
 
 # The SHA-256 of the sources this reasons about (matplotlib 3.6.3): what a tick is built from and
 # which of its artists' attributes are objects of their own.
@@ -63,8 +63,7 @@ def sources() -> Dict[str, Any]:
             "Line2D.set_ydata": mlines.Line2D.set_ydata, "Text.__init__": mtext.Text.__init__}
 
 
-def source_hash(function: Any) -> str:
-    return hashlib.sha256(inspect.getsource(function).encode()).hexdigest()
+source_hash = mplsource.source_hash
 
 
 def copy_artist(a: Any) -> Any:

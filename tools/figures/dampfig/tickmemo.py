@@ -15,11 +15,11 @@ Applied only to the matplotlib versions whose Axis it was written against (the c
 methods is checked); any other version draws without it."""
 
 import functools
-import hashlib
-import inspect
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from matplotlib import axis as maxis
+
+from . import mplsource
 
 # The SHA-256 of the sources of the Axis methods this reasons about (matplotlib 3.6.3).
 SOURCES_SHA256 = {
@@ -33,7 +33,7 @@ DRAWN = "_dampsym_drawn_tick_boxes"
 
 
 def source_hash(name: str) -> str:
-    return hashlib.sha256(inspect.getsource(getattr(maxis.Axis, name)).encode()).hexdigest()
+    return mplsource.source_hash(getattr(maxis.Axis, name))
 
 
 def memo_draw(original: Callable[..., Any]) -> Callable[..., Any]:
