@@ -16,10 +16,14 @@ cd "$(dirname "$0")/.."
 root="$PWD"
 out="$root/build-fuzz"
 mkdir -p "$out/obj"
+# The diagnostic registry's generated list (src/diagnostics/diagnostic_list.hpp), as the CMake build
+# writes it (only when it changes).
+cmake -DSRC_DIR="$root" -DOUT="$out/include/diagnostic_registry_generated.hpp" \
+      -P "$root/cmake/diagnostic_registry.cmake"
 cxx="${CXX_FUZZ:-clang++-14}"
 launcher="${CMAKE_CXX_COMPILER_LAUNCHER:-}"
 flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
-       -fno-sanitize-recover=all -I"$root/src" -I"$root" -I"$root/include" -isystem /usr/include/eigen3
+       -fno-sanitize-recover=all -I"$root/src" -I"$root" -I"$root/include" -I"$out/include" -isystem /usr/include/eigen3
        -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
 # The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
 lib=(src/harness/case/case.cpp src/harness/case/json.cpp src/harness/case/parse.cpp

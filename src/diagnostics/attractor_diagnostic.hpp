@@ -50,6 +50,7 @@ struct AttractorDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(AttractorDiagnostic, 200);
 
 json attractor_metrics(const CaseFacts& c, const Mat& grid, std::string_view probe_name,
                        const std::function<double(const Vec&)>& probe);

@@ -25,6 +25,7 @@ struct ConformalSymplecticDiagnostic {
     template <class V>
     static json produce_pass(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(ConformalSymplecticDiagnostic, 140);
 
 json conformal_symplectic_json(const ConformalSymplecticStats& st);
 

@@ -19,6 +19,7 @@ struct CostDiagnostic {
     template <class V>
     static json produce(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(CostDiagnostic, 90);
 
 json cost_metrics(const Counters& counters, std::int64_t steps_done, double wall_seconds);
 

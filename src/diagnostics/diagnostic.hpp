@@ -2,10 +2,12 @@
 // runner's "needs a trajectory / a reference / an observer / a Jacobian pass" logic, the check
 // evaluation, the report and `dampsym list`. Each diagnostic declares one DiagnosticInfo in its own
 // file (src/diagnostics/<name>_diagnostic.{hpp,cpp}) next to the C++20 concept a problem must
-// satisfy and the code that produces its metrics; src/diagnostics/diagnostic_list.hpp registers it
-// (one line). No list of diagnostic or metric names is written anywhere else.
+// satisfy and the code that produces its metrics, and registers itself there with a
+// `DAMPSYM_DIAGNOSTIC(Type, order);` line (below; DiagnosticList in diagnostic_list.hpp is
+// generated from those lines). No list of diagnostic or metric names is written anywhere else.
 #pragma once
 
+#include <concepts>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -70,6 +72,14 @@ struct DiagnosticInfo {
     std::vector<ReportColumn> report_columns{};
 };
 
+// What every registered diagnostic type declares (the rest, its producers, hooks and series, is
+// optional and found by the typed case's requires-expressions).
+template <class D>
+concept DiagnosticType = requires {
+    { D::name } -> std::convertible_to<std::string_view>;
+    { D::info() } -> std::same_as<DiagnosticInfo>;
+};
+
 // Every diagnostic, in registration order (diagnostic_list.hpp).
 const std::vector<DiagnosticInfo>& diagnostic_registry();
 const DiagnosticInfo* find_diagnostic(std::string_view name);
@@ -85,3 +95,11 @@ std::vector<std::string> diagnostic_metrics(std::string_view d,
 const std::vector<std::string>& run_record_fields();
 
 } // namespace dampsym
+
+// Registers the diagnostic type T, written on a line of its own at namespace scope in
+// src/diagnostics/<name>_diagnostic.hpp: cmake/diagnostic_registry.cmake finds the line and lists T
+// in DiagnosticList (diagnostic_list.hpp), by ascending `order` (the order of `dampsym list` and of
+// the report's metrics-table columns). Here it checks that T is one.
+#define DAMPSYM_DIAGNOSTIC(T, order)                                                               \
+    static_assert(::dampsym::DiagnosticType<T> && (order) >= 0,                                    \
+                  #T " does not declare a diagnostic's name and info() (diagnostic.hpp)")

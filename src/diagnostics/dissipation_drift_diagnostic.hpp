@@ -57,6 +57,7 @@ struct DissipationDriftDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(DissipationDriftDiagnostic, 50);
 
 struct MaximaSeries {
     std::vector<Maximum> maxima;

@@ -85,6 +85,7 @@ struct EnergyBalanceDiagnostic {
     template <class V>
     static json produce(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(EnergyBalanceDiagnostic, 110);
 
 json energy_balance_metrics(const EnergyBalanceStats& e);
 

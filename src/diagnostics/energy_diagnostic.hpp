@@ -26,6 +26,7 @@ struct EnergyDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(EnergyDiagnostic, 40);
 
 // A scalar function of the state (the problem's energy, energy scale or temperature), passed to
 // the compiled-once producers by the typed runner.

@@ -25,6 +25,7 @@ struct ErrorDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(ErrorDiagnostic, 10);
 
 // The running reduction of the error over the output grid t_1..t_end: fed one grid point
 // at a time, either on the fly during the run (harness/run/grid_stream.hpp: no trajectory stored)

@@ -36,6 +36,7 @@ struct FieldDriftDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(FieldDriftDiagnostic, 180);
 
 // From the output grid: Gamma(t) the problem's Γ, n the field size.
 json field_drift_metrics(const CaseFacts& c, const Mat& grid, int n,

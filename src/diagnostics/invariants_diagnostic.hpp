@@ -203,6 +203,7 @@ struct InvariantsDiagnostic {
     template <class V>
     static json produce(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(InvariantsDiagnostic, 30);
 
 // names / scale_defs: the problem's invariant_names and invariant_scale_defs; initial: I_k(z_0).
 json invariant_metrics(const std::vector<InvariantStats>& stats,

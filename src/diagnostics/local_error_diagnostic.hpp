@@ -22,6 +22,7 @@ struct LocalErrorDiagnostic {
     template <class V>
     static json produce_pass(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(LocalErrorDiagnostic, 150);
 
 // The metrics from the one-step state z and the exact state at t0 + h (null z: the solve failed).
 json local_error_json(const Vec* z, const Vec& exact);

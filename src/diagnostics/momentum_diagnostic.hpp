@@ -181,6 +181,7 @@ struct MomentumDiagnostic {
     template <class V>
     static json produce(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(MomentumDiagnostic, 100);
 
 // B Table 3.1 factor of Σp per step the method declares (claims, core/method.hpp) at a constant
 // damping step gh = γh; NaN if it declares none or the damping is not constant.

@@ -21,6 +21,7 @@ struct OrderDiagnostic {
     template <class P>
     static constexpr bool supports = true;
 };
+DAMPSYM_DIAGNOSTIC(OrderDiagnostic, 20);
 
 struct LocalOrderDiagnostic {
     static constexpr std::string_view name = "local-order";
@@ -28,6 +29,7 @@ struct LocalOrderDiagnostic {
     template <class P>
     static constexpr bool supports = HasExactSolution<P>;
 };
+DAMPSYM_DIAGNOSTIC(LocalOrderDiagnostic, 160);
 
 // The fit of (dt, error) points of one method: errors below `floor` are dropped; `ref_error` is
 // the reference's estimate (0 for local errors), `roundoff` the round-off floor, for the report;

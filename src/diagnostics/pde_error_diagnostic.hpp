@@ -36,6 +36,7 @@ struct PdeErrorDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(PdeErrorDiagnostic, 190);
 
 // From the output grid: solution(t, out) the problem's pde_solution from the case's start.
 json pde_error_metrics(const CaseFacts& c, const Mat& grid,

@@ -26,6 +26,7 @@ struct PoincareDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(PoincareDiagnostic, 120);
 
 // period: the problem's forcing period (none: the problem has no periodic forcing).
 json poincare_metrics(const CaseFacts& c, const Mat& grid, std::optional<double> period);

@@ -33,6 +33,7 @@ struct PrecessionDiagnostic {
     template <class V>
     static json produce(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(PrecessionDiagnostic, 170);
 
 // The Laplace–Runge–Lenz vector of a state (its length is the osculating eccentricity).
 using RungeLenzFunction = std::function<std::array<double, 2>(const Vec&)>;

@@ -26,6 +26,7 @@ struct StabilityDiagnostic {
     template <class V>
     static json produce_pass(const V& run);
 };
+DAMPSYM_DIAGNOSTIC(StabilityDiagnostic, 60);
 
 struct TraceTaylorDiagnostic {
     static constexpr std::string_view name = "trace-taylor";
@@ -33,6 +34,7 @@ struct TraceTaylorDiagnostic {
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;
 };
+DAMPSYM_DIAGNOSTIC(TraceTaylorDiagnostic, 80);
 
 // M at the run's step h on the oscillator (ω, γ).
 json stability_metrics(const Mat& M, double omega, double gamma, double h, const MethodInfo& info);

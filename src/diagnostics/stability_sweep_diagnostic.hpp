@@ -24,6 +24,7 @@ struct StabilitySweepDiagnostic {
     template <class P>
     static constexpr bool supports = LinearOscillator<P>;
 };
+DAMPSYM_DIAGNOSTIC(StabilitySweepDiagnostic, 70);
 
 struct SweepRow {
     std::int64_t first_emp = 0, first_formula = 0, first_pb = 0, first_pb_formula = 0;

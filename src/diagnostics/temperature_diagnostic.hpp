@@ -26,6 +26,7 @@ struct TemperatureDiagnostic {
     template <class G>
     static void grid_series(const G& g, nlohmann::json& s);
 };
+DAMPSYM_DIAGNOSTIC(TemperatureDiagnostic, 130);
 
 // temperature: the problem's (empty: it declares none).
 json temperature_metrics(const CaseFacts& c, const Mat& grid, const StateFunction& temperature);
