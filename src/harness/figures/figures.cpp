@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <spawn.h>
 #include <sys/socket.h>
@@ -138,13 +139,22 @@ std::function<void(const json&)> series_file_sink(const std::string& dir) {
     fs::create_directories(sdir, ec);
     if (ec) throw OutputError(sdir.string() + ": cannot create directory: " + ec.message());
     remove_listed_outputs(sdir); // series of an earlier run with other cases must not linger
-    auto written = std::make_shared<std::vector<std::string>>();
+    struct Written {
+        std::mutex mutex;
+        std::vector<std::string> names;
+    };
+    auto written = std::make_shared<Written>();
+    // Called by the threads that finish cases, each with its own case: the manifest is shared.
     return [sdir, written](const json& s) {
         if (!s.is_object() || !s.contains("case") || !s["case"].is_string()) return;
         const std::string name = output_file_name(s["case"].get<std::string>(), ".json");
-        written->push_back(name);
-        write_manifest(sdir, *written); // listed first: a run killed while writing it removes it
-        write_file_atomic((sdir / name).string(), s.dump());
+        const std::string text = s.dump();
+        {
+            std::lock_guard<std::mutex> lock(written->mutex);
+            written->names.push_back(name);
+            write_manifest(sdir, written->names); // listed first: a run killed while writing
+        }                                         // the file removes it
+        write_file_atomic((sdir / name).string(), text);
     };
 }
 

@@ -164,10 +164,13 @@ nlohmann::json solve_failure_json(const Counters& counters) {
 std::function<void(const nlohmann::json&)>
 recording_output_errors(std::function<void(const nlohmann::json&)> sink,
                         std::vector<std::string>& errors) {
-    return [sink = std::move(sink), &errors](const nlohmann::json& item) {
+    // the sink is called from the threads that finish cases
+    auto mutex = std::make_shared<std::mutex>();
+    return [sink = std::move(sink), &errors, mutex](const nlohmann::json& item) {
         try {
             sink(item);
         } catch (const OutputError& e) {
+            std::lock_guard<std::mutex> lock(*mutex);
             errors.emplace_back(e.what());
         }
     };

@@ -271,9 +271,6 @@ public:
         run_parallel(planned, options_.jobs);
         json out_cases = json::array();
         for (auto& record : records_) out_cases.push_back(std::move(record));
-        if (options_.series_sink) // figures hook
-            for (std::size_t i = 0; i < jobs_.size(); ++i)
-                if (prepared_[i]) options_.series_sink(jobs_[i]->series());
         return out_cases;
     }
 
@@ -329,7 +326,13 @@ private:
     // limits.hpp), then the progress call that announces it.
     void finish_case(std::size_t i) {
         json record;
-        if (prepared_[i] && isolated(i, [&] { record = jobs_[i]->finish(); })) {
+        const bool finished = prepared_[i] && isolated(i, [&] { record = jobs_[i]->finish(); });
+        // figures hook: the case's series file, written by the thread that finished the case
+        // while the other cases run (the sink is thread-safe; an output error is recorded by it,
+        // any other failure is the case's error)
+        if (prepared_[i] && options_.series_sink)
+            isolated(i, [&] { options_.series_sink(jobs_[i]->series()); });
+        if (finished) {
             json done = completion_check(record, task_errors_[i]);
             if (!task_errors_[i].empty()) record["errors"] = task_errors_[i];
             if (!done.is_null()) record["checks"].push_back(std::move(done));

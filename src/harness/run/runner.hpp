@@ -23,7 +23,8 @@ struct RunOptions {
     double case_timeout = 0.0;
     // Figures hook: when set (dampsym run --figures), every case keeps the time series
     // of its figures and the sink receives each case's series (docs/reports.md "Series files")
-    // after the case has finished; when empty, nothing is kept.
+    // as soon as the case has finished, on the thread that finished it (so concurrently with
+    // other cases': the sink must be thread-safe); when empty, nothing is kept.
     std::function<void(const nlohmann::json& case_series)> series_sink;
 };
 
