@@ -6,8 +6,8 @@ Reads REPORT_DIR/report.json and, when the run was made with --figures, REPORT_D
 writes REPORT_DIR/figures/<case>-<kind>.<format>, the list of figures per case with the quantities
 each draws (figures/manifest.json, which `dampsym` embeds in report.md) and the paper-figure
 gallery REPORT_DIR/figures.md (what the paper's figure shows beside what dampsym's draws). One
-process imports matplotlib once and forks N workers, each drawing whole cases. What each figure
-plots is computed in figdata.py (without matplotlib).
+process imports matplotlib once and forks N workers, each taking whole cases from a shared queue.
+What each figure plots is computed in figdata.py (without matplotlib).
 
 Exit status: 0; 1 a figure could not be drawn; 2 bad input (one line naming the file); 3 an
 output that cannot be written; 130/143 on SIGINT/SIGTERM, quietly."""
@@ -17,7 +17,9 @@ import gc
 import json
 import os
 import pickle
+import select
 import signal
+import struct
 import sys
 from types import FrameType
 from typing import Any, Callable, Dict, List, Optional, Tuple
@@ -116,21 +118,34 @@ def series_cost(ctx: Ctx, i: int) -> int:
     return size + 200000 * (len(case["dt_ladder"]) >= 2)
 
 
-def partition(ctx: Ctx, cases: List[int], jobs: int) -> List[List[int]]:
-    """The cases in `jobs` parts of about equal work (largest first onto the least loaded)."""
-    parts: List[List[int]] = [[] for _ in range(min(jobs, len(cases)))]
-    loads = [0] * len(parts)
-    for i in sorted(cases, key=lambda i: -series_cost(ctx, i)):
-        k = loads.index(min(loads))
-        parts[k].append(i)
-        loads[k] += series_cost(ctx, i)
-    return parts
+INDEX = struct.Struct("<I")  # a case index in the work queue
+# Queue writes of at most PIPE_BUF bytes are atomic, and a whole number of indices: every read of
+# INDEX.size bytes by a worker then takes exactly one index (or none, at the end).
+QUEUE_CHUNK = (select.PIPE_BUF // INDEX.size) * INDEX.size
 
 
-def child(ctx: Ctx, part: List[int], wfd: int) -> None:
-    """A worker: draws its cases and sends the results (pickled) through wfd; never returns."""
+def queue_order(ctx: Ctx, cases: List[int]) -> List[int]:
+    """The cases as the workers take them: the largest (series_cost) first, so that the last
+    ones taken are small and the workers end together."""
+    return sorted(cases, key=lambda i: (-series_cost(ctx, i), i))
+
+
+def next_case(queue: int) -> Optional[int]:
+    """The next case index from the shared queue (a pipe), None when it is empty and closed."""
+    data = os.read(queue, INDEX.size)
+    return INDEX.unpack(data)[0] if len(data) == INDEX.size else None
+
+
+def child(ctx: Ctx, queue: int, wfd: int) -> None:
+    """A worker: draws the cases it takes from the queue, one at a time, until it is empty, and
+    sends the results (pickled) through wfd; never returns. Which worker draws which case
+    depends on timing; what each figure holds does not (every cache of the drawing is keyed by
+    its full input)."""
     try:
-        msg: Tuple[str, Any] = ("ok", [r for i in part for r in draw_case(ctx, i)])
+        results: List[Result] = []
+        while (i := next_case(queue)) is not None:
+            results += draw_case(ctx, i)
+        msg: Tuple[str, Any] = ("ok", results)
     except sio.OutputProblem as e:
         msg = ("output", str(e))
     except BaseException as e:  # noqa: B036 - reported by the parent as an internal error
@@ -140,24 +155,49 @@ def child(ctx: Ctx, part: List[int], wfd: int) -> None:
     os._exit(0)
 
 
+def fill_queue(queue: int, order: List[int]) -> None:
+    """Writes the case indices into the queue in atomic chunks, then closes it (a worker that
+    died leaves the others to take its share)."""
+    data = b"".join(INDEX.pack(i) for i in order)
+    try:
+        for k in range(0, len(data), QUEUE_CHUNK):
+            os.write(queue, data[k:k + QUEUE_CHUNK])
+    except BrokenPipeError:  # every worker has ended: the results say why
+        pass
+    finally:
+        os.close(queue)
+
+
 def draw_all(ctx: Ctx, cases: List[int], jobs: int, workers: List[int]) -> List[Result]:
     """Every figure of the cases, in `jobs` forked workers (their pids kept in `workers` for the
-    signal handler). Python's cyclic collector scanned matplotlib's many artists again and again:
-    what exists now is frozen out of its scans and it runs every 50 000 allocations."""
+    signal handler) that take the cases one at a time from a shared queue: a static split by
+    series size left one worker with half again the other's drawing. Python's cyclic collector
+    scanned matplotlib's many artists again and again: what exists now is frozen out of its scans
+    and it runs every 50 000 allocations."""
     gc.freeze()
     gc.set_threshold(50000, 50, 100)
     if jobs <= 1 or len(cases) <= 1:
         return [r for i in cases for r in draw_case(ctx, i)]
+    qr, qw = os.pipe()
     pipes = []
-    for part in partition(ctx, cases, jobs):
+    for _ in range(min(jobs, len(cases))):
         rfd, wfd = os.pipe()
         pid = os.fork()
         if pid == 0:
             os.close(rfd)
-            child(ctx, part, wfd)
+            os.close(qw)
+            child(ctx, qr, wfd)
         os.close(wfd)
         workers.append(pid)
         pipes.append((pid, rfd))
+    os.close(qr)
+    fill_queue(qw, queue_order(ctx, cases))
+    return collect(pipes)
+
+
+def collect(pipes: List[Tuple[int, int]]) -> List[Result]:
+    """The workers' results, read from their pipes; an output problem or an internal error of
+    any worker raised after all have ended."""
     results: List[Result] = []
     problems: List[Tuple[str, str]] = []
     for pid, rfd in pipes:
