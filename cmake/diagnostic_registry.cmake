@@ -8,9 +8,9 @@
 cmake_minimum_required(VERSION 3.25)
 file(GLOB _headers RELATIVE ${SRC_DIR}/src ${SRC_DIR}/src/diagnostics/*_diagnostic.hpp)
 set(_entries "")
-set(_regex "^DAMPSYM_DIAGNOSTIC\\(([A-Za-z_][A-Za-z0-9_]*), *([0-9]+)\\);")
+set(_regex "^[ \t]*DAMPSYM_DIAGNOSTIC\\(([A-Za-z_][A-Za-z0-9_]*), *([0-9]+)\\);")
 foreach(_h IN LISTS _headers)
-  file(STRINGS ${SRC_DIR}/src/${_h} _lines REGEX "^DAMPSYM_DIAGNOSTIC")
+  file(STRINGS ${SRC_DIR}/src/${_h} _lines REGEX "^[ \t]*DAMPSYM_DIAGNOSTIC")
   if(NOT _lines)
     message(FATAL_ERROR "src/${_h}: no `DAMPSYM_DIAGNOSTIC(Type, order);` line: a "
                         "*_diagnostic.hpp registers the diagnostic it declares (docs/extending.md)")

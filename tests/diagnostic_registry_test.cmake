@@ -31,8 +31,8 @@ endfunction()
 
 file(REMOVE_RECURSE ${WORK})
 plant(good a_diagnostic.hpp "struct ADiagnostic {};\nDAMPSYM_DIAGNOSTIC(ADiagnostic, 30);\n")
-plant(good b_diagnostic.hpp
-      "DAMPSYM_DIAGNOSTIC(BDiagnostic, 10);\nDAMPSYM_DIAGNOSTIC(B2Diagnostic, 20);\n")
+plant(good b_diagnostic.hpp # indented or not; a commented-out line is not a registration
+      "    DAMPSYM_DIAGNOSTIC(BDiagnostic, 10);\nDAMPSYM_DIAGNOSTIC(B2Diagnostic, 20);\n// DAMPSYM_DIAGNOSTIC(Old, 5);\n")
 plant(good helper.hpp "DAMPSYM_DIAGNOSTIC(NotADiagnostic, 1);\n") # not a *_diagnostic.hpp
 generate(good rc msg)
 if(NOT rc EQUAL 0)
