@@ -351,16 +351,19 @@ def stderr_says(text: str) -> Callable[[], bool]:
 
 
 def signal_when(args: List[str], ready: Callable[[], bool], sigs: Sequence[int],
-                to_group: bool = False) -> Tuple[int, str, List[int]]:
+                to_group: bool = False,
+                with_script: bool = False) -> Tuple[int, str, List[int]]:
     """Starts dampsym (in a session of its own), sends sigs once ready() (10 ms apart, to its
-    process group if to_group), and returns its exit status, stderr and the figure script's
-    process groups seen."""
+    process group if to_group) and, with_script, once the figure script has been seen (dampsym
+    starts it after its last note, so the note alone can come first), and returns its exit
+    status, stderr and the figure script's process groups seen."""
     with open(os.path.join(WORK, STDERR), "w") as err_file:
         p = subprocess.Popen([DAMPSYM, *args], stdout=subprocess.DEVNULL, stderr=err_file,
                              start_new_session=True)
     groups: List[int] = []
     deadline = time.monotonic() + 60
-    while not ready() and p.poll() is None and time.monotonic() < deadline:
+    while (not ready() or (with_script and not groups)) and p.poll() is None \
+            and time.monotonic() < deadline:
         groups += [g for g in figure_script_groups(p.pid) if g not in groups]
         time.sleep(0.01)
     groups += [g for g in figure_script_groups(p.pid) if g not in groups]
@@ -395,7 +398,8 @@ def test_signal_during_runs_of_run_figures() -> None:
         out = fresh(f"sig-runs-{sig}")
         code, err, groups = signal_when(["run", long, "--figures", "--out", out, "--shard",
                                          "none", "--time-budget", "0"],
-                                        stderr_says("predicted duration"), [sig])
+                                        stderr_says("predicted duration"), [sig],
+                                        with_script=True)
         assert code == 128 + sig and "internal error" not in err, (code, err)
         # the figure script started with the run (to import matplotlib meanwhile) is gone too
         assert groups and not any(group_alive(g) for g in groups), \
