@@ -20,16 +20,30 @@ mkdir -p "$out/obj"
 # writes it (only when it changes).
 cmake -DSRC_DIR="$root" -DOUT="$out/include/diagnostic_registry_generated.hpp" \
       -P "$root/cmake/diagnostic_registry.cmake"
+# The (kernel, problem) pairs in one shard, as CMake generates the shards (the registry reads them:
+# which kernel applies to which problem); rewritten only when it changes.
+sed -e 's/@DAMPSYM_SHARD@/0/g' -e 's/@DAMPSYM_CASE_SHARDS@/1/g' \
+    src/harness/run/kernel_shard.cpp.in > "$out/kernel_shard_0.cpp.new"
+if cmp -s "$out/kernel_shard_0.cpp.new" "$out/kernel_shard_0.cpp"; then
+  rm "$out/kernel_shard_0.cpp.new"
+else
+  mv "$out/kernel_shard_0.cpp.new" "$out/kernel_shard_0.cpp"
+fi
 cxx="${CXX_FUZZ:-clang++-14}"
 launcher="${CMAKE_CXX_COMPILER_LAUNCHER:-}"
 flags=(-std=c++20 -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined
        -fno-sanitize-recover=all -I"$root/src" -I"$root" -I"$root/include" -I"$out/include" -isystem /usr/include/eigen3
        -DDAMPSYM_VERSION=\"fuzz\" -DDAMPSYM_SOURCE_DIR=\"$root\" -DDAMPSYM_CASE_SHARDS=1)
-# The library sources the readers need (no case shards, runner or CLI: nothing here runs a case).
+# The library sources the readers need (no case shards, runner or CLI: nothing here runs a case;
+# the kernel shard because the registry asks which kernel applies to which problem).
 lib=(src/harness/case/case.cpp src/harness/case/json.cpp src/harness/case/parse.cpp
      src/harness/case/expect.cpp src/harness/case/util.cpp src/harness/case/figures_key.cpp
      src/harness/user_methods/method_files.cpp src/harness/user_methods/method_file_parse.cpp
      src/harness/run/limits.cpp src/harness/run/memory_limits.cpp src/harness/registry.cpp
+     src/harness/bounded_read.cpp build-fuzz/kernel_shard_0.cpp src/harness/run/kernel_ops.cpp
+     src/harness/user_methods/method_coefficients.cpp src/methods/partitioned_program.cpp
+     src/pde/periodic_grid.cpp src/pde/burgers/schemes.cpp src/pde/klein_gordon/schemes.cpp
+     src/pde/nls/schemes.cpp src/methods/families.cpp src/methods/exponential_checks.cpp
      src/harness/report/compare.cpp src/harness/report/compare_input.cpp
      src/harness/report/report.cpp src/harness/report/tables.cpp
      src/harness/ci/shard.cpp src/harness/ci/junit.cpp
