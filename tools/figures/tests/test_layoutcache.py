@@ -7,24 +7,18 @@ from typing import Any, List
 
 import numpy as np
 
+from figure_pixels import loglog_panel, pixels
+
 from dampfig import layoutcache, render  # noqa: F401 - render installs the cache
 
 
 def draw(plt: Any) -> Any:
-    fig, ax = plt.subplots(figsize=(4, 3), dpi=100)
-    ax.plot([1e-3, 1e-2, 1e-1], [1e-8, 1e-6, 1e-4], "o-", label="csv1 (fixed h)")
-    ax.plot([1e-3, 1e-1], [1e-7, 1e-5], "s--", label=r"$\|z - z_{ref}\|$ at $t_{end}$")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    fig, ax = loglog_panel(plt)
     ax.set_ylabel("relative error\nat t_end")  # two lines at 90 degrees
-    ax.set_title(r"energy $H(q, p)$  [×10⁻²⁰]")
     ax.text(0.5, 0.5, "centred\nlonger second line", ha="center", va="center",
             multialignment="right", transform=ax.transAxes, rotation=30)
     ax.legend()
-    fig.canvas.draw()
-    pixels = np.asarray(fig.canvas.buffer_rgba()).copy()
-    plt.close(fig)
-    return pixels
+    return pixels(plt, fig)
 
 
 def test_cached_layout_draws_the_same_pixels(monkeypatch: Any) -> None:

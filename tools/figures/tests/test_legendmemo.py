@@ -8,6 +8,8 @@ from typing import Any, List
 import numpy as np
 from matplotlib import offsetbox
 
+from figure_pixels import pixels
+
 from dampfig import legendmemo, render  # noqa: F401 - render installs the memo
 
 
@@ -18,10 +20,7 @@ def draw(plt: Any) -> Any:
     ax.legend(ncol=2, title="methods", loc="upper left")
     fig.legend(handles=ax.get_lines()[:3], loc="lower center", ncol=3, mode="expand",
                bbox_to_anchor=(0.1, 0.0, 0.8, 0.1))
-    fig.canvas.draw()
-    pixels = np.asarray(fig.canvas.buffer_rgba()).copy()
-    plt.close(fig)
-    return pixels
+    return pixels(plt, fig)
 
 
 def test_memo_draws_the_same_pixels_with_fewer_packings(monkeypatch: Any) -> None:

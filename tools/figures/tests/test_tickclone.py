@@ -11,25 +11,17 @@ import matplotlib.axis
 import numpy as np
 from matplotlib.transforms import Transform
 
+from figure_pixels import pixels, tick_grid
+
 from dampfig import render, tickclone  # noqa: F401 - render installs the copying
 
 
 def draw(plt: Any) -> Any:
-    fig, axs = plt.subplots(2, 2, figsize=(6, 4), dpi=100, sharex="col")
-    axs[0, 0].plot([1e-3, 1e-2, 1e-1], [1e-8, 1e-6, 1e-4], "o-")
-    axs[0, 0].set_xscale("log")
-    axs[0, 0].set_yscale("log")
-    axs[1, 0].plot([1e-3, 1e-1], [3.0, -2.0])
-    axs[0, 1].plot([0, 10], [0.5, 0.7])
-    axs[0, 1].yaxis.tick_right()
-    axs[1, 1].plot([0, 10], [-1e4, 2e4])
+    fig, axs = tick_grid(plt)
     axs[1, 1].tick_params(axis="x", labelrotation=30, labelsize=7, direction="in")
     for ax in axs.flat:
         ax.set_xlabel("step size h")
-    fig.canvas.draw()
-    pixels = np.asarray(fig.canvas.buffer_rgba()).copy()
-    plt.close(fig)
-    return pixels
+    return pixels(plt, fig)
 
 
 def test_copied_ticks_draw_the_same_pixels(monkeypatch: Any) -> None:

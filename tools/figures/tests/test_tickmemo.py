@@ -8,26 +8,19 @@ from typing import Any, List, Tuple
 import matplotlib.axis
 import numpy as np
 
+from figure_pixels import pixels, tick_grid
+
 from dampfig import render, tickmemo  # noqa: F401 - render installs the memo
 
 
 def draw(plt: Any) -> Tuple[Any, List[Any]]:
-    fig, axs = plt.subplots(2, 2, figsize=(6, 4), dpi=100, sharex="col")
-    axs[0, 0].plot([1e-3, 1e-2, 1e-1], [1e-8, 1e-6, 1e-4], "o-")
-    axs[0, 0].set_xscale("log")
-    axs[0, 0].set_yscale("log")
-    axs[1, 0].plot([1e-3, 1e-1], [3.0, -2.0])
-    axs[0, 1].plot([0, 10], [0.5, 0.7])
-    axs[0, 1].yaxis.tick_right()
-    axs[1, 1].plot([0, 10], [-1e4, 2e4])
+    fig, axs = tick_grid(plt)
     for ax in axs.flat:
         ax.set_xlabel("step size h")
         ax.set_ylabel("error")
     axs[1, 1].xaxis.set_label_position("top")
-    fig.canvas.draw()
-    pixels = np.asarray(fig.canvas.buffer_rgba()).copy()
-    plt.close(fig)
-    return pixels, [a for ax in axs.flat for a in (ax.xaxis, ax.yaxis)]
+    axes = [a for ax in axs.flat for a in (ax.xaxis, ax.yaxis)]
+    return pixels(plt, fig), axes
 
 
 def test_memo_draws_the_same_pixels_with_half_the_tick_updates(monkeypatch: Any) -> None:
