@@ -33,10 +33,6 @@ MAX_ENTRIES = 50_000  # a default-suite run needs about 900
 Key = Tuple[Any, ...]
 
 
-def source_hash() -> str:
-    return mplsource.source_hash(mtext.Text._get_layout)
-
-
 def font_key(prop: Any) -> Key:
     """Every attribute of a FontProperties the font lookup and mathtext read (a snapshot: the
     object is mutable)."""
@@ -77,10 +73,8 @@ def install() -> bool:
     """Installs the cache (once); False when this matplotlib's Text._get_layout is not the one it
     was written against (then nothing is changed)."""
     text = mtext.Text
-    if getattr(text, "_dampsym_layout_cache", False):
-        return True
-    if source_hash() != LAYOUT_SHA256:
-        return False
-    text._get_layout = cached_layout(text._get_layout)
-    text._dampsym_layout_cache = True
-    return True
+
+    def patch() -> None:
+        text._get_layout = cached_layout(text._get_layout)
+    return mplsource.install_once(text, "_dampsym_layout_cache",
+                                  [(text._get_layout, LAYOUT_SHA256)], patch)

@@ -48,9 +48,6 @@ def sources() -> Dict[str, Any]:
             for name in SOURCES_SHA256 for cls, meth in [name.split(".")]}
 
 
-source_hash = mplsource.source_hash
-
-
 class Memo:
     """The packings of the legend being drawn (None outside a legend's draw), keyed by the ids
     of the box and the renderer (both kept alive with the result for the draw)."""
@@ -92,13 +89,12 @@ def install() -> bool:
     """Installs the memo (once); False when this matplotlib's legend or packers are not the ones
     it was written against (then nothing is changed)."""
     legend = mlegend.Legend
-    if getattr(legend, "_dampsym_legend_memo", False):
-        return True
-    if any(source_hash(f) != SOURCES_SHA256[name] for name, f in sources().items()):
-        return False
-    memo = Memo()
-    legend.draw = memo_draw(legend.draw, memo)
-    for packer in (mob.VPacker, mob.HPacker):
-        setattr(packer, "get_extent_offsets", memo_packing(packer.get_extent_offsets, memo))
-    legend._dampsym_legend_memo = True
-    return True
+
+    def patch() -> None:
+        memo = Memo()
+        legend.draw = memo_draw(legend.draw, memo)
+        for packer in (mob.VPacker, mob.HPacker):
+            setattr(packer, "get_extent_offsets", memo_packing(packer.get_extent_offsets, memo))
+    return mplsource.install_once(legend, "_dampsym_legend_memo",
+                                  [(f, SOURCES_SHA256[name]) for name, f in sources().items()],
+                                  patch)

@@ -38,13 +38,6 @@ MAX_ENTRIES = 50_000  # per cache; a default-suite run needs about 2000
 Key = Tuple[Any, ...]
 
 
-def draw_text_source_hash() -> str:
-    return source_hash(backend_agg.RendererAgg.draw_text)
-
-
-source_hash = mplsource.source_hash
-
-
 def _key(renderer: Any, s: str, prop: Any) -> Key:
     return (s, prop.copy(), renderer.dpi, backend_agg.get_hinting_flag(),
             bool(mpl.rcParams["text.antialiased"]))
@@ -131,15 +124,14 @@ def install() -> bool:
     """Installs the caches (once); False when this matplotlib's draw_text or
     get_text_width_height_descent is not the one they reproduce (then nothing is changed)."""
     agg = backend_agg.RendererAgg
-    if getattr(agg, "_dampsym_text_cache", False):
-        return True
-    if (draw_text_source_hash() != DRAW_TEXT_SHA256
-            or source_hash(agg.get_text_width_height_descent) != MEASURE_SHA256):
-        return False
-    cache = TextCache()
-    agg.get_text_width_height_descent = cached_measure(agg.get_text_width_height_descent, cache)
-    agg.draw_text = cached_draw(agg.draw_text, cache)
-    parser = matplotlib.mathtext.MathTextParser
-    parser._parse_cached = shared_parse(parser._parse_cached.__wrapped__)
-    agg._dampsym_text_cache = True
-    return True
+
+    def patch() -> None:
+        cache = TextCache()
+        agg.get_text_width_height_descent = cached_measure(agg.get_text_width_height_descent,
+                                                           cache)
+        agg.draw_text = cached_draw(agg.draw_text, cache)
+        parser = matplotlib.mathtext.MathTextParser
+        parser._parse_cached = shared_parse(parser._parse_cached.__wrapped__)
+    return mplsource.install_once(agg, "_dampsym_text_cache",
+                                  [(agg.draw_text, DRAW_TEXT_SHA256),
+                                   (agg.get_text_width_height_descent, MEASURE_SHA256)], patch)

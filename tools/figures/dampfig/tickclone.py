@@ -63,9 +63,6 @@ def sources() -> Dict[str, Any]:
             "Line2D.set_ydata": mlines.Line2D.set_ydata, "Text.__init__": mtext.Text.__init__}
 
 
-source_hash = mplsource.source_hash
-
-
 def copy_artist(a: Any) -> Any:
     """A copy of an artist that owns what the artist's constructor makes for it alone."""
     new = object.__new__(type(a))
@@ -147,10 +144,9 @@ def install() -> bool:
     """Installs the copying (once); False when this matplotlib's constructors are not the ones it
     was written against (then nothing is changed)."""
     axis = maxis.Axis
-    if getattr(axis, "_dampsym_tick_clone", False):
-        return True
-    if any(source_hash(f) != SOURCES_SHA256[name] for name, f in sources().items()):
-        return False
-    axis._get_tick = copied_get_tick(axis._get_tick, {})
-    axis._dampsym_tick_clone = True
-    return True
+
+    def patch() -> None:
+        axis._get_tick = copied_get_tick(axis._get_tick, {})
+    return mplsource.install_once(axis, "_dampsym_tick_clone",
+                                  [(f, SOURCES_SHA256[name]) for name, f in sources().items()],
+                                  patch)

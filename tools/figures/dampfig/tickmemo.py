@@ -32,10 +32,6 @@ MEMO = "_dampsym_tick_memo"
 DRAWN = "_dampsym_drawn_tick_boxes"
 
 
-def source_hash(name: str) -> str:
-    return mplsource.source_hash(getattr(maxis.Axis, name))
-
-
 def memo_draw(original: Callable[..., Any]) -> Callable[..., Any]:
     """Axis.draw with a memo of its ticks and their label boxes for the time it draws."""
     @functools.wraps(original)
@@ -90,12 +86,11 @@ def install() -> bool:
     """Installs the memo (once); False when this matplotlib's Axis methods are not the ones it
     was written against (then nothing is changed)."""
     ax = maxis.Axis
-    if getattr(ax, "_dampsym_tick_memo_installed", False):
-        return True
-    if any(source_hash(name) != h for name, h in SOURCES_SHA256.items()):
-        return False
-    ax.draw = memo_draw(ax.draw)
-    ax._update_ticks = memo_update_ticks(ax._update_ticks)
-    ax._get_ticklabel_bboxes = memo_bboxes(ax._get_ticklabel_bboxes)
-    ax._dampsym_tick_memo_installed = True
-    return True
+
+    def patch() -> None:
+        ax.draw = memo_draw(ax.draw)
+        ax._update_ticks = memo_update_ticks(ax._update_ticks)
+        ax._get_ticklabel_bboxes = memo_bboxes(ax._get_ticklabel_bboxes)
+    return mplsource.install_once(ax, "_dampsym_tick_memo_installed",
+                                  [(getattr(ax, name), h) for name, h in SOURCES_SHA256.items()],
+                                  patch)
