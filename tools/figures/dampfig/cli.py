@@ -26,6 +26,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from . import figdata as fd
 from . import papers
+from . import render
 from . import safeio as sio
 from .draw_conv import fig_convergence, fig_stability, fig_trace
 from .draw_series import fig_series
@@ -173,7 +174,9 @@ def draw_all(ctx: Ctx, cases: List[int], jobs: int, workers: List[int]) -> List[
     signal handler) that take the cases one at a time from a shared queue: a static split by
     series size left one worker with half again the other's drawing. Python's cyclic collector
     scanned matplotlib's many artists again and again: what exists now is frozen out of its scans
-    and it runs every 50 000 allocations."""
+    and it runs every 50 000 allocations. Freed Agg buffers stay in the heap for the next
+    renderer (render.keep_freed_buffers)."""
+    render.keep_freed_buffers()
     gc.freeze()
     gc.set_threshold(50000, 50, 100)
     if jobs <= 1 or len(cases) <= 1:

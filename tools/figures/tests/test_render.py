@@ -138,3 +138,47 @@ def test_a_renderer_kept_from_another_figure_draws_the_same_pixels() -> None:
                           np.asarray(fresh.canvas.buffer_rgba()))
     for f in (first, second, fresh):
         plt.close(f)
+
+
+def test_a_written_figure_releases_its_renderer(monkeypatch: pytest.MonkeyPatch) -> None:
+    """release_renderer (through recycle): after many figures of different sizes only the pooled
+    renderers are alive, and a recycled figure drawn again is the same pixels. Negative control:
+    without the release, every blank figure and its texts keep the renderer of their last draw."""
+    import gc
+
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.backends.backend_agg import RendererAgg
+    assert render.GET_RENDERER_KNOWN, "matplotlib's get_renderer changed: check release_renderer"
+
+    def live() -> int:
+        gc.collect()
+        return sum(1 for o in gc.get_objects() if isinstance(o, RendererAgg))
+
+    def draw_sizes(ctx: Ctx, sizes: int) -> Any:
+        for k in range(sizes):
+            fig, axs = render.subplots(ctx, 1 + k % 12, 1, (3 + 0.1 * k, 2 + 0.2 * k))
+            axs[0][0].plot([0, 1, 2], [1, 0, 2], label="a")
+            axs[0][0].set_title(f"figure {k}")
+            render.reuse_renderer(ctx.renderers, fig)
+            fig.canvas.draw()
+            pixels = np.asarray(fig.canvas.buffer_rgba()).copy()
+            render.recycle(ctx, fig)
+        return pixels
+
+    plt.close("all")
+    before = live()
+    ctx = Ctx(report={}, out="", formats=["png"])
+    last = draw_sizes(ctx, 3 * render.KEEP_RENDERERS)
+    assert live() - before <= render.KEEP_RENDERERS
+    plt.close("all")
+    ctx.blank.clear()
+    ctx.renderers.clear()
+
+    # negative control: no release, the renderers pile up
+    monkeypatch.setattr(render, "release_renderer", lambda pool, fig: None)
+    ctx = Ctx(report={}, out="", formats=["png"])
+    again = draw_sizes(ctx, 3 * render.KEEP_RENDERERS)
+    assert live() - before >= 12 + render.KEEP_RENDERERS  # a blank figure of each grid
+    plt.close("all")
+    assert np.array_equal(last, again)
