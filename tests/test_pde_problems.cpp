@@ -10,6 +10,7 @@
 #include "methods/implicit_rk.hpp"
 #include "pde/burgers/methods.hpp"
 #include "pde/burgers/problem.hpp"
+#include "pde/nls/methods.hpp"
 #include "pde/nls/problem.hpp"
 #include "pde/nls/schemes.hpp"
 
@@ -230,4 +231,12 @@ TEST_CASE("pde problems: burgers-box and burgers-upwind (the dt -> 0 limits of B
     STATIC_REQUIRE(!dampsym::BurgersBoxScheme<dampsym::Burgers>::applies<dampsym::Burgers>);
     STATIC_REQUIRE(dampsym::BurgersNsfd<dampsym::Burgers>::applies<dampsym::BurgersUpwind>);
     STATIC_REQUIRE(!dampsym::BurgersNsfd<dampsym::Burgers>::applies<dampsym::NLS>);
+    // a space of another PDE is another type, even where its value is the same (central = 0)
+    STATIC_REQUIRE(!dampsym::BurgersCsv<dampsym::Burgers>::applies<dampsym::NLS>);
+    STATIC_REQUIRE(dampsym::NlsIf<dampsym::NLS>::applies<dampsym::NLS>);
+    STATIC_REQUIRE(!dampsym::NlsIf<dampsym::NLS>::applies<dampsym::Burgers>);
+    STATIC_REQUIRE(dampsym::BurgersNsfd<dampsym::Burgers>::kernel_id == "burgers-nsfd");
+    STATIC_REQUIRE(dampsym::NlsEtd<dampsym::NLS>::kernel_id == "nls-etd");
+    STATIC_REQUIRE(std::is_base_of_v<dampsym::SchemeKernel<dampsym::Scheme::nls_imp>,
+                                     dampsym::NlsImp<dampsym::NLS>>);
 }

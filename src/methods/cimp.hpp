@@ -48,7 +48,7 @@ private:
         Vec& m = newton_.X; // the midpoint
         m = y0_;
         // Full Newton on F(m) = m − y₀ − (h/2) N(m, t + h/2), F'(m) = I − (h/2) N'(m).
-        const int iterations = newton_.solve(NewtonPolicy::full, c_, [&](bool) {
+        const bool solved = newton_.solve_step(NewtonPolicy::full, c_, [&](bool) {
             prob_.N(tm, m, n_);
             prob_.N_jacobian(tm, m, J_);
             c_.rhs_evals += 1;
@@ -56,8 +56,7 @@ private:
             newton_.R = m - y0_ - (0.5 * h_) * n_;
             newton_.S = Mat::Identity(d_, d_) - (0.5 * h_) * J_;
         });
-        if (iterations == 0) return StepStatus::solve_failed;
-        c_.step_solved(iterations);
+        if (!solved) return StepStatus::solve_failed;
         const double b = std::exp(-prob_.dGamma(tm, 0.5 * h_));
         z = b * (2.0 * m - y0_);
         if constexpr (WithJacobian) jacobian_at_solution(tm, a * b, *Psi);

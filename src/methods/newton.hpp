@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace dampsym {
 
@@ -74,6 +75,16 @@ public:
             previous = step_norm;
         }
         return failed(counters, max_iterations, previous);
+    }
+
+    // A step whose nonlinear work is this one solve (cimp, the RK and partitioned engines, the
+    // partitioned symplectic Euler): true on convergence, with the step's iterations recorded
+    // (Counters::step_solved); false on failure, and the caller returns solve_failed.
+    template <class Eval>
+    bool solve_step(NewtonPolicy policy, Counters& counters, Eval&& eval) {
+        const int iterations = solve(policy, counters, std::forward<Eval>(eval));
+        if (iterations > 0) counters.step_solved(iterations);
+        return iterations > 0;
     }
 
     // Factorises S as it stands (e.g. the Newton matrix at the converged stages, for the

@@ -323,7 +323,7 @@ private:
             X.segment(i * n_, n_) = hat_.phi[i] * q_of(z);
             X.segment((s_ + i) * n_, n_) = tilde_.phi[i] * p_of(z);
         }
-        const int iterations = newton_.solve(NewtonPolicy::full, c_, [&](bool) {
+        const bool solved = newton_.solve_step(NewtonPolicy::full, c_, [&](bool) {
             for (int j = 0; j < s_; ++j) {
                 Q_[ui(j)] = X.segment(j * n_, n_);
                 P_[ui(j)] = X.segment((s_ + j) * n_, n_);
@@ -345,12 +345,11 @@ private:
             }
             assemble_newton_matrix();
         });
-        if (iterations == 0) return false;
+        if (!solved) return false;
         for (int i = 0; i < s_; ++i) {
             Q_[ui(i)] = X.segment(i * n_, n_);
             P_[ui(i)] = X.segment((s_ + i) * n_, n_);
         }
-        c_.step_solved(iterations);
         return true;
     }
 

@@ -223,7 +223,7 @@ private:
         Vec& X = newton_.X;
         for (int i = 0; i < s_; ++i) X.segment(i * d_, d_) = Y0_[ui(i)];
         const NewtonPolicy policy = s_ >= 2 ? NewtonPolicy::simplified : NewtonPolicy::full;
-        const int iterations = newton_.solve(policy, c_, [&](bool refresh) {
+        const bool solved = newton_.solve_step(policy, c_, [&](bool refresh) {
             for (int j = 0; j < s_; ++j) {
                 Z_[ui(j)] = X.segment(j * d_, d_);
                 eval(t, j);
@@ -238,9 +238,8 @@ private:
             }
             if (refresh) assemble_newton_matrix();
         });
-        if (iterations == 0) return false;
+        if (!solved) return false;
         for (int i = 0; i < s_; ++i) Z_[ui(i)] = X.segment(i * d_, d_);
-        c_.step_solved(iterations);
         return true;
     }
 

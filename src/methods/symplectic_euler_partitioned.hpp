@@ -55,7 +55,7 @@ private:
         zs_ = z; // (U, v): U iterated in place, v fixed
         Vec& U = newton_.X;
         U = z.head(m_);
-        const int iterations = newton_.solve(NewtonPolicy::full, c_, [&](bool) {
+        const bool solved = newton_.solve_step(NewtonPolicy::full, c_, [&](bool) {
             zs_.head(m_) = U;
             prob_.rhs(t1, zs_, f_);
             prob_.rhs_jacobian(t1, zs_, J_);
@@ -64,8 +64,7 @@ private:
             newton_.R = U - z.head(m_) - h_ * f_.head(m_);
             newton_.S = Mat::Identity(m_, m_) - h_ * J_.topLeftCorner(m_, m_);
         });
-        if (iterations == 0) return StepStatus::solve_failed;
-        c_.step_solved(iterations);
+        if (!solved) return StepStatus::solve_failed;
         zs_.head(m_) = U;
         prob_.rhs(t1, zs_, f_); // b(U, v) at the converged U
         c_.rhs_evals += 1;

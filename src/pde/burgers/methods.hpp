@@ -28,37 +28,22 @@
 #include "pde/burgers/schemes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string_view>
 
 namespace dampsym {
 
-// The method row's scheme of B's Burgers scheme S.
-constexpr Scheme burgers_method_scheme(pde::BurgersScheme S) {
-    return S == pde::BurgersScheme::csv_split ? Scheme::burgers_csv
-           : S == pde::BurgersScheme::box     ? Scheme::burgers_box
-                                              : Scheme::burgers_nsfd;
-}
+// B's Burgers schemes: the method row, the kernel and the semi-discretisation each is written on.
+inline constexpr std::array<PdeSchemeRow<pde::BurgersScheme, BurgersSpace>, 3> burgers_schemes{{
+    {pde::BurgersScheme::csv_split, Scheme::burgers_csv, "burgers-csv", BurgersSpace::central},
+    {pde::BurgersScheme::box, Scheme::burgers_box, "burgers-box", BurgersSpace::box},
+    {pde::BurgersScheme::nsfd, Scheme::burgers_nsfd, "burgers-nsfd", BurgersSpace::upwind},
+}};
 
 template <class P, pde::BurgersScheme S>
-class BurgersB : public SchemeKernel<burgers_method_scheme(S)> {
-    static constexpr BurgersSpace space = S == pde::BurgersScheme::csv_split ? BurgersSpace::central
-                                          : S == pde::BurgersScheme::box     ? BurgersSpace::box
-                                                                             : BurgersSpace::upwind;
-    template <class Q>
-    static constexpr bool on_own_space() {
-        if constexpr (requires { Q::burgers_space; })
-            return Q::burgers_space == space;
-        else
-            return false;
-    }
-
+class BurgersB : public PdeSchemeKernel<burgers_schemes, S> {
 public:
-    static constexpr std::string_view kernel_id = S == pde::BurgersScheme::csv_split ? "burgers-csv"
-                                                  : S == pde::BurgersScheme::box     ? "burgers-box"
-                                                                                 : "burgers-nsfd";
-    template <class Q>
-    static constexpr bool applies = on_own_space<Q>();
     // (5.10)'s exact step Jacobian (E_n against B's D, docs/pde.md); the implicit schemes have
     // none.
     static constexpr bool has_step_jacobian = S == pde::BurgersScheme::csv_split;

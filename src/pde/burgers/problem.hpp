@@ -47,7 +47,7 @@ enum class BurgersSpace { central, box, upwind };
 
 template <BurgersSpace S>
 struct BurgersSemi {
-    static constexpr BurgersSpace burgers_space = S;
+    static constexpr BurgersSpace pde_space = S;
     static constexpr std::string_view id = S == BurgersSpace::central ? "burgers"
                                            : S == BurgersSpace::box   ? "burgers-box"
                                                                       : "burgers-upwind";

@@ -35,25 +35,20 @@
 #include "pde/klein_gordon/problem.hpp"
 #include "pde/klein_gordon/schemes.hpp"
 
+#include <array>
 #include <cmath>
 #include <string_view>
 
 namespace dampsym {
 
-template <class P>
-class KGBoxScheme : public SchemeKernel<Scheme::kg_box> {
-    template <class Q>
-    static constexpr bool on_box_space() {
-        if constexpr (requires { Q::kg_space; })
-            return Q::kg_space == KGSpace::box;
-        else
-            return false;
-    }
+// B's Klein–Gordon scheme: the box scheme, on the box semi-discretisation.
+inline constexpr std::array<PdeSchemeRow<Scheme, KGSpace>, 1> kg_schemes{{
+    {Scheme::kg_box, Scheme::kg_box, "kg-box", KGSpace::box},
+}};
 
+template <class P>
+class KGBoxScheme : public PdeSchemeKernel<kg_schemes, Scheme::kg_box> {
 public:
-    static constexpr std::string_view kernel_id = "kg-box";
-    template <class Q>
-    static constexpr bool applies = on_box_space<Q>();
     static constexpr bool has_step_jacobian = false;
 
     KGBoxScheme(const P& problem, const MethodInfo&, double h, Counters& counters)

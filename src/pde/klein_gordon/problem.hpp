@@ -39,7 +39,7 @@ template <KGSpace S>
 struct KleinGordonSemi : SeparableProblem<KleinGordonSemi<S>>,
                          UnitMass,
                          ConstantGamma<KleinGordonSemi<S>> {
-    static constexpr KGSpace kg_space = S;
+    static constexpr KGSpace pde_space = S;
     static constexpr bool box = S == KGSpace::box;
     static constexpr std::string_view id = box ? "klein-gordon-box" : "klein-gordon";
     static constexpr std::string_view title =

@@ -1,6 +1,6 @@
 // B's own fully discrete schemes for the damped (driven) NLS iψ_t + ψ_xx + V'(|ψ|²)ψ + 2iγψ = F(t)
-// (B (4.7), §5.3) as dampsym methods, applicable to the problems that declare `nls_b_form`
-// (schrodinger, nls, nls-driven; src/pde/nls/problem.hpp):
+// (B (4.7), §5.3) as dampsym methods, applicable to the problems on B (1.14)'s central δ_x²
+// (`pde_space` NLSSpace::central: schrodinger, nls, nls-driven; src/pde/nls/problem.hpp):
 //
 //  nls-if   (4.15): i D_t^γψ + A_t^γ δ_x²ψ + V'(|A_t^γψ|²) A_t^γψ = F(A_t t)
 //  nls-etd  (5.27): the same with i D_t^γψ multiplied by γΔt / sinh(γΔt)
@@ -18,37 +18,26 @@
 
 #include "core/method.hpp"
 #include "methods/hand_written.hpp"
+#include "pde/nls/problem.hpp"
 #include "pde/nls/schemes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <complex>
 #include <string_view>
 
 namespace dampsym {
 
-// The method row's scheme of B's NLS scheme S.
-constexpr Scheme nls_method_scheme(pde::NLSScheme S) {
-    return S == pde::NLSScheme::integrating_factor ? Scheme::nls_if
-           : S == pde::NLSScheme::etd              ? Scheme::nls_etd
-                                                   : Scheme::nls_imp;
-}
+// B's NLS schemes: the method row and the kernel of each, all on the central δ_x² (B (1.14)).
+inline constexpr std::array<PdeSchemeRow<pde::NLSScheme, NLSSpace>, 3> nls_schemes{{
+    {pde::NLSScheme::integrating_factor, Scheme::nls_if, "nls-if", NLSSpace::central},
+    {pde::NLSScheme::etd, Scheme::nls_etd, "nls-etd", NLSSpace::central},
+    {pde::NLSScheme::implicit_midpoint, Scheme::nls_imp, "nls-imp", NLSSpace::central},
+}};
 
 template <class P, pde::NLSScheme S>
-class NlsB : public SchemeKernel<nls_method_scheme(S)> {
-    template <class Q>
-    static constexpr bool declares_form() {
-        if constexpr (requires { Q::nls_b_form; })
-            return Q::nls_b_form;
-        else
-            return false;
-    }
-
+class NlsB : public PdeSchemeKernel<nls_schemes, S> {
 public:
-    static constexpr std::string_view kernel_id = S == pde::NLSScheme::integrating_factor ? "nls-if"
-                                                  : S == pde::NLSScheme::etd ? "nls-etd"
-                                                                             : "nls-imp";
-    template <class Q>
-    static constexpr bool applies = declares_form<Q>();
     static constexpr bool has_step_jacobian = false;
 
     NlsB(const P& problem, const MethodInfo&, double h, Counters& counters)

@@ -65,6 +65,10 @@ inline constexpr std::array<std::string_view, 2> cubic_scales{"(dx/M) sum_j |k_j
                                                               "|I| (definite)"};
 } // namespace nls_detail
 
+// The semi-discretisation of ψ_xx an NLS problem steps: B (1.14)'s central δ_x² (see the header
+// comment), the one B's IF, ETD and IMP are written on.
+enum class NLSSpace { central };
+
 template <bool Cubic, bool Driven = false>
 struct SchrodingerProblem {
     static_assert(Cubic || !Driven, "the driven problem is the cubic NLS");
@@ -85,7 +89,7 @@ struct SchrodingerProblem {
     static constexpr bool autonomous = !Driven;
     static constexpr bool has_energy = false;
     // B's own schemes IF (4.15), ETD (5.27), IMP (5.28) step it (src/pde/nls/methods.hpp).
-    static constexpr bool nls_b_form = true;
+    static constexpr NLSSpace pde_space = NLSSpace::central;
     static constexpr auto invariant_names = [] {
         if constexpr (Driven)
             return std::array<std::string_view, 0>{};

@@ -66,8 +66,12 @@ def read_bounded(path: str, limit: int) -> bytes:
         if st.st_size > limit:
             raise InputProblem(f"{path}: too large ({st.st_size} bytes; the limit is {limit})")
         chunks, total = [], 0
+        # the whole file in one read where it is as large as stat said (one buffer: chunks
+        # joined afterwards were a copy of every series file); then until the end, bounded
+        size = min(st.st_size + 1, limit + 1)
         while True:
-            b = os.read(fd, 1 << 20)
+            b = os.read(fd, size)
+            size = 1 << 20
             if not b:
                 break
             total += len(b)
