@@ -187,6 +187,23 @@ struct SeparableProblem {
     }
 };
 
+// Conformal form given, z' = N(z,t) − γ(t)z (conventions §1): Derived provides N(t, z, out),
+// N_jacobian(t, z, J) and gamma_at(t); this base derives the plain form from them,
+//   f(t,z) = N(z,t) − γ(t)z,   ∂f/∂z = ∂N/∂z − γ(t)I.
+template <class Derived>
+struct ConformalForm {
+    void rhs(double t, const Vec& z, Vec& out) const {
+        const Derived& p = static_cast<const Derived&>(*this);
+        p.N(t, z, out);
+        out -= p.gamma_at(t) * z;
+    }
+    void rhs_jacobian(double t, const Vec& z, Mat& J) const {
+        const Derived& p = static_cast<const Derived&>(*this);
+        p.N_jacobian(t, z, J);
+        J.diagonal().array() -= p.gamma_at(t);
+    }
+};
+
 // Unit mass, T(p) = |p|²/2: ∇T(p) = p, ∇²T = I.
 struct UnitMass {
     template <class In, class Out>

@@ -49,14 +49,15 @@ private:
     Derived& self() { return static_cast<Derived&>(*this); }
 };
 
-// Whether problem Q is a semi-discretisation on `space`: it declares `pde_space` of that space's
-// type (KGSpace, BurgersSpace, NLSSpace) and of that value.
+// Problem Q declares the semi-discretisation it is (`pde_space`) of the type Space (KGSpace,
+// BurgersSpace, NLSSpace): the space of another PDE is another type, whatever its value.
+template <class Q, class Space>
+concept DeclaresPdeSpace = std::is_same_v<std::remove_cvref_t<decltype(Q::pde_space)>, Space>;
+
+// Whether problem Q is the semi-discretisation `space`.
 template <class Q, auto Space>
 constexpr bool on_pde_space() {
-    if constexpr (requires {
-                      requires std::is_same_v<std::remove_cvref_t<decltype(Q::pde_space)>,
-                                              decltype(Space)>;
-                  })
+    if constexpr (DeclaresPdeSpace<Q, decltype(Space)>)
         return Q::pde_space == Space;
     else
         return false;

@@ -25,7 +25,7 @@
 
 namespace dampsym {
 
-struct RigidBody : ParamTable<RigidBody> {
+struct RigidBody : ParamTable<RigidBody>, ConformalForm<RigidBody> {
     static constexpr std::string_view id = "rigid-body";
     static constexpr OrbitFigure figure_orbit =
         OrbitFigure::on_request; // a phase portrait when a case asks
@@ -93,14 +93,6 @@ struct RigidBody : ParamTable<RigidBody> {
         J(2, 0) = w2 - a1 * z[1];
         J(2, 1) = -w1 + a2 * z[0];
         J(2, 2) = 0.0;
-    }
-    void rhs(double t, const Vec& z, Vec& out) const {
-        N(t, z, out);
-        out -= gamma_at(t) * z;
-    }
-    void rhs_jacobian(double t, const Vec& z, Mat& J) const {
-        N_jacobian(t, z, J);
-        J.diagonal().array() -= gamma_at(t);
     }
 
     void invariants(double, const Vec& z, double* out) const {

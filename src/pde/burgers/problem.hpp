@@ -46,7 +46,7 @@ namespace dampsym {
 enum class BurgersSpace { central, box, upwind };
 
 template <BurgersSpace S>
-struct BurgersSemi {
+struct BurgersSemi : ConformalForm<BurgersSemi<S>> {
     static constexpr BurgersSpace pde_space = S;
     static constexpr std::string_view id = S == BurgersSpace::central ? "burgers"
                                            : S == BurgersSpace::box   ? "burgers-box"
@@ -172,14 +172,6 @@ struct BurgersSemi {
                 J(j, jl) += z[j] / grid.dx;
             }
         }
-    }
-    void rhs(double t, const Vec& z, Vec& out) const {
-        N(t, z, out);
-        out -= gamma_at(t) * z;
-    }
-    void rhs_jacobian(double t, const Vec& z, Mat& J) const {
-        N_jacobian(t, z, J);
-        J.diagonal().array() -= gamma_at(t);
     }
 
     void invariants(double, const Vec& z, double* out) const { out[0] = grid.dx * z.sum(); }

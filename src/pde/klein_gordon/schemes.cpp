@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 namespace dampsym::pde {
@@ -111,6 +112,21 @@ void avg2(const PeriodicGrid& g, const Vec& in, Vec& out) {
     for (int n = 0; n < M; ++n)
         out[n] = 0.25 * (in[g.wrap(n - 1)] + 2.0 * in[n] + in[g.wrap(n + 1)]);
 }
+
+// The two factors of (5.5)'s conformal momentum (B §5.1.2) at the levels u⁰ = u0, u¹ = u1
+// (KGBox::momentum and its scale): D_t^{γ/2} A_x² u and δ_x A_t^{γ/2} A_x² u.
+std::pair<Vec, Vec> box_momentum_factors(const PeriodicGrid& g, const Vec& u0, const Vec& u1,
+                                         double gamma, double dt) {
+    const double E = std::exp(0.5 * gamma * dt);
+    Vec a0, a1;
+    avg2(g, u0, a0);
+    avg2(g, u1, a1);
+    Vec Dt = (E * a1 - a0 / E) / dt;
+    const Vec At = 0.5 * (E * a1 + a0 / E);
+    Vec dA;
+    central_difference(g, At, dA);
+    return {std::move(Dt), std::move(dA)};
+}
 } // namespace
 
 KGBox::KGBox(const PeriodicGrid& g, double c, double gamma, double dt)
@@ -206,26 +222,12 @@ void KGBox::step() {
 }
 
 double KGBox::momentum() const {
-    const double E = std::exp(0.5 * gamma_ * dt_);
-    Vec a0, a1;
-    avg2(g_, u0_, a0);
-    avg2(g_, u1_, a1);
-    const Vec Dt = (E * a1 - a0 / E) / dt_;
-    const Vec At = 0.5 * (E * a1 + a0 / E);
-    Vec dA;
-    central_difference(g_, At, dA);
+    const auto [Dt, dA] = box_momentum_factors(g_, u0_, u1_, gamma_, dt_);
     return g_.dx * Dt.dot(dA);
 }
 
 double KGBox::momentum_scale() const {
-    const double E = std::exp(0.5 * gamma_ * dt_);
-    Vec a0, a1;
-    avg2(g_, u0_, a0);
-    avg2(g_, u1_, a1);
-    const Vec Dt = (E * a1 - a0 / E) / dt_;
-    const Vec At = 0.5 * (E * a1 + a0 / E);
-    Vec dA;
-    central_difference(g_, At, dA);
+    const auto [Dt, dA] = box_momentum_factors(g_, u0_, u1_, gamma_, dt_);
     return g_.dx * Dt.cwiseAbs().dot(dA.cwiseAbs());
 }
 

@@ -70,7 +70,7 @@ inline constexpr std::array<std::string_view, 2> cubic_scales{"(dx/M) sum_j |k_j
 enum class NLSSpace { central };
 
 template <bool Cubic, bool Driven = false>
-struct SchrodingerProblem {
+struct SchrodingerProblem : ConformalForm<SchrodingerProblem<Cubic, Driven>> {
     static_assert(Cubic || !Driven, "the driven problem is the cubic NLS");
     static constexpr std::string_view id = Driven ? "nls-driven" : Cubic ? "nls" : "schrodinger";
     static constexpr std::string_view title =
@@ -255,14 +255,6 @@ struct SchrodingerProblem {
             }
         }
     }
-    void rhs(double t, const Vec& z, Vec& out) const {
-        N(t, z, out);
-        out -= gamma_at(t) * z;
-    }
-    void rhs_jacobian(double t, const Vec& z, Mat& J) const {
-        N_jacobian(t, z, J);
-        J.diagonal().array() -= gamma_at(t);
-    }
 
     // ψ̂ (forward DFT, no normalisation) as interleaved (re, im); a local transform (thread safe).
     std::vector<double> dft(const Vec& z, pde::SpectralDerivative& D) const {
@@ -275,50 +267,47 @@ struct SchrodingerProblem {
         D.forward(d);
         return d;
     }
+    // Δx Σ|ψ|² and, over the DFT ψ̂ (a_j = |ψ̂_j|², wavenumber k_j), Σ k_j a_j, Σ |k_j| a_j and
+    // Σ k_j² a_j: what the invariants (B (5.29)) and their scales are made of.
+    struct SpectralSums {
+        double mass = 0.0, k = 0.0, abs_k = 0.0, k2 = 0.0;
+    };
+    SpectralSums spectral_sums(const Vec& z) const {
+        const int M = grid.M;
+        SpectralSums s;
+        for (int n = 0; n < 2 * M; ++n) s.mass += z[n] * z[n];
+        s.mass *= grid.dx;
+        pde::SpectralDerivative D(grid);
+        const std::vector<double> d = dft(z, D);
+        for (int j = 0; j < M; ++j) {
+            const double a = d[2 * j] * d[2 * j] + d[2 * j + 1] * d[2 * j + 1];
+            const double kj = D.wavenumber(j);
+            s.k += kj * a;
+            s.abs_k += std::abs(kj) * a;
+            s.k2 += kj * kj * a;
+        }
+        return s;
+    }
     void invariants(double, const Vec& z, double* out) const {
-        if constexpr (Driven) {
+        if constexpr (!Driven) {
+            const SpectralSums s = spectral_sums(z);
+            out[0] = grid.dx / grid.M * s.k;
+            out[1] = s.mass;
+            if constexpr (!Cubic) out[2] = -grid.dx / grid.M * s.k2 + lambda * s.mass;
+        } else {
             (void)z;
             (void)out;
-        } else {
-            const int M = grid.M;
-            double mass = 0.0;
-            for (int n = 0; n < 2 * M; ++n) mass += z[n] * z[n];
-            mass *= grid.dx;
-            pde::SpectralDerivative D(grid);
-            const std::vector<double> d = dft(z, D);
-            double i1 = 0.0, k2 = 0.0;
-            for (int j = 0; j < M; ++j) {
-                const double a = d[2 * j] * d[2 * j] + d[2 * j + 1] * d[2 * j + 1];
-                const double kj = D.wavenumber(j);
-                i1 += kj * a;
-                k2 += kj * kj * a;
-            }
-            out[0] = grid.dx / M * i1;
-            out[1] = mass;
-            if constexpr (!Cubic) out[2] = -grid.dx / M * k2 + lambda * mass;
         }
     }
     void invariant_scales(double, const Vec& z, double* out) const {
-        if constexpr (Driven) {
+        if constexpr (!Driven) {
+            const SpectralSums s = spectral_sums(z);
+            out[0] = grid.dx / grid.M * s.abs_k;
+            out[1] = s.mass;
+            if constexpr (!Cubic) out[2] = grid.dx / grid.M * s.k2 + std::abs(lambda) * s.mass;
+        } else {
             (void)z;
             (void)out;
-        } else {
-            const int M = grid.M;
-            double mass = 0.0;
-            for (int n = 0; n < 2 * M; ++n) mass += z[n] * z[n];
-            mass *= grid.dx;
-            pde::SpectralDerivative D(grid);
-            const std::vector<double> d = dft(z, D);
-            double s1 = 0.0, k2 = 0.0;
-            for (int j = 0; j < M; ++j) {
-                const double a = d[2 * j] * d[2 * j] + d[2 * j + 1] * d[2 * j + 1];
-                const double kj = D.wavenumber(j);
-                s1 += std::abs(kj) * a;
-                k2 += kj * kj * a;
-            }
-            out[0] = grid.dx / M * s1;
-            out[1] = mass;
-            if constexpr (!Cubic) out[2] = grid.dx / M * k2 + std::abs(lambda) * mass;
         }
     }
 
