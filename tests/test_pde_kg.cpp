@@ -4,9 +4,6 @@
 // non-conformal negative controls (rk4, heun), and the dissipation drift d(t) (5.6); the problem
 // klein-gordon-box (the Δt → 0 limit of (5.5)) and (5.5) as the method kg-box on it.
 #include "core/method.hpp"
-#include "methods/csv1.hpp"
-#include "methods/csv2.hpp"
-#include "methods/explicit_rk.hpp"
 #include "pde/klein_gordon/methods.hpp"
 #include "pde/klein_gordon/problem.hpp"
 #include "pde/klein_gordon/schemes.hpp"
@@ -21,6 +18,8 @@
 #include <cstdlib>
 #include <numbers>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <vector>
 
 using Catch::Matchers::WithinAbs;
@@ -52,29 +51,31 @@ Vec cat(const Vec& a, const Vec& b) {
     return z;
 }
 
-// Runs kernel KR of `id` for n steps from z; returns the final state; `each` sees every state.
-template <template <class> class KR, class P, class F>
-Vec run(const P& p, const char* id, double h, int n, Vec z, F&& each) {
+// Runs method `id` for n steps from z by the library's (kernel, problem) pair, whose kernel must
+// be `kernel`; returns the final state; `each` sees every state.
+template <class P, class F>
+Vec run(const P& p, const char* id, std::string_view kernel, double h, int n, Vec z, F&& each) {
     Counters cnt;
-    KR<P> k(p, method(id), h, cnt);
+    const auto k = dampsym::test::stepper_among(p, method(id), h, cnt, {kernel});
+    REQUIRE(k != nullptr);
     each(0, z);
     for (int i = 0; i < n; ++i) {
-        REQUIRE(k.step(i * h, z) == StepStatus::ok);
+        REQUIRE(k->step(i * h, z) == StepStatus::ok);
         each(i + 1, z);
     }
     return z;
 }
-template <template <class> class KR, class P>
-Vec run(const P& p, const char* id, double h, int n, Vec z) {
-    return run<KR>(p, id, h, n, std::move(z), [](int, const Vec&) {});
+template <class P>
+Vec run(const P& p, const char* id, std::string_view kernel, double h, int n, Vec z) {
+    return run(p, id, kernel, h, n, std::move(z), [](int, const Vec&) {});
 }
 
-// Generic kernel by id (csv1, csv2, rk4, heun).
+// A method by id (csv1, csv2, or a tableau of the explicit RK kernel: rk4, heun).
 template <class P, class F>
 Vec run_id(const P& p, const std::string& id, double h, int n, Vec z, F&& each) {
-    if (id == "csv1") return run<dampsym::Csv1>(p, "csv1", h, n, std::move(z), each);
-    if (id == "csv2") return run<dampsym::Csv2>(p, "csv2", h, n, std::move(z), each);
-    return run<dampsym::ExplicitRK>(p, id.c_str(), h, n, std::move(z), each);
+    const std::string_view kernel =
+        id == "csv1" || id == "csv2" ? std::string_view(id) : "explicit-rk";
+    return run(p, id.c_str(), kernel, h, n, std::move(z), each);
 }
 
 // B (5.3) and (5.4) transcribed literally (F(u) = (δ_x² − c)u).
@@ -445,7 +446,7 @@ TEST_CASE("pde kg: klein-gordon-box, the dt -> 0 limit of (5.5): force against i
     }
     Vec ex;
     p.exact(0.0, z0, 1.0, ex);
-    const Vec rk = run<dampsym::ExplicitRK>(p, "rk4", 2e-4, 5000, z0);
+    const Vec rk = run(p, "rk4", "explicit-rk", 2e-4, 5000, z0);
     INFO("exact vs rk4 " << dampsym::test::max_abs(rk - ex));
     CHECK(dampsym::test::max_abs(rk - ex) <= 1e-10);
     // Theorem 5.1 on this semi-discretisation: δ_x commutes with L, so csv1 keeps
@@ -487,9 +488,9 @@ TEST_CASE("pde kg: kg-box is pde::KGBox continued through the state, with a seco
     {
         const double h = 0.05;
         Counters cnt;
-        dampsym::KGBoxScheme<KleinGordonBox> k(p, method("kg-box"), h, cnt);
+        const auto k = dampsym::test::stepper_among(p, method("kg-box"), h, cnt, {"kg-box"});
         Vec z = z0;
-        for (int i = 0; i < 20; ++i) REQUIRE(k.step(i * h, z) == StepStatus::ok);
+        REQUIRE(dampsym::test::steps_from_zero(k.get(), h, 20, z));
         KGBox box(p.grid, p.c, p.gamma, h);
         box.start(z0.head(M), z0.tail(M));
         for (int i = 1; i < 20; ++i) box.step();
@@ -501,7 +502,7 @@ TEST_CASE("pde kg: kg-box is pde::KGBox continued through the state, with a seco
     std::vector<double> hs, eu, ev;
     for (double h : {0.02, 0.01, 0.005}) {
         const int n = static_cast<int>(std::lround(1.0 / h));
-        const Vec z = run<dampsym::KGBoxScheme>(p, "kg-box", h, n, z0);
+        const Vec z = run(p, "kg-box", "kg-box", h, n, z0);
         Vec ex;
         p.exact(0.0, z0, n * h, ex);
         hs.push_back(h);
