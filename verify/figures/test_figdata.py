@@ -83,13 +83,42 @@ class SlopeLine(unittest.TestCase):
     def test_line_has_fitted_slope(self) -> None:
         hs = [0.1, 0.05, 0.025, 0.0125]
         errs = {h: 3.0 * h ** 2 * (1 + 0.01 * i) for i, h in enumerate(hs)}
-        xs, ys = fd.slope_line(hs, errs, 2.0)
+        line = fd.slope_line(hs, errs, 2.0)
+        assert line is not None
+        xs, ys = line
         self.assertEqual(xs, [0.0125, 0.1])
         self.assertAlmostEqual(fd.loglog_slope(xs, ys), 2.0, places=12)
         # through the window's points in the log mean: C between the extremes of e/h^2
         c = ys[0] / xs[0] ** 2
         self.assertTrue(min(e / h ** 2 for h, e in errs.items()) <= c
                         <= max(e / h ** 2 for h, e in errs.items()))
+
+    def test_steep_fit_between_close_steps(self) -> None:
+        # a stability threshold's two runs at 0.99 h* and 1.01 h* (stress-threshold-csv1-lower):
+        # the slope is about -4000 and C = e^{log C} is far beyond the doubles, so C h^slope
+        # raised OverflowError and the figure was not drawn; in the log the line runs through
+        # both points
+        hs = [1.2941001297150938, 1.320243566679035]
+        errs = {hs[0]: 8.852771727394599e+36, hs[1]: 3.1e-4}
+        p = fd.loglog_slope(hs, [errs[h] for h in hs])
+        logc = sum(math.log(errs[h]) - p * math.log(h) for h in hs) / 2
+        with self.assertRaises(OverflowError):  # the product form's C alone
+            math.exp(logc)
+        line = fd.slope_line(hs, errs, p)
+        assert line is not None
+        for h, e in zip(*line):
+            self.assertAlmostEqual(math.log(e), math.log(errs[h]), delta=1e-6)
+        case = {"runs": [{"method": "csv1", "dt": h, "status": "ok",
+                          "metrics": {"invariants": {"H_gamma": {"max_global_ratio_dev": e}}}}
+                         for h, e in errs.items()]}
+        fit = fd.metric_ladder_data(case, "invariants.H_gamma.max_global_ratio_dev")["csv1"]["fit"]
+        self.assertEqual(fit["line_h"], hs)
+
+    def test_line_beyond_the_doubles_is_left_out(self) -> None:
+        errs = {1.0: 1.0, 2.0: 1.0}
+        self.assertIsNone(fd.slope_line([1.0, 2.0], errs, 1e6))
+        self.assertEqual(fd.fit_line(1e6, [1.0, 2.0], errs), {"slope": 1e6})
+        self.assertIn("line_h", fd.fit_line(0.0, [1.0, 2.0], errs))
 
     def test_loglog_slope(self) -> None:
         self.assertAlmostEqual(fd.loglog_slope([1, 2, 4], [3, 24, 192]), 3.0, places=12)

@@ -27,7 +27,7 @@ def conv_axis(ctx: Ctx, ax: Any, data: Dict[str, Json], ylabel: str, fit_label: 
         kept = [(h, e) for h, e in pts if h not in dropped]
         gone = [(h, e) for h, e in pts if h in dropped]
         label = f"{m}, slope {d['fit']['slope']:.3f}" if "fit" in d else m
-        if "fit" in d:
+        if "line_h" in d.get("fit", {}):  # a fit whose line leaves the doubles: its slope only
             ax.plot(d["fit"]["line_h"], d["fit"]["line_error"], color=c, ls="-", lw=2.4,
                     alpha=0.35)
         ax.plot([h for h, _ in kept], [e for _, e in kept], mk, color=c, label=label, ms=5)

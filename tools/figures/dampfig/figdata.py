@@ -17,6 +17,8 @@ from .styles import (GROUP, MARKERS, PALETTE, STYLES, Style, case_styles, groups
                      lab_distance, method_style)
 
 Json = Dict[str, Any]
+# natural logs of the smallest normal and the largest double: a fitted line's ends must lie between
+LOG_TINY, LOG_HUGE = math.log(2.2250738585072014e-308), math.log(1.7976931348623157e308)
 
 
 def encode_png(pixels: Any, width: int, height: int, channels: int) -> bytes:
@@ -137,15 +139,28 @@ def decimate_minmax(t: Sequence[float], y: Sequence[float],
 
 
 def slope_line(window_dt: Sequence[float], errors_by_dt: Dict[float, float],
-               slope: float) -> Tuple[List[float], List[float]]:
+               slope: float) -> Optional[Tuple[List[float], List[float]]]:
     """The fitted convergence line drawn over the asymptotic window: e(h) = C h^slope with C
     fitted in the log (least squares of log e − slope log h over the window points), from its
     smallest to its largest h (of the window's points that have an error: a failed run has
-    none). Returns ([h_lo, h_hi], [e_lo, e_hi])."""
+    none). Returns ([h_lo, h_hi], [e_lo, e_hi]), evaluated in the log (log C + slope log h: a
+    steep fit between close step sizes, as a stability threshold's two runs give, has a C far
+    outside the doubles while its line stays among its points), or None when the line leaves the
+    doubles."""
     hs = sorted(h for h in window_dt if h in errors_by_dt) or sorted(errors_by_dt)
     logc = sum(math.log(errors_by_dt[h]) - slope * math.log(h) for h in hs) / len(hs)
     xs = [hs[0], hs[-1]]
-    return xs, [math.exp(logc) * x ** slope for x in xs]
+    logs = [logc + slope * math.log(x) for x in xs]
+    if not all(LOG_TINY < v < LOG_HUGE for v in logs):
+        return None
+    return xs, [math.exp(v) for v in logs]
+
+
+def fit_line(slope: float, window_dt: Sequence[float],
+             errors_by_dt: Dict[float, float]) -> Json:
+    """A fit as the figures draw it: its slope, and its line when the line is drawable."""
+    line = slope_line(window_dt, errors_by_dt, slope)
+    return {"slope": slope, **({"line_h": line[0], "line_error": line[1]} if line else {})}
 
 
 def loglog_slope(xs: Sequence[float], ys: Sequence[float]) -> float:
@@ -215,9 +230,8 @@ def convergence_data(case: Json) -> Dict[str, Json]:
         d["dropped"] = [[h, dropped[h]] for h, _ in d["points"] if h in dropped]
         if o.get("ok"):
             errs = {h: e for h, e in d["points"]}
-            xs, ys = slope_line(o["window_dt"], errs, o["slope"])
-            d["fit"] = {"slope": o["slope"], "window_dt": o["window_dt"], "line_h": xs,
-                        "line_error": ys}
+            d["fit"] = {**fit_line(o["slope"], o["window_dt"], errs),
+                        "window_dt": o["window_dt"]}
     return out
 
 
@@ -233,9 +247,8 @@ def local_convergence_data(case: Json) -> Dict[str, Json]:
         o = case.get("method_metrics", {}).get(m, {}).get("local-order")
         if o and o.get("ok"):
             errs = {h: e for h, e in d["points"]}
-            xs, ys = slope_line(o["window_dt"], errs, o["slope"])
-            d["fit"] = {"slope": o["slope"], "window_dt": o["window_dt"], "line_h": xs,
-                        "line_error": ys}
+            d["fit"] = {**fit_line(o["slope"], o["window_dt"], errs),
+                        "window_dt": o["window_dt"]}
     return out
 
 
@@ -508,8 +521,7 @@ def metric_ladder_data(case: Json, metric: str) -> Dict[str, Json]:
         hs = [h for h, _ in d["points"]]
         if len(set(hs)) >= 2:
             p = loglog_slope(hs, [v for _, v in d["points"]])
-            xs, ys = slope_line(hs, {h: v for h, v in d["points"]}, p)
-            d["fit"] = {"slope": p, "line_h": xs, "line_error": ys}
+            d["fit"] = fit_line(p, hs, {h: v for h, v in d["points"]})
     return out
 
 

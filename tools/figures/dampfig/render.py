@@ -110,9 +110,9 @@ def title_of(case: Json, what: str) -> str:
 SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
-def log_label(x: float, _pos: Optional[int] = None) -> str:
+def log_label(x: float, _pos: Optional[int] = None, digits: int = 2) -> str:
     """10⁻³, 2×10⁻³: plain text with Unicode superscripts (mathtext in tick labels was a third of
-    the drawing time)."""
+    the drawing time); the mantissa to `digits` significant digits."""
     if not x > 0:
         return ""
     e = math.floor(math.log10(x) + 1e-9)
@@ -120,7 +120,21 @@ def log_label(x: float, _pos: Optional[int] = None) -> str:
     exp = "10" + str(e).translate(SUPERSCRIPT)
     if abs(m - 1) < 1e-6:
         return exp
-    return f"{m:.0f}×{exp}" if abs(m - round(m)) < 1e-6 else f"{m:.2g}×{exp}"
+    return f"{m:.0f}×{exp}" if abs(m - round(m)) < 1e-6 else f"{m:.{digits}g}×{exp}"
+
+
+def distinct_digits(ticks: Sequence[float]) -> int:
+    """The fewest significant digits (at least 2) at which the ticks' log_labels all differ: two
+    step sizes 2 % apart (a stability threshold's runs at 0.99 h* and 1.01 h*) were both
+    labelled 1.3×10⁰."""
+    want = len(set(ticks))
+    return next((d for d in range(2, 17) if len({log_label(t, None, d) for t in ticks}) == want),
+                17)
+
+
+def log_formatter(ticks: Sequence[float]) -> Any:
+    digits = distinct_digits(ticks)
+    return FuncFormatter(lambda x, pos: log_label(x, pos, digits))
 
 
 def pow10(e: int) -> str:
@@ -140,6 +154,9 @@ def log_ticks(lo: float, hi: float) -> List[float]:
                  if lo <= m * 10.0 ** k <= hi]
         if len(ticks) >= 3:
             break
+    if len(ticks) < 2:  # a range narrower than 1, 1.2, 1.5, ... apart: nice values inside it
+        ticks = [t for t in MaxNLocator(nbins=3, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
+                 if lo <= t <= hi and t > 0]
     return ticks
 
 
@@ -155,9 +172,11 @@ def fit_ticks(ticks: List[float], lo: float, hi: float, pixels: float,
     if len(ticks) < 2 or not hi > lo or not pixels > 0:
         return ticks
     span = math.log10(hi) - math.log10(lo)
+    digits = distinct_digits(ticks)
 
     def half(t: float) -> float:
-        return (len(log_label(t)) * TICK_CHAR_PX if horizontal else TICK_HEIGHT_PX) / 2
+        return (len(log_label(t, None, digits)) * TICK_CHAR_PX if horizontal
+                else TICK_HEIGHT_PX) / 2
 
     kept = [ticks[0]]
     for t in ticks[1:]:
@@ -173,6 +192,14 @@ def axis_pixels(ax: Any) -> Tuple[float, float]:
     return pos.width * fig.bbox.width, pos.height * fig.bbox.height
 
 
+def set_log_ticks(axis: Any, ticks: List[float]) -> None:
+    """These labelled ticks on a log axis, no minor ticks."""
+    axis.set_major_locator(FixedLocator(ticks))
+    axis.set_major_formatter(log_formatter(ticks))
+    axis.set_minor_locator(NullLocator())
+    axis.set_minor_formatter(NullFormatter())
+
+
 def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
     """Before drawing: few, labelled ticks on every axis (xticks: those fixed by the figure),
     log ticks thinned so that their labels do not overlap."""
@@ -182,16 +209,9 @@ def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
         width, height = axis_pixels(ax)
         if id(ax) in xticks and ax.get_xscale() == "log":
             x0, x1 = sorted(ax.get_xlim())
-            ax.xaxis.set_major_locator(FixedLocator(fit_ticks(sorted(xticks[id(ax)]), x0, x1,
-                                                              width, True)))
-            ax.xaxis.set_major_formatter(FuncFormatter(log_label))
-            ax.xaxis.set_minor_locator(NullLocator())
+            set_log_ticks(ax.xaxis, fit_ticks(sorted(xticks[id(ax)]), x0, x1, width, True))
             lo, hi = sorted(ax.get_ylim())
-            ax.yaxis.set_major_locator(FixedLocator(fit_ticks(log_ticks(lo, hi), lo, hi,
-                                                              height, False)))
-            ax.yaxis.set_major_formatter(FuncFormatter(log_label))
-            ax.yaxis.set_minor_locator(NullLocator())
-            ax.yaxis.set_minor_formatter(NullFormatter())
+            set_log_ticks(ax.yaxis, fit_ticks(log_ticks(lo, hi), lo, hi, height, False))
             continue
         for axis, scale, lim, px, horizontal in ((ax.xaxis, ax.get_xscale(), ax.get_xlim, width,
                                                   True),
@@ -199,11 +219,7 @@ def tidy(fig: Any, xticks: Dict[int, List[float]]) -> None:
                                                   False)):
             lo, hi = sorted(lim())
             if scale == "log" and lo > 0 and hi > lo:
-                axis.set_major_locator(FixedLocator(fit_ticks(log_ticks(lo, hi), lo, hi, px,
-                                                              horizontal)))
-                axis.set_major_formatter(FuncFormatter(log_label))
-                axis.set_minor_locator(NullLocator())
-                axis.set_minor_formatter(NullFormatter())
+                set_log_ticks(axis, fit_ticks(log_ticks(lo, hi), lo, hi, px, horizontal))
             elif scale == "linear":
                 axis.set_major_locator(MaxNLocator(nbins=5, steps=[1, 2, 2.5, 5, 10]))
 

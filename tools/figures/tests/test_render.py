@@ -18,6 +18,26 @@ def test_log_ticks_label_at_least_three_below_two_decades() -> None:
     assert render.log_label(2.5e-3) == "2.5×10⁻³" and render.log_label(1e4) == "10⁴"
 
 
+def test_close_ticks_get_distinct_labels() -> None:
+    # step sizes 2 % apart (a stability threshold's 0.99 h* and 1.01 h*) were both 1.3×10⁰
+    hs = [1.2941001297150938, 1.320243566679035]
+    assert render.log_label(hs[0]) == render.log_label(hs[1])
+    assert render.distinct_digits(hs) == 3
+    fmt = render.log_formatter(hs)
+    assert [fmt(h, None) for h in hs] == ["1.29×10⁰", "1.32×10⁰"]
+    assert render.distinct_digits([1e-3, 2.5e-3]) == 2  # labels that differ keep two digits
+
+
+def test_narrow_log_range_gets_two_ticks() -> None:
+    # bare-loop times 1 % apart: no 1, 1.2, 1.5, ... × 10^k falls inside, and the axis had none
+    lo, hi = 1.305e-6, 1.3255e-6
+    finest = (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8)
+    assert not [m * 1e-6 for m in finest if lo <= m * 1e-6 <= hi]
+    ticks = render.log_ticks(lo, hi)
+    assert len(ticks) >= 2 and all(lo <= t <= hi for t in ticks)
+    assert len({render.log_formatter(ticks)(t, None) for t in ticks}) == len(ticks)
+
+
 def test_sci_scale() -> None:
     assert render.sci_scale([[0.0, -2.4e-5]]) == -5
     assert render.sci_scale([[0.5, 3.0]]) == 0
