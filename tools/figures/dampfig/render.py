@@ -112,15 +112,18 @@ SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 def log_label(x: float, _pos: Optional[int] = None, digits: int = 2) -> str:
     """10⁻³, 2×10⁻³: plain text with Unicode superscripts (mathtext in tick labels was a third of
-    the drawing time); the mantissa to `digits` significant digits."""
+    the drawing time); the mantissa rounded to `digits` significant digits first, so that a label
+    reads as the value it rounds to (0.9999999 and 1.000002 are both 10⁰, 9.99×10⁻³ is 10⁻²)."""
     if not x > 0:
         return ""
     e = math.floor(math.log10(x) + 1e-9)
-    m = x / 10 ** e
+    m = float(f"{x / 10 ** e:.{digits}g}")
+    if m >= 10:
+        m, e = m / 10, e + 1
     exp = "10" + str(e).translate(SUPERSCRIPT)
-    if abs(m - 1) < 1e-6:
+    if m == 1:
         return exp
-    return f"{m:.0f}×{exp}" if abs(m - round(m)) < 1e-6 else f"{m:.{digits}g}×{exp}"
+    return f"{m:.0f}×{exp}" if m == round(m) else f"{m:.{digits}g}×{exp}"
 
 
 def distinct_digits(ticks: Sequence[float]) -> int:
@@ -154,12 +157,17 @@ def log_ticks(lo: float, hi: float) -> List[float]:
                  if lo <= m * 10.0 ** k <= hi]
         if len(ticks) >= 3:
             break
-    if len(ticks) < 2:  # a range narrower than 1, 1.2, 1.5, ... apart: nice values inside it
-        ticks = [t for t in MaxNLocator(nbins=3, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
-                 if lo <= t <= hi and t > 0]
+    if len(ticks) < 2:  # a range narrower than 1, 1.2, 1.5, ... apart: nice values inside it,
+        # when a few digits tell them apart (a range of 1 ± 1e-6 keeps its one label, 10⁰)
+        nice = [t for t in MaxNLocator(nbins=3, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
+                if lo <= t <= hi and t > 0]
+        if len(nice) >= 2 and distinct_digits(nice) <= MAX_TICK_DIGITS:
+            ticks = nice
     return ticks
 
 
+# significant digits at most of the nice ticks that label a log range narrower than 1, 1.2, 1.5, ...
+MAX_TICK_DIGITS = 4
 # tick label sizes at 9 pt and 100 dpi (pixels): width per character of log_label's text, height
 TICK_CHAR_PX, TICK_HEIGHT_PX, TICK_GAP_PX = 7.4, 13.0, 6.0
 

@@ -36,6 +36,11 @@ def test_narrow_log_range_gets_two_ticks() -> None:
     ticks = render.log_ticks(lo, hi)
     assert len(ticks) >= 2 and all(lo <= t <= hi for t in ticks)
     assert len({render.log_formatter(ticks)(t, None) for t in ticks}) == len(ticks)
+    # a spectral radius of 1 ± 1e-6 (stress-gamma-1e3): nice values would need 7 digits to tell
+    # apart and were labelled 10⁰ and 1×10⁰; the axis keeps its one label
+    assert render.log_label(0.9999999) == render.log_label(1.000002) == "10⁰"
+    assert render.log_label(9.99e-3) == "10⁻²" and render.log_label(6.25e-3) == "6.2×10⁻³"
+    assert len(render.log_ticks(0.9999995, 1.000003)) <= 1
 
 
 def test_sci_scale() -> None:
