@@ -156,6 +156,51 @@ TEST_CASE("figures: the ratio-deviation series is empty when I_0 = 0", "[series]
     }
 }
 
+// A strongly damped oscillator (γ = 50 > ω: H_γ indefinite, the state on the slow mode where its
+// terms cancel): from some step on e^{2Γ} I_n / I_0 − 1 is the run's round-off times e^{2Γ}, which
+// the report calls undefined from that step and the figure drew as ±1e300. The series ends at the
+// same step: its finite points are the resolved ones (cimp keeps the law there, |r| tiny), the
+// rest are skipped as non-finite. Control: at γ = 0.1 every point is kept.
+TEST_CASE("figures: the ratio-deviation series ends where the ratio is no longer resolved",
+          "[series]") {
+    for (const double gamma : {50.0, 0.1}) {
+        const json spec = {{"id", "ratio-unresolved"},
+                           {"title", "ratio series past its resolution"},
+                           {"no_checks_because", "a unit test of the figures hook"},
+                           {"problem", {{"id", "oscillator"}, {"gamma", gamma}}},
+                           {"methods", {"cimp"}},
+                           {"t_end", 10.0},
+                           {"dt", 0.05},
+                           {"diagnostics", {"invariants"}}};
+        const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
+        dampsym::RunOptions with;
+        with.time_budget = 0.0;
+        std::vector<json> got;
+        with.series_sink = [&](const json& s) { got.push_back(s); };
+        const json b = dampsym::run_cases({c}, with);
+        REQUIRE(got.size() == 1);
+        const json& s = got[0]["runs"][0]["series"]["invariants.H_gamma.ratio_dev"];
+        const json& inv = b["cases"][0]["runs"][0]["metrics"]["invariants"]["H_gamma"];
+        const auto y = s["y"].get<std::vector<double>>();
+        const int nonfinite = s["nonfinite"].get<int>();
+        INFO("gamma = " << gamma << ": " << inv.dump());
+        REQUIRE(!y.empty());
+        CHECK(static_cast<int>(y.size()) + nonfinite == 200); // every step, kept or skipped
+        double worst = 0.0;
+        for (const double v : y) worst = std::max(worst, std::abs(v));
+        CHECK(worst <= 1e-6);
+        if (gamma == 50.0) {
+            CHECK(nonfinite > 100);
+            CHECK(inv["max_global_ratio_dev"].is_null());
+            // the report names the first unresolved step: the series kept the ones before it
+            const std::string why = inv["undefined"]["max_global_ratio_dev"].get<std::string>();
+            CHECK(why.find("at step " + std::to_string(y.size() + 1) + " ") != std::string::npos);
+        } else {
+            CHECK(nonfinite == 0);
+        }
+    }
+}
+
 // A run keeps orbit samples only for a case that draws its orbit (case_draws_orbit): the problem's
 // default (Kepler draws its orbit, the oscillator a phase portrait only on request) or the case's
 // "figures" key. Negative control: the oscillator without the key keeps none.

@@ -169,17 +169,20 @@ private:
                 sign * std::exp(std::log(std::abs(now)) - std::log(std::abs(inv0_[k])) + two_gamma);
         }
         const double r = ratio - 1.0;
-        // I_0 = 0 (a state at rest, an indefinite H_γ through 0): the ratio I_n / I_0 has no
-        // value, and the series says so (skipped as non-finite) rather than drawing −1 or ∞
-        if (!ratio_series_.empty())
-            ratio_series_[k].push(t,
-                                  inv0_[k] != 0.0 ? r : std::numeric_limits<double>::quiet_NaN());
-        if (!s.ratio_defined) return;
-        if (!std::isfinite(r) ||
-            !InvariantStats::ratio_resolved(scale_now, inv0_[k], two_gamma, r)) {
+        const bool was_defined = s.ratio_defined;
+        if (was_defined && (!std::isfinite(r) ||
+                            !InvariantStats::ratio_resolved(scale_now, inv0_[k], two_gamma, r))) {
             s.ratio_defined = false;
             s.first_unresolved_ratio = n;
         }
+        // The series ends where the metric's ratio does: from the first point whose round-off
+        // e^{2Γ} ε S(z_n) / |I_0| is not resolved (I_0 = 0, a state at rest or an indefinite H_γ
+        // through 0, from the start) it is skipped as non-finite. After it the ratio is the
+        // run's round-off times e^{2Γ}: a strongly damped oscillator (γ = 50) drew ±1e300.
+        if (!ratio_series_.empty())
+            ratio_series_[k].push(t,
+                                  s.ratio_defined ? r : std::numeric_limits<double>::quiet_NaN());
+        if (!was_defined) return;
         s.max_ratio_dev = std::max(s.max_ratio_dev, std::abs(r));
         s.rx += x, s.ry += r, s.rxx += x * x, s.rxy += x * r, s.rcount += 1.0;
     }

@@ -91,6 +91,21 @@ def zero_note(runs: List[Json], key: str, multi_dt: bool) -> str:
     return f"exactly 0 at every point (not drawn on a log axis): {', '.join(zero)}" if zero else ""
 
 
+def gap_note(runs: List[Json], key: str, multi_dt: bool) -> str:
+    """Runs whose series under key has points without a value (skipped as non-finite by the
+    C++ series: e^{2Γ} I_n / I_0 − 1 past its round-off resolution), named so that a line that
+    stops is not read as the run stopping."""
+    parts = []
+    for r in runs:
+        s = r["series"].get(key) or {}
+        n = s.get("nonfinite", 0)
+        if not (isinstance(n, int) and n > 0 and s.get("t")):
+            continue
+        where = f"after t = {s['t'][-1]:.3g}" if s.get("last") is None else f"at {n} points"
+        parts.append(f"{run_label(r, multi_dt)} {where}")
+    return f"no value (not drawn): {', '.join(parts)}" if parts else ""
+
+
 def panel_lines(runs: List[Json], ser: Json, key: str, scale: str, dts: List[float],
                 log_t: bool = False) -> List[Line]:
     """The runs' series under key, as they will be drawn (log: positive values only; thinned
@@ -226,7 +241,8 @@ def draw_panel(ctx: Ctx, ax: Any, case: Json, runs: List[Json], panel: Tuple[str
     if log and lines:
         ax.set_yscale("log")
     notes: Notes = {"bottom": [coincidence_text(drawn[:len(lines)], log, 10.0 ** k)],
-                    "top": [zero_note(runs, key, len(dts) > 1) if log else ""], "legend": 0}
+                    "top": [zero_note(runs, key, len(dts) > 1) if log else "",
+                            gap_note(runs, key, len(dts) > 1)], "legend": 0}
     flat = not log and is_flat([y for _, _, y in drawn])
     if flat:
         notes["bottom"].append(flat_text([y for _, _, y in drawn]))

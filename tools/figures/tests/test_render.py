@@ -207,3 +207,18 @@ def test_a_written_figure_releases_its_renderer(monkeypatch: pytest.MonkeyPatch)
     assert live() - before >= 12 + render.KEEP_RENDERERS  # a blank figure of each grid
     plt.close("all")
     assert np.array_equal(last, again)
+
+
+def test_gap_note_names_lines_that_stop() -> None:
+    # cimp's e^{2Γ} H_n / H_0 − 1 on the overdamped oscillator ends at t = 3.66 (its round-off
+    # times e^{2Γ} after that, skipped as non-finite by the C++ series): the note says so
+    key = "invariants.H_gamma.ratio_dev"
+
+    def run(method: str, nonfinite: int, last: Any) -> Dict[str, Any]:
+        return {"method": method, "dt": 0.1, "series": {key: {
+            "t": [0.1, 0.2, 3.66], "y": [0.0, 1e-9, 2e-9], "nonfinite": nonfinite, "last": last}}}
+
+    runs = [run("cimp", 1014, None), run("csv1", 0, [10.0, 2.7e15]), run("rk3", 2, [10.0, 1.0])]
+    assert draw_series.gap_note(runs, key, False) == \
+        "no value (not drawn): cimp after t = 3.66, rk3 at 2 points"
+    assert draw_series.gap_note(runs[1:2], key, False) == ""  # control: every point has a value
