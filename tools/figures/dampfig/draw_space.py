@@ -56,6 +56,24 @@ def shared_limits(curves: List[XY], equal: bool) -> Tuple[Tuple[float, float],
     return (x0 - px, x1 + px), (y0 - py, y1 + py)
 
 
+def yardstick(sizes: List[float], refs: List[List[XY]], equal: bool) -> float:
+    """The size an orbit panel's box is judged against: the median size of the reference orbits
+    when the runs have any, else the median of the runs' boxes."""
+    ref_sizes = sorted(max(x[1] - x[0], y[1] - y[0])
+                       for x, y in (shared_limits(b, equal) for b in refs if b))
+    pool = ref_sizes or sorted(sizes)
+    return pool[len(pool) // 2]
+
+
+def limits_phrase(own: int, n: int) -> str:
+    """What the orbit figure's title says of its panels' limits, `own` of n having their own."""
+    if own == 0:
+        return "same limits in every panel"
+    if own == n:
+        return "each panel its own limits (every run far outside the reference orbit)"
+    return "same limits in every panel but those marked 'own limits'"
+
+
 def rays_of(r: Json, curves: List[XY]) -> List[XY]:
     """The ends of the perihelion rays precession_rays draws (half the orbit's size from the
     focus), as a curve for the limits: a ray along the short side of the focus (e = 0.85: the
@@ -99,14 +117,18 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     drawn = [(r, orbit_coords(problem, r["series"]["orbit"]["states"]),
               orbit_coords(problem, (reference_of(ser, r) or {}).get("states", []))) for r in runs]
     # one box for every panel, except a run that leaves it by far (explicit Euler's spiral),
-    # which gets its own and says so: one outlier must not shrink the others to a dot
+    # which gets its own and says so: one outlier must not shrink the others to a dot. The
+    # yardstick is the reference orbit where there is one (Kepler at e = 0.99: two of four
+    # methods flew off to 1e5 and, as the median, shrank the other two to dots), else the median
     boxes = [shared_limits(a + b + rays_of(report_runs.get((r["method"], r["dt"]), {}), a + b),
                            equal) for r, a, b in drawn]
     sizes = [max(x[1] - x[0], y[1] - y[0]) for x, y in boxes]
-    typical = sorted(sizes)[len(sizes) // 2]
+    typical = yardstick(sizes, [b for _, _, b in drawn], equal)
     inside = [d for d, s in zip(drawn, sizes) if s <= 3 * typical]
+    # (no run inside: each panel has its own box; the shared one is the reference's, unused)
     xlim, ylim = shared_limits([c for r, a, b in inside for c in a + b + rays_of(
-        report_runs.get((r["method"], r["dt"]), {}), a + b)], equal)
+        report_runs.get((r["method"], r["dt"]), {}), a + b)]
+        or [c for _, a, b in drawn for c in (b or a)], equal)
     greys, turned = set(), False
     for ax, (r, curves, refs), box, size in zip(axs.flat, drawn, boxes, sizes):
         c = ctx.style(r["method"])[0]
@@ -125,7 +147,7 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         turn = precession_rays(ax, report_runs.get((r["method"], r["dt"]), {}), c, reach)
         turned = turned or turn is not None
         ax.set_title(f"{r['method']} h={r['dt']:g}" + (f"\n{turn}" if turn else "") +
-                     (" (own limits: far outside the others')" if own else ""), fontsize=8)
+                     ("\n(own limits: far outside the shared frame)" if own else ""), fontsize=8)
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
         ax.set_xlim(*lims[0])
@@ -141,8 +163,9 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     height = 3.5 * rows + 0.9
     fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7, frameon=False,
                bbox_to_anchor=(0.5, 1 - 0.35 / height))
-    fig.suptitle(title_of(case, "orbits, same limits in every panel" +
-                          (", equal aspect" if equal else "")), y=1 - 0.05 / height, va="top")
+    fig.suptitle(title_of(case, "orbits, " + limits_phrase(sum(s > 3 * typical for s in sizes),
+                                                        n) + (", equal aspect" if equal else "")),
+                 y=1 - 0.05 / height, va="top")
     layout(fig, bottom=0.5 / height, top=1 - 0.95 / height, left=0.75 / fig.get_figwidth(),
            hspace=0.5, wspace=0.35)
     quantities = ["orbit"] + (["orbit_reference"] if greys else []) + \

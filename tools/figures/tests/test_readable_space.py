@@ -48,6 +48,36 @@ def test_hill_orbit_is_a_phase_portrait() -> None:
     assert draw_space.AXES["hill"] == ("q", "p") and "hill" not in draw_space.EQUAL_ASPECT
 
 
+def test_orbits_that_stay_share_the_reference_frame(monkeypatch: pytest.MonkeyPatch,
+                                                   tmp_path: Any) -> None:
+    # Kepler at e = 0.99 on a held-out ladder: two of four methods fly off to 1e5. Judged
+    # against the median box, the two that stay were shrunk to dots in a 1e5 frame; judged
+    # against the reference orbit they share its frame and the others get their own.
+    seen = drawn_figures(monkeypatch, draw_space)
+    methods = ["m0", "m1", "m2", "m3"]
+    case = base_case(methods, "kepler")
+    th = [2 * math.pi * k / 200 for k in range(201)]
+    ring = [[math.cos(a), math.sin(a), 0.0, 0.0] for a in th]
+    away = [[1e5 * k / 200 + math.cos(a), math.sin(a), 0.0, 0.0] for k, a in enumerate(th)]
+    ref = {"states": ring}
+    ser = {"runs": [{"method": m, "dt": 0.1, "series": {
+        "orbit": {"states": away if m in ("m0", "m3") else ring}, "orbit_reference": ref}}
+        for m in methods]}
+    draw_space.fig_orbit(ctx_for(case, tmp_path), case, ser)
+    axes = seen[0].axes
+    widths = [ax.get_xlim()[1] - ax.get_xlim()[0] for ax in axes[:4]]
+    assert widths[1] == widths[2] < 3  # the two that stay: the reference's frame
+    assert widths[0] > 1e4 and widths[3] > 1e4  # the two that left: their own
+    assert "own limits" in axes[0].get_title() and "own limits" not in axes[1].get_title()
+    assert "but those marked" in seen[0]._suptitle.get_text()
+    # control: the median of the four boxes is a flown-off one, and every box is within 3x of it
+    boxes = [2.0, 2.0, 1e5, 1e5]
+    median = sorted(boxes)[len(boxes) // 2]
+    assert all(b <= 3 * median for b in boxes)
+    assert draw_space.yardstick(boxes, [], True) == median
+    assert draw_space.limits_phrase(4, 4).startswith("each panel its own limits")
+
+
 def test_perihelion_rays_stay_inside_the_panel(monkeypatch: pytest.MonkeyPatch,
                                                tmp_path: Any) -> None:
     seen = drawn_figures(monkeypatch, draw_space)
