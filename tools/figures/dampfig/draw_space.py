@@ -198,6 +198,26 @@ def statistics_start(case: Json, r: Json, ser: Json) -> float:
     return 0.5 * (ser.get("t0", 0.0) + ser.get("t_end", 0.0))
 
 
+def portrait_panel(ax: Any, pts: Any, late: Any, colour: Any, thinned: bool,
+                   point: float) -> bool:
+    """One run's probe: the transient in light grey, the attractor in the method's colour (dots
+    where the series is thinned: joins would be chords), the origin; an attractor smaller than
+    `point` across (a fixed point of the drive's frame, drawn as a line it was invisible) also
+    gets a marker at its mean. Returns whether it did."""
+    for mask, col, lw in ((~late, TRANSIENT_GREY, 0.5), (late, colour, 0.7)):
+        if mask.any():
+            ax.plot(pts[mask, 0], pts[mask, 1], "." if thinned else "-", color=col, lw=lw,
+                    ms=1.5, rasterized=dense(int(mask.sum())))
+    ax.plot([0.0], [0.0], "k+", ms=6)
+    on = pts[late]
+    on = on[np.isfinite(on).all(axis=1)]
+    if not len(on) or float(np.ptp(on, axis=0).max()) >= point:
+        return False
+    ax.plot([float(on[:, 0].mean())], [float(on[:, 1].mean())], "o", color=colour, mec="k",
+            ms=6)
+    return True
+
+
 def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     """B Fig 5.10's right panels: the attractor diagnostic's probe as a point of its plane (in
     the drive's frame when the problem has a drive frequency), the transient in light grey (its
@@ -213,31 +233,37 @@ def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     for ax in axs.flat[n:]:
         ax.axis("off")
     frame = ""
-    for ax, r in zip(axs.flat, runs):
+    data = []
+    for r in runs:
         pl = r["series"]["attractor.plane"]
-        c = ctx.style(r["method"])[0]
         t = np.asarray(pl["t"], dtype=float)
         pts, frame = drive_frame(case, t, np.asarray(pl["points"], dtype=float).reshape(-1, 2))
-        late = t >= statistics_start(case, r, ser)
-        thinned = pl.get("stride", 1) > 1  # joins of thinned points would be chords
-        for mask, col, lw in ((~late, TRANSIENT_GREY, 0.5), (late, c, 0.7)):
-            if mask.any():
-                ax.plot(pts[mask, 0], pts[mask, 1], "." if thinned else "-", color=col, lw=lw,
-                        ms=1.5, rasterized=dense(int(mask.sum())))
-        ax.plot([0.0], [0.0], "k+", ms=6)
+        data.append((r, pl, pts, t >= statistics_start(case, r, ser)))
+    # one square box for every panel (equal aspect: a box as wide as the data and as tall as
+    # its width left a 1.2 x 0.5 portrait 125 px tall in a 3.7 in row)
+    (x0, x1), (y0, y1) = shared_limits([(p[:, 0], p[:, 1], "") for _, _, p, _ in data], True)
+    fixed = False
+    for ax, (r, pl, pts, late) in zip(axs.flat, data):
+        fixed = portrait_panel(ax, pts, late, ctx.style(r["method"])[0],
+                               pl.get("stride", 1) > 1, 0.01 * (x1 - x0)) or fixed
         ax.set_title(f"{r['method']} h={r['dt']:g}")
         # "Re psi(0, t)" in the drive's frame: Re[psi(0, t) e^{-i(w0 t + a)}]
         names = [f"{x.split(' ', 1)[0]}[{x.split(' ', 1)[-1]}{frame}]" if frame else x
                  for x in pl["names"]]
         ax.set_xlabel(names[0].replace("psi", r"$\psi$"))
         ax.set_ylabel(names[1].replace("psi", r"$\psi$"))
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
         ax.set_aspect("equal", adjustable="box")
     label_above_gaps(axs, n, axs.flat[0].get_xlabel())
     handles = [Line2D([], [], color=TRANSIENT_GREY, lw=1.5, label="transient (before the "
                       "attractor statistics)"),
                Line2D([], [], color="0.2", lw=1.5, label="on the attractor (the method's colour)"),
                Line2D([], [], color="k", marker="+", ls="none", label="origin")]
-    fig.legend(handles=handles, loc="upper center", ncol=3, fontsize=7, frameon=False,
+    if fixed:
+        handles.append(Line2D([], [], color="0.2", marker="o", mec="k", ls="none", ms=6,
+                              label="attractor a fixed point (its mean)"))
+    fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7, frameon=False,
                bbox_to_anchor=(0.5, 1 - 0.35 / height))
     fig.suptitle(title_of(case, "the probe in its plane" +
                           (", in the frame turning with the drive" if frame else "")),

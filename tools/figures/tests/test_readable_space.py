@@ -136,3 +136,22 @@ def test_invariants_and_the_probe_in_mathtext() -> None:
     assert "_" not in labels["invariants.H_gamma.step_res"].replace("H_{", "").replace("z_n", "")
     assert r"$|\psi(0, t)|$" in labels["attractor.probe"]
     assert "H(q, p)" not in [lab for _, lab, _ in fd.SERIES_PANELS][0]  # z: any state
+
+
+def test_a_fixed_point_attractor_is_marked() -> None:
+    # B Fig 5.10's probe at A = 1, gamma = 0.5 settles on a point of the drive's frame: drawn as a
+    # line of one point it was invisible; it gets a marker. Control: a periodic orbit gets none.
+    import matplotlib.pyplot as plt
+    import numpy as np
+    t = np.linspace(0.0, 10.0, 400)
+    settle = np.stack([np.exp(-t) - 0.23, -0.3 * (1 - np.exp(-t))], axis=1)
+    loop = np.stack([np.cos(3 * t), np.sin(3 * t)], axis=1)
+    late = t >= 5.0
+    for pts, marked in ((settle, True), (loop, False)):
+        fig, ax = plt.subplots()
+        assert draw_space.portrait_panel(ax, pts, late, "C0", False, 0.01 * 2.0) is marked
+        markers = [ln for ln in ax.lines if ln.get_marker() == "o"]
+        assert len(markers) == (1 if marked else 0)
+        if marked:
+            assert abs(markers[0].get_xdata()[0] + 0.23) < 0.01
+        plt.close(fig)
