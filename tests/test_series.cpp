@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 using dampsym::MinMaxDecimator;
@@ -121,35 +123,43 @@ TEST_CASE("figures: a streamed case's report does not move with --figures", "[se
     CHECK(a["cases"] == b["cases"]);
 }
 
+namespace {
+// cimp on an oscillator with the invariants diagnostic: (the run's H_γ ratio-deviation series,
+// the run's H_γ invariant metrics).
+std::pair<json, json> ratio_series(const json& problem, double t_end, double dt) {
+    const json spec = {{"id", "ratio-series"},
+                       {"title", "the ratio-deviation series"},
+                       {"no_checks_because", "a unit test of the figures hook"},
+                       {"problem", problem},
+                       {"methods", {"cimp"}},
+                       {"t_end", t_end},
+                       {"dt", dt},
+                       {"diagnostics", {"invariants"}}};
+    const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
+    dampsym::RunOptions with;
+    with.time_budget = 0.0;
+    std::vector<json> got;
+    with.series_sink = [&](const json& s) { got.push_back(s); };
+    const json b = dampsym::run_cases({c}, with);
+    REQUIRE(got.size() == 1);
+    return {got[0]["runs"][0]["series"]["invariants.H_gamma.ratio_dev"],
+            b["cases"][0]["runs"][0]["metrics"]["invariants"]["H_gamma"]};
+}
+} // namespace
+
 // e^{2Γ} I_n / I_0 − 1 has no value when I_0 = 0: the series keeps no point of it (the figure drew
 // −1 at every step for an oscillator at rest, which the report calls undefined). Negative
 // control: the same case from q0 = 1 keeps the series.
 TEST_CASE("figures: the ratio-deviation series is empty when I_0 = 0", "[series]") {
     for (const double q0 : {0.0, 1.0}) {
-        const json spec = {{"id", "ratio-zero"},
-                           {"title", "ratio series at I_0 = 0"},
-                           {"no_checks_because", "a unit test of the figures hook"},
-                           {"problem", {{"id", "oscillator"}, {"gamma", 0.1}, {"q0", q0}}},
-                           {"methods", {"cimp"}},
-                           {"t_end", 1.0},
-                           {"dt", 0.1},
-                           {"diagnostics", {"invariants"}}};
-        const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
-        dampsym::RunOptions with;
-        with.time_budget = 0.0;
-        std::vector<json> got;
-        with.series_sink = [&](const json& s) { got.push_back(s); };
-        const json b = dampsym::run_cases({c}, with);
-        REQUIRE(got.size() == 1);
-        const json& s = got[0]["runs"][0]["series"]["invariants.H_gamma.ratio_dev"];
+        const auto [s, inv] =
+            ratio_series({{"id", "oscillator"}, {"gamma", 0.1}, {"q0", q0}}, 1.0, 0.1);
         INFO("q0 = " << q0 << ": " << s.dump());
         const auto y = s["y"].get<std::vector<double>>();
         if (q0 == 0.0) {
             CHECK(y.empty());
             CHECK(s["nonfinite"].get<int>() == 10);
-            CHECK(
-                b["cases"][0]["runs"][0]["metrics"]["invariants"]["H_gamma"]["max_global_ratio_dev"]
-                    .is_null());
+            CHECK(inv["max_global_ratio_dev"].is_null());
         } else {
             CHECK(y.size() == 10);
         }
@@ -164,23 +174,7 @@ TEST_CASE("figures: the ratio-deviation series is empty when I_0 = 0", "[series]
 TEST_CASE("figures: the ratio-deviation series ends where the ratio is no longer resolved",
           "[series]") {
     for (const double gamma : {50.0, 0.1}) {
-        const json spec = {{"id", "ratio-unresolved"},
-                           {"title", "ratio series past its resolution"},
-                           {"no_checks_because", "a unit test of the figures hook"},
-                           {"problem", {{"id", "oscillator"}, {"gamma", gamma}}},
-                           {"methods", {"cimp"}},
-                           {"t_end", 10.0},
-                           {"dt", 0.05},
-                           {"diagnostics", {"invariants"}}};
-        const dampsym::CaseSpec c = dampsym::parse_case(spec, "test_series.cpp", {});
-        dampsym::RunOptions with;
-        with.time_budget = 0.0;
-        std::vector<json> got;
-        with.series_sink = [&](const json& s) { got.push_back(s); };
-        const json b = dampsym::run_cases({c}, with);
-        REQUIRE(got.size() == 1);
-        const json& s = got[0]["runs"][0]["series"]["invariants.H_gamma.ratio_dev"];
-        const json& inv = b["cases"][0]["runs"][0]["metrics"]["invariants"]["H_gamma"];
+        const auto [s, inv] = ratio_series({{"id", "oscillator"}, {"gamma", gamma}}, 10.0, 0.05);
         const auto y = s["y"].get<std::vector<double>>();
         const int nonfinite = s["nonfinite"].get<int>();
         INFO("gamma = " << gamma << ": " << inv.dump());
