@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from . import figdata as fd
-from .draw_series import axes_px, coincidence_note
+from .draw_series import axes_px, coincidence_note, unseries_label
 from .render import PANEL_H, Ctx, Drawn, Json, dense, label_above_gaps, layout, pow10, save, \
     sci_scale, subplots, title_of
 from .styles import REFERENCE_GREY, TRANSIENT_GREY
@@ -22,6 +22,8 @@ AXES = {"kepler": ("q₁", "q₂"), "hill": ("q", "p"), "lotka-volterra": ("u", 
         "outer-solar-system": ("x (AU)", "y (AU)"), "rigid-body": ("z₁", "z₂")}
 EQUAL_ASPECT = {"kepler", "outer-solar-system"}
 XY = Tuple[Any, Any, str]
+# inches at a figure's foot for the line naming the runs that failed (nothing of theirs to draw)
+FOOT = 0.25
 
 
 def orbit_coords(problem: str, states: List[List[float]]) -> List[XY]:
@@ -33,6 +35,19 @@ def orbit_coords(problem: str, states: List[List[float]]) -> List[XY]:
         nb = len(col) // 6
         return [(col[3 * k], col[3 * k + 1], f"body {k}") for k in range(nb)]
     return [(col[0], col[1], "")]
+
+
+def failed_of(ser: Json, key: str) -> List[Json]:
+    """The runs with no `key` series because they failed (diverged, solve-failed, ...)."""
+    return [r for r in ser["runs"] if key not in r["series"] and r.get("status", "ok") != "ok"]
+
+
+def failed_footer(fig: Any, case: Json, failed: List[Json]) -> None:
+    """The line at the figure's foot (FOOT) naming the failed runs: a panel per run that ran,
+    and without it a run that failed was left out without a word."""
+    if failed:
+        fig.text(0.01, 0.05 / fig.get_figheight(), "not drawn: " + "; ".join(
+            unseries_label(case, r) for r in failed), fontsize=7, va="bottom")
 
 
 def reference_of(ser: Json, r: Json) -> Optional[Json]:
@@ -109,7 +124,9 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     report_runs = {(r["method"], r["dt"]): r for r in case["runs"]}
     n, cols = len(runs), min(4, len(runs))
     rows = -(-n // cols)
-    fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.6 * cols), 3.5 * rows + 0.9))
+    failed = failed_of(ser, "orbit")
+    height = 3.5 * rows + 0.9 + (FOOT if failed else 0.0)
+    fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.6 * cols), height))
     for ax in axs.flat[n:]:
         ax.axis("off")
     xl, yl = AXES.get(problem, ("z₁", "z₂"))
@@ -160,13 +177,14 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         handles += [Line2D([], [], color="k", ls="--", lw=0.9, label="perihelion direction at "
                            "t₀ (from the focus)"),
                     Line2D([], [], color="0.3", lw=1.6, label="perihelion direction at t_end")]
-    height = 3.5 * rows + 0.9
     fig.legend(handles=handles, loc="upper center", ncol=len(handles), fontsize=7, frameon=False,
                bbox_to_anchor=(0.5, 1 - 0.35 / height))
+    failed_footer(fig, case, failed)
     fig.suptitle(title_of(case, "orbits, " + limits_phrase(sum(s > 3 * typical for s in sizes),
                                                         n) + (", equal aspect" if equal else "")),
                  y=1 - 0.05 / height, va="top")
-    layout(fig, bottom=0.5 / height, top=1 - 0.95 / height, left=0.75 / fig.get_figwidth(),
+    layout(fig, bottom=(0.5 + (FOOT if failed else 0.0)) / height, top=1 - 0.95 / height,
+           left=0.75 / fig.get_figwidth(),
            hspace=0.5, wspace=0.35)
     quantities = ["orbit"] + (["orbit_reference"] if greys else []) + \
         (["precession.total", "precession.initial_angle"] if turned else [])
@@ -227,7 +245,9 @@ def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
         return []
     n, cols = len(runs), min(3, len(runs))
     rows = -(-n // cols)
-    height = 3.7 * rows + 1.0
+    failed = failed_of(ser, "attractor.plane")
+    foot = FOOT if failed else 0.0
+    height = 3.7 * rows + 1.0 + foot
     fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.8 * cols), height), sharex=True,
                         sharey=True)
     for ax in axs.flat[n:]:
@@ -268,7 +288,8 @@ def fig_portrait(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     fig.suptitle(title_of(case, "the probe in its plane" +
                           (", in the frame turning with the drive" if frame else "")),
                  y=1 - 0.05 / height, va="top")
-    layout(fig, bottom=0.6 / height, top=1 - 0.95 / height, left=0.75 / fig.get_figwidth(),
+    failed_footer(fig, case, failed)
+    layout(fig, bottom=(0.6 + foot) / height, top=1 - 0.95 / height, left=0.75 / fig.get_figwidth(),
            hspace=0.45, wspace=0.3)
     return [(save(ctx, fig, case, "portrait"), "probe portrait",
              ["attractor.plane", "attractor.from"])]
@@ -284,7 +305,9 @@ def fig_poincare(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     n = len(runs)
     cols = n if n <= 3 else (2 if n == 4 else 3)
     rows = -(-n // cols)
-    height = 3.9 * rows + 1.0
+    failed = failed_of(ser, "poincare")
+    foot = FOOT if failed else 0.0
+    height = 3.9 * rows + 1.0 + foot
     fig, axs = subplots(ctx, rows, cols, (4.3 * cols, height), sharex=True, sharey=True)
     for ax in axs.flat[n:]:
         ax.axis("off")
@@ -308,7 +331,9 @@ def fig_poincare(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
                bbox_to_anchor=(0.5, 1 - 0.35 / height))
     fig.suptitle(title_of(case, "Poincaré section at t = t₀ + kT"), y=1 - 0.05 / height,
                  va="top")
-    layout(fig, bottom=0.55 / height, top=1 - 0.95 / height, left=0.08, hspace=0.4, wspace=0.15)
+    failed_footer(fig, case, failed)
+    layout(fig, bottom=(0.55 + foot) / height, top=1 - 0.95 / height, left=0.08, hspace=0.4,
+           wspace=0.15)
     return [(save(ctx, fig, case, "poincare"), "Poincaré sections",
              ["poincare"] + (["poincare_reference"] if ref else []))]
 

@@ -155,3 +155,21 @@ def test_a_fixed_point_attractor_is_marked() -> None:
         if marked:
             assert abs(markers[0].get_xdata()[0] + 0.23) < 0.01
         plt.close(fig)
+
+
+def test_a_failed_run_is_named_under_the_orbits(monkeypatch: pytest.MonkeyPatch,
+                                                tmp_path: Any) -> None:
+    # kepler-table21 at h = 2π/10: implicit-midpoint's solve fails at step 1; the figure drew
+    # three panels for four methods and said nothing of the fourth. Control: without a failed run
+    # there is no such line.
+    seen = drawn_figures(monkeypatch, draw_space)
+    case = base_case(["m0", "m1"], "kepler")
+    case["runs"][1].update(status="solve-failed", failed_at_step=1)
+    ring = [[math.cos(a), math.sin(a), 0.0, 0.0] for a in (0.1 * k for k in range(63))]
+    for runs, named in ((2, True), (1, False)):
+        ser = {"runs": [{"method": "m0", "dt": 0.1, "series": {"orbit": {"states": ring}}},
+                        {"method": "m1", "dt": 0.1, "status": "solve-failed", "series": {}}][:runs]}
+        draw_space.fig_orbit(ctx_for(case, tmp_path), case, ser)
+        texts = [t.get_text() for t in seen[-1].texts]
+        assert any(t.startswith("not drawn: m1 h=0.1: solve-failed at step 1") for t in texts) \
+            is named
