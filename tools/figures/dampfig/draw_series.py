@@ -8,7 +8,7 @@ zeros is drawn on a linear axis and said to be 0; linear panels carry their powe
 label, not in an offset text above the axes."""
 
 import math
-from typing import Any, Dict, List, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 import matplotlib.colors
 from matplotlib.lines import Line2D
@@ -260,6 +260,13 @@ def draw_panel(ctx: Ctx, ax: Any, case: Json, runs: List[Json], panel: Tuple[str
         ax.legend(loc="upper right", ncol=2, fontsize=6)
         notes["legend"] = -(-n // 2)
     return notes
+def failed_of(ser: Json, key: Optional[str] = None) -> List[Json]:
+    """The runs of a series file that failed (diverged, solve-failed, ...) and so have no series
+    at all, or none under `key`."""
+    return [r for r in ser["runs"] if r.get("status", "ok") != "ok"
+            and (not r["series"] if key is None else key not in r["series"])]
+
+
 def unseries_label(case: Json, r: Json) -> str:
     """A failed run (no series: diverged, solve-failed, ...) as its legend entry says it."""
     rr: Json = next((x for x in case.get("runs", []) if x.get("method") == r["method"]
@@ -302,7 +309,7 @@ def place_row(axes: List[Any], notes: List[Notes], log: bool) -> None:
 
 def fig_series(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     runs = [r for r in ser["runs"] if r["series"]]
-    failed = [r for r in ser["runs"] if not r["series"] and r.get("status", "ok") != "ok"]
+    failed = failed_of(ser)
     every = fd.series_panels(ser, case)
     panels = [p for p in every if has_data(runs, p[0], p[2])]
     # quantities kept but undefined at every point (e^{2Γ} I_n / I_0 − 1 with I_0 = 0): named

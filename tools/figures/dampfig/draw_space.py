@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from . import figdata as fd
-from .draw_series import axes_px, coincidence_note, unseries_label
+from .draw_series import axes_px, coincidence_note, failed_of, unseries_label
 from .render import PANEL_H, Ctx, Drawn, Json, dense, label_above_gaps, layout, pow10, save, \
     sci_scale, subplots, title_of
 from .styles import REFERENCE_GREY, TRANSIENT_GREY
@@ -35,11 +35,6 @@ def orbit_coords(problem: str, states: List[List[float]]) -> List[XY]:
         nb = len(col) // 6
         return [(col[3 * k], col[3 * k + 1], f"body {k}") for k in range(nb)]
     return [(col[0], col[1], "")]
-
-
-def failed_of(ser: Json, key: str) -> List[Json]:
-    """The runs with no `key` series because they failed (diverged, solve-failed, ...)."""
-    return [r for r in ser["runs"] if key not in r["series"] and r.get("status", "ok") != "ok"]
 
 
 def failed_footer(fig: Any, case: Json, failed: List[Json]) -> None:
@@ -125,7 +120,8 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     n, cols = len(runs), min(4, len(runs))
     rows = -(-n // cols)
     failed = failed_of(ser, "orbit")
-    height = 3.5 * rows + 0.9 + (FOOT if failed else 0.0)
+    foot = FOOT if failed else 0.0
+    height = 3.5 * rows + 0.9 + foot
     fig, axs = subplots(ctx, rows, cols, (max(7.0, 3.6 * cols), height))
     for ax in axs.flat[n:]:
         ax.axis("off")
@@ -183,9 +179,8 @@ def fig_orbit(ctx: Ctx, case: Json, ser: Json) -> List[Drawn]:
     fig.suptitle(title_of(case, "orbits, " + limits_phrase(sum(s > 3 * typical for s in sizes),
                                                         n) + (", equal aspect" if equal else "")),
                  y=1 - 0.05 / height, va="top")
-    layout(fig, bottom=(0.5 + (FOOT if failed else 0.0)) / height, top=1 - 0.95 / height,
-           left=0.75 / fig.get_figwidth(),
-           hspace=0.5, wspace=0.35)
+    layout(fig, bottom=(0.5 + foot) / height, top=1 - 0.95 / height,
+           left=0.75 / fig.get_figwidth(), hspace=0.5, wspace=0.35)
     quantities = ["orbit"] + (["orbit_reference"] if greys else []) + \
         (["precession.total", "precession.initial_angle"] if turned else [])
     return [(save(ctx, fig, case, "orbit"), "orbits", quantities)]
