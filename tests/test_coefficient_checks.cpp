@@ -289,6 +289,33 @@ TEST_CASE("glm4 is G-symplectic, stable, pre-consistent and consistent (BS, BD D
     }
 }
 
+TEST_CASE("a one-value GLM without starting stages (Gauss as a GLM) has its linear-order and "
+          "stage-time checks; a 1e-6 in a weight or a stage time fails them",
+          "[coefficients]") {
+    // s0 = 0: y^[0] = V₀ y₀, so S(z) = V₀ and the stage times are c = A e. These checks gave NaN
+    // (a failure) for every such method, so an RK method written as a GLM was "refuted".
+    const auto verdict = [](const GlmCoefficients& g, int order, const std::string& name) {
+        for (const auto& c : dampsym::method_checks(glm_method(g, order)))
+            if (c.name == name) return c.holds;
+        FAIL("no check " << name);
+        return false;
+    };
+    for (int s = 1; s <= 3; ++s) {
+        const GlmCoefficients g = gauss_as_glm(s);
+        INFO("gauss" << s);
+        CHECK(verdict(g, 2 * s, "linear-order-" + std::to_string(2 * s)));
+        CHECK(verdict(g, 2 * s, "stage-times"));
+        CHECK_FALSE(verdict(g, 2 * s + 1, "linear-order-" + std::to_string(2 * s + 1))); // sharp
+    }
+    GlmCoefficients weight = gauss_as_glm(2);
+    weight.B(0, 1) *= 1.0 + 1e-6;
+    CHECK_FALSE(verdict(weight, 4, "linear-order-4"));
+    GlmCoefficients time = gauss_as_glm(2);
+    time.c[1] *= 1.0 + 1e-6;
+    CHECK(verdict(time, 4, "linear-order-4"));
+    CHECK_FALSE(verdict(time, 4, "stage-times"));
+}
+
 TEST_CASE("general-linear kernel: Gauss as a one-value GLM equals implicit-rk, failed solves "
           "change nothing",
           "[coefficients]") {

@@ -12,7 +12,9 @@ B's x_B = 2x, pairs whose stages can be ordered), `partitioned-rk` (xmethods.prk
 separable form) and `rk` -- explicit tableaux as the built-in explicit RK methods
 (xmethods.EXPLICIT_RK: the compiled loops, the stability polynomial), implicit tableaux by the
 RK-family Newton step (xmethods.rk_family_step, Newton counts by xnewton), and either under the
-integrating factor B(2.5) (xmethods.ifrk_coef, as glifrk).  A method file of another family is
+integrating factor B(2.5) (xmethods.ifrk_coef, as glifrk); `general-linear` (BD (2.3), BS) by
+xmethods.GLM, the built-in glm4's stepper, with the file's [A U; B V], c and starting method.  A
+file the cross-check cannot step (a coupled partitioned exponential pair, a file it cannot read) is
 named with the reason in the runs it leaves "not reproduced".
 
 Where the files are found (as dampsym finds them): every case file's `method_files` (relative to
@@ -28,6 +30,7 @@ import stat
 from typing import Any, Dict, List, Optional, Tuple
 
 import mpmath
+import numpy as np
 
 from . import xcache
 from . import xmethods as xm
@@ -36,7 +39,7 @@ from . import xnewton
 # a method file larger than this is not read (as dampsym: docs/method-files.md "The format")
 FILE_LIMIT = 16 << 20
 # where a registered file method's coefficients are kept (xmethods)
-FILE_TABLES = ("FILE_RK", "FILE_PRK", "FILE_ERK", "FILE_PERK")
+FILE_TABLES = ("FILE_RK", "FILE_PRK", "FILE_ERK", "FILE_PERK", "FILE_GLM")
 # method id -> why the cross-check does not step it (a family without an engine here, a file it
 # cannot read): the reason its runs are not reproduced
 UNSUPPORTED: Dict[str, str] = {}
@@ -249,6 +252,57 @@ def register_perk(mid: str, q: Any, p: Any, source: str) -> None:
     xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
 
 
+def _matrix(v: Any, rows: int, cols: int, key: str) -> Any:
+    """A rows x cols matrix of coefficients (a list of rows)."""
+    if not isinstance(v, list) or len(v) != rows or any(not isinstance(r, list) or len(r) != cols
+                                                        for r in v):
+        raise MethodFileError("general-linear: %s must be %d x %d" % (key, rows, cols))
+    return np.array([[coefficient(x) for x in r] for r in v], float).reshape(rows, cols)
+
+
+def _vector(v: Any, n: int, key: str) -> Any:
+    if not isinstance(v, list) or len(v) != n:
+        raise MethodFileError("general-linear: %s must have %d entries" % (key, n))
+    return np.array([coefficient(x) for x in v], float)
+
+
+def glm_coefficients(doc: Json) -> Dict[str, Any]:
+    """A `general-linear` file's [A U; B V], c and starting method [A0 U0; B0 V0], c0 (as
+    xmethods.GLM4); without "starting" (r = 1 only) y^[0] = y_0.  G and D are a certificate,
+    not part of the step."""
+    A, V = doc.get("A"), doc.get("V")
+    if not isinstance(A, list) or not A or not isinstance(V, list) or not V:
+        raise MethodFileError("general-linear: needs A (s x s) and V (r x r)")
+    s, r = len(A), len(V)
+    k = dict(A=_matrix(A, s, s, "A"), U=_matrix(doc.get("U"), s, r, "U"),
+             B=_matrix(doc.get("B"), r, s, "B"), V=_matrix(V, r, r, "V"), c=_vector(doc.get("c"), s, "c"))
+    st = doc.get("starting")
+    if st is None:
+        if r != 1:
+            raise MethodFileError("general-linear: r = %d values need a starting method" % r)
+        st = {"V": [1]}
+    if not isinstance(st, dict):
+        raise MethodFileError("general-linear: starting must be an object")
+    s0 = len(st.get("A") or [])
+    k.update(A0=_matrix(st.get("A") or [], s0, s0, "starting.A"),
+             U0=_vector(st.get("U") if s0 else [], s0, "starting.U"),
+             B0=_matrix(st.get("B") if s0 else [[] for _ in range(r)], r, s0, "starting.B"),
+             V0=_vector(st.get("V"), r, "starting.V"), c0=_vector(st.get("c") if s0 else [], s0, "starting.c"))
+    return k
+
+
+def register_glm(mid: str, doc: Json, source: str) -> None:
+    """A `general-linear` file (BD (2.3), BS), stepped by xmethods.GLM on the plain form as the
+    built-in glm4 is: its r values y^[n] are the multivalue state; Newton counts (xnewton) for
+    every shape of A."""
+    xm.FILE_GLM[mid] = glm_coefficients(doc)
+    xm.MULTIVALUE.add(mid)
+    xm.IMPLICIT.add(mid)
+    xnewton.SUPPORTED.add(mid)
+    xm.METHODS.add(mid)
+    xm.COEFFICIENT_SOURCES[mid] = "%s (method file, read by the cross-check)" % source
+
+
 def read_file(path: str) -> Json:
     """A method file: a regular file of at most FILE_LIMIT bytes holding a JSON object with an id."""
     try:
@@ -262,6 +316,16 @@ def read_file(path: str) -> Json:
     if not isinstance(doc, dict) or not isinstance(doc.get("id"), str):
         raise MethodFileError("%s: not a method file (no id)" % path)
     return doc
+
+
+def _exact(v: Any) -> Any:
+    """v with numpy arrays as lists (repr of a float is exact; numpy's repr rounds to 8 digits),
+    for the key of our cached results (FILE_DEFS)."""
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, dict):
+        return sorted((k, _exact(x)) for k, x in v.items())
+    return v
 
 
 def load(path: str) -> Optional[str]:
@@ -284,16 +348,19 @@ def load(path: str) -> Optional[str]:
             register_erk(mid, exp_tableau(doc.get("tableau")), os.path.abspath(path))
         elif family == "partitioned-exponential-rk":
             register_perk(mid, exp_tableau(doc.get("q")), exp_tableau(doc.get("p")), os.path.abspath(path))
+        elif family == "general-linear":
+            register_glm(mid, doc, os.path.abspath(path))
         else:
             raise MethodFileError("a method file of family %r: the cross-check steps the 'rk', "
-                                  "'partitioned-rk', 'exponential-rk' and 'partitioned-exponential-rk' "
-                                  "families" % family)
+                                  "'partitioned-rk', 'exponential-rk', 'partitioned-exponential-rk' "
+                                  "and 'general-linear' families" % family)
     except (MethodFileError, TypeError) as exc:
         UNSUPPORTED[mid] = "%s: %s" % (path, exc)
         return mid
     claims = doc.get("claims")
     xm.FILE_CLAIMS[mid] = [c for c in claims if isinstance(c, str)] if isinstance(claims, list) else []
-    xm.FILE_DEFS[mid] = repr((family, [getattr(xm, t).get(mid) for t in FILE_TABLES], xm.EXPLICIT_RK.get(mid)))
+    xm.FILE_DEFS[mid] = repr((family, [_exact(getattr(xm, t).get(mid)) for t in FILE_TABLES],
+                              xm.EXPLICIT_RK.get(mid)))
     xcache.sources_changed()
     return mid
 

@@ -7,7 +7,7 @@ leading batch axes and may be complex (the complex step of the step map gives it
 Jacobian; implicit stages are then iterated until both the real and the imaginary parts have
 converged, i.e. the implicit-function-theorem derivative).
 """
-from typing import Any, Dict, List
+from typing import Any, Dict, List, Optional
 import math
 from fractions import Fraction
 
@@ -412,73 +412,140 @@ GLM_A0 = np.array([[(3 + R3) / 6, 0], [-(3 + R3) / 3, (3 + R3) / 6]])
 GLM_S = np.array([(R3 - 1) / 8, (1 - R3) / 8])
 
 
+# glm4 as coefficients (BS): [A U; B V], stage times c = A e, and the starting method, whose
+# stages take y_0 (U0 = e) and give y^[0] = (y_0, h S F) (V0 = (1, 0), B0 = (0; S))
+GLM4: Dict[str, Any] = dict(A=GLM_A, U=GLM_U, B=GLM_B, V=GLM_V, c=GLM_A.sum(axis=1), A0=GLM_A0,
+                            U0=np.ones(2), B0=np.array([[0.0, 0.0], GLM_S]), V0=np.array([1.0, 0.0]),
+                            c0=GLM_A0.sum(axis=1))
+# General linear methods of the user's method files (verify/xmethodfile.py): id -> coefficients
+# as GLM4 (keys A, U, B, V, c, A0, U0, B0, V0, c0; s0 = 0 starting stages: A0 empty)
+FILE_GLM: Dict[str, Dict[str, Any]] = {}
+
+
+def glm_coefficients(method: str) -> Dict[str, Any]:
+    return FILE_GLM.get(method, GLM4)
+
+
+def lower_triangular(A: Any) -> bool:
+    """Stages that can be solved one after the other (A_ij = 0 for j > i)."""
+    return bool(np.all(np.triu(np.asarray(A, float), 1) == 0.0))
+
+
 class GLM:
-    """State is the pair of values y^[n] (2, d); start() applies the starting method."""
+    """A general linear method (BD (2.3), BS): Y = h (A (x) I) F + (U (x) I) y^[n-1],
+    y^[n] = h (B (x) I) F + (V (x) I) y^[n-1], F_i = f(t + c_i h, Y_i).  State: the r values
+    y^[n] (r, d); start() applies the starting method.  Lower-triangular A (glm4): the stages one
+    after the other, each by simplified Newton (matrix I - h a_ii J refreshed every 8 steps), an
+    explicit stage (a_ii = 0) by one evaluation; a full A by simplified Newton on all stages
+    (matrix at the predictor), as rk_family_step."""
 
-    def __init__(self, prob: Any, h: Any) -> None:
+    def __init__(self, prob: Any, h: Any, coefs: Optional[Dict[str, Any]] = None) -> None:
         self.prob, self.h = prob, h
-        self.main = self._stages(GLM_A)
-        self.start0 = self._stages(GLM_A0)
+        self.k = coefs if coefs is not None else GLM4
+        self.main = self._stages(self.k["A"], self.k["c"])
+        self.start0 = self._stages(self.k["A0"], self.k["c0"]) if len(self.k["c0"]) else None
 
-    def _stages(self, A: Any) -> Any:
-        prob, h = self.prob, self.h
+    def _stages(self, A: Any, c: Any) -> Any:
+        if not lower_triangular(A):
+            return self._coupled(A, c)
+        prob, h, s = self.prob, self.h, len(c)
         cache: Dict[str, Any] = {"age": 99}
-        c = A.sum(axis=1)   # stage abscissae c = A e (U's first column is e: BS)
+        first = next((i for i in range(s) if A[i, i] != 0.0), s)   # the first implicit stage
 
-        def solve(t: Any, Yp: Any) -> Any:   # Y = Yp + h A f(t + c h, Y), diagonally implicit, stage by stage
-            d = Yp.shape[-1]
+        def inverses(t: Any, y: Any) -> List[Any]:
+            d = y.shape[-1]
+            zr = (y.real if np.iscomplexobj(y) else y).reshape(-1, d)[0]
+            J = jac_cs(prob.f, t, zr)
+            return [np.linalg.inv(np.eye(d) - h * A[k, k] * J) for k in range(s)]
+
+        def solve(t: Any, Yp: Any) -> Any:   # Y = Yp + h A f(t + c h, Y), stage by stage
             Y = np.array(Yp)
             K = np.zeros_like(Yp)
             its = 0
-            for i in range(2):
+            for i in range(s):
                 base = Yp[..., i, :] + h * np.einsum("j,...jd->...d", A[i, :i], K[..., :i, :])
-                y = base.copy()
-                if i == 0:
-                    if cache["age"] >= 8:      # simplified Newton matrix refreshed every 8 steps
-                        zr = (y.real if np.iscomplexobj(y) else y).reshape(-1, d)[0]
-                        J = jac_cs(prob.f, t + c[0] * h, zr)
-                        cache.update(age=0, Minv=[np.linalg.inv(np.eye(d) - h * A[k, k] * J)
-                                                  for k in range(2)])
+                if A[i, i] == 0.0:
+                    Y[..., i, :] = base
+                    K[..., i, :] = prob.f(t + c[i] * h, base)
+                    continue
+                if i == first:             # simplified Newton matrices refreshed every 8 steps
+                    if cache["age"] >= 8:
+                        cache.update(age=0, Minv=inverses(t + c[i] * h, base))
                     cache["age"] += 1
-                Minv = cache["Minv"][i]
-                last, it, fresh = math.inf, 0, cache["age"] == 1
-                while True:
-                    it += 1
-                    R = y - base - h * A[i, i] * prob.f(t + c[i] * h, y)
-                    dy = R @ Minv.T
-                    y = y - dy
-                    done, last = _converged(dy, y, last, it)
-                    if done:
-                        break
-                    if (it > 30 or not np.all(np.isfinite(y))) and not fresh:
-                        # a Newton matrix from an earlier step that no longer contracts (a
-                        # time-dependent field at a large step): refresh it here and restart
-                        zr = (base.real if np.iscomplexobj(base) else base).reshape(-1, d)[0]
-                        J = jac_cs(prob.f, t + c[i] * h, zr)
-                        cache.update(age=1, Minv=[np.linalg.inv(np.eye(d) - h * A[k, k] * J)
-                                                  for k in range(2)])
-                        Minv, y, last, fresh = cache["Minv"][i], base.copy(), math.inf, True
-                        its += it
-                        it = 0
-                        continue
-                    if it > 100:
-                        raise SolveFailed("GLM stage did not converge")
+                y, it = self._newton_stage(t, c, i, A[i, i], base, cache, inverses)
                 its += it
                 Y[..., i, :] = y
                 K[..., i, :] = prob.f(t + c[i] * h, y)
             return Y, K, its
         return solve
 
+    def _newton_stage(self, t: Any, c: Any, i: int, aii: Any, base: Any, cache: Dict[str, Any],
+                      inverses: Any) -> Any:
+        """Stage i: y = base + h a_ii f(t + c_i h, y) by simplified Newton from y = base; a
+        matrix from an earlier step that no longer contracts (a time-dependent field at a large
+        step) is refreshed at this stage and the iteration restarted."""
+        prob, h = self.prob, self.h
+        y, Minv = base.copy(), cache["Minv"][i]
+        last, it, its, fresh = math.inf, 0, 0, cache["age"] == 1
+        while True:
+            it += 1
+            R = y - base - h * aii * prob.f(t + c[i] * h, y)
+            dy = R @ Minv.T
+            y = y - dy
+            done, last = _converged(dy, y, last, it)
+            if done:
+                return y, its + it
+            if (it > 30 or not np.all(np.isfinite(y))) and not fresh:
+                cache.update(age=1, Minv=inverses(t + c[i] * h, base))
+                Minv, y, last, fresh = cache["Minv"][i], base.copy(), math.inf, True
+                its += it
+                it = 0
+                continue
+            if it > 100:
+                raise SolveFailed("GLM stage did not converge")
+
+    def _coupled(self, A: Any, c: Any) -> Any:
+        """All stages at once: Z = Yp + h (A (x) I) F(Z) by simplified Newton, the matrix
+        I - h A (x) J at the predictor of each step."""
+        prob, h, s = self.prob, self.h, len(c)
+
+        def solve(t: Any, Yp: Any) -> Any:
+            d = Yp.shape[-1]
+            tt = (t + c * h)[:, None]
+            zr = (Yp.real if np.iscomplexobj(Yp) else Yp).reshape(-1, s, d)[0, 0]
+            Minv = np.linalg.inv(np.eye(s * d) - h * np.kron(A, jac_cs(prob.f, t, zr)))
+            Z, last, it = np.array(Yp), math.inf, 0
+            while True:
+                it += 1
+                R = Z - Yp - h * np.einsum("ij,...jd->...id", A, prob.f(tt, Z))
+                dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(R.shape)
+                Z = Z - dZ
+                if not np.all(np.isfinite(Z)):
+                    raise SolveFailed("non-finite Newton iterate")
+                done, last = _converged(dZ, Z, last, it)
+                if done:
+                    return Z, prob.f(tt, Z), it
+                if it > 100:
+                    raise SolveFailed("GLM stages did not converge")
+        return solve
+
     def start(self, t: Any, y0: Any) -> Any:
-        Y, K, _ = self.start0(t, np.stack([y0, y0], axis=-2))
-        y2 = self.h * np.einsum("i,...id->...d", GLM_S, K)
-        return np.stack([y0, y2], axis=-2)
+        """y^[0]_k = V0_k y_0 + h sum_j B0_kj F_j of the starting method's stages from y_0."""
+        k = self.k
+        r = len(k["V0"])
+        if self.start0 is None:
+            return np.stack([k["V0"][j] * y0 for j in range(r)], axis=-2)
+        Yp = np.stack([u * y0 for u in k["U0"]], axis=-2)
+        _, K, _ = self.start0(t, Yp)
+        return np.stack([self.h * np.einsum("i,...id->...d", k["B0"][j], K) + k["V0"][j] * y0
+                         for j in range(r)], axis=-2)
 
     def step(self, t: Any, yv: Any) -> Any:
-        Yp = np.einsum("ij,...jd->...id", GLM_U, yv)
+        k = self.k
+        Yp = np.einsum("ij,...jd->...id", k["U"], yv)
         Y, K, its = self.main(t, Yp)
-        return (self.h * np.einsum("ij,...jd->...id", GLM_B, K)
-                + np.einsum("ij,...jd->...id", GLM_V, yv)), its
+        return (self.h * np.einsum("ij,...jd->...id", k["B"], K)
+                + np.einsum("ij,...jd->...id", k["V"], yv)), its
 
 
 # right-hand-side (force or field) evaluations per step as the formulas are written (FSAL not

@@ -26,7 +26,7 @@ iteration (rhs in [s lo, s (hi + 1)]: with or without a final evaluation of the 
 Jacobians per step in [s (one per stage, frozen), s hi (one per stage per iteration)].
 All steps of the run are solved at once (numpy batch over steps), never a subsample.
 """
-from typing import Any
+from typing import Any, Dict, List
 import math
 
 import numpy as np
@@ -97,8 +97,15 @@ def iteration_updates(method: str, prob: Any, h: Any, t0: Any, traj: Any, full: 
         A = np.broadcast_to(A0, (N, len(c), len(c)))
     s = len(c)
     Zp = Phi[:, :, None] * z[:, None, :]
-    Z = Zp.copy()
     tt = t[:, None] + c[None, :] * h                          # (N, s)
+    return _system_updates(G, A, Zp, tt, h, full), s
+
+
+def _system_updates(G: Any, A: Any, Zp: Any, tt: Any, h: Any, full: bool) -> Any:
+    """Newton on all stages Z = Zp + h (A (x) I) G(tt, Z) for a batch of steps (Zp (N, s, d),
+    A (N, s, s), tt (N, s)) from the predictor Zp: the relative updates (MAX_IT, N)."""
+    N, s, d = Zp.shape
+    Z = Zp.copy()
     eye = np.eye(s * d)
     U = np.empty((MAX_IT, N))
     Minv = None
@@ -118,7 +125,7 @@ def iteration_updates(method: str, prob: Any, h: Any, t0: Any, traj: Any, full: 
             U[it] = np.max(np.abs(dZ), axis=(1, 2)) / np.maximum(np.max(np.abs(Z), axis=(1, 2)), 1e-300)
         if _all_done(U, it):
             break
-    return U, s
+    return U
 
 
 def _all_done(U: Any, it: Any) -> bool:
@@ -220,44 +227,69 @@ def _stage_updates(f: Any, t: Any, base: Any, ha: Any, full: bool) -> Any:
     return U, y, f(t, y)
 
 
+def _glm_stages(prob: Any, h: Any, t: Any, Yp: Any, A: Any, c: Any) -> Any:
+    """A general linear method's stage solves on a batch of steps (Yp = U y^[n], (N, s, d)), by
+    both variants of the family: {full: per-step iterations (round-off test, tau 1e-12, tau
+    1e-8)}, with the step's evaluations and Jacobians as (lo, hi) functions of those counts.
+    Lower-triangular A: the stages one after the other, stage i's equation from the converged
+    slopes of the earlier ones; an explicit stage is one evaluation.  Full A: all stages at once
+    (s evaluations per iteration, s Jacobians per matrix).  Evaluations: (ours and the lower end,
+    the upper end) as functions of the counts; Jacobians: (full Newton's, one per matrix)."""
+    N, s, d = Yp.shape
+    res: Dict[bool, Any] = {}
+    if not xm.lower_triangular(A):
+        tt = t + c[None, :] * h
+        for full in (True, False):
+            U = _system_updates(prob.f, np.broadcast_to(A, (N, s, s)), Yp, tt, h, full)
+            res[full] = (_count_roundoff(U), _count(U, 1e-12), _count(U, 1e-8))
+        return res, (lambda it: s * it, lambda it: s * (it + 1)), (lambda it: s * it, s)
+    implicit = [i for i in range(s) if A[i, i] != 0.0]
+    explicit = s - len(implicit)
+    for full in (True, False):
+        K: List[Any] = []
+        tot = [np.zeros(N, int) for _ in range(3)]
+        for i in range(s):
+            base = Yp[:, i] + h * sum((A[i, j] * K[j] for j in range(i)), np.zeros((N, d)))
+            if A[i, i] == 0.0:
+                K.append(prob.f(t + c[i] * h, base))
+                continue
+            Ui, _, Ki = _stage_updates(prob.f, t + c[i] * h, base, h * A[i, i], full)
+            K.append(Ki)
+            for k, cnt in enumerate((_count_roundoff(Ui), _count(Ui, 1e-12), _count(Ui, 1e-8))):
+                tot[k] = tot[k] + cnt
+        res[full] = tuple(tot)
+    m = len(implicit)
+    return res, (lambda it: it + explicit, lambda it: it + m + explicit), (lambda it: it, m)
+
+
 @xcache.memo
-def glm_cost_metrics(prob: Any, h: Any, t0: Any, Y: Any) -> Any:
-    """Butcher's GLM (BS; xmethods.GLM): two diagonally implicit stages solved one after the
-    other, each by the same family of Newton solvers as above; Y = OUR y^[n] (steps + 1, 2, d).
-    Stage 2's equation uses stage 1's converged slope.  Counts are the sums over both stages
-    (the upper end also counts the starting method's two stages in the first step);
-    evaluations: one f per stage iteration (+ one per stage at the end), Jacobians from one per
-    stage (frozen) to one per iteration."""
+def glm_cost_metrics(prob: Any, h: Any, t0: Any, Y: Any, coefs: Any) -> Any:
+    """A general linear method (BS; xmethods.GLM, glm4 or a method file's): its stages solved by
+    the family of Newton solvers above on every step of OUR y^[n] (Y: (steps + 1, r, d)), as
+    _glm_stages.  The starting method's stages (from y_0, predictor U0 y_0) may be counted in the
+    first step or not: the upper end counts them."""
     Yn = np.asarray(Y[:-1], float)
     N = Yn.shape[0]
     t = (t0 + h * np.arange(N))[:, None]
-    Yp = np.einsum("ij,njd->nid", xm.GLM_U, Yn)
-    A = xm.GLM_A
-    res = {}
-    for full in (True, False):
-        U1, _, K1 = _stage_updates(prob.f, t, Yp[:, 0], h * A[0, 0], full)
-        U2, _, _ = _stage_updates(prob.f, t, Yp[:, 1] + h * A[1, 0] * K1, h * A[1, 1], full)
-        res[full] = (U1, U2)
-    mid = sum(_count(U, 1e-12) for U in res[True])
-    lo = sum(_count(U, 1e-8) for U in res[True])
-    hi = np.maximum(sum(_count_roundoff(U) for U in res[True]), sum(_count_roundoff(U) for U in res[False]))
-    # the starting method (BS: its two stages from y_0, predictor y_0) may be counted in the
-    # first step or not: the upper end counts it
-    y0 = Yn[:1, 0]
-    st = 0
-    for full in (True, False):
-        A0 = xm.GLM_A0
-        U1, _, K1 = _stage_updates(prob.f, t[:1], y0, h * A0[0, 0], full)
-        U2, _, _ = _stage_updates(prob.f, t[:1], y0 + h * A0[1, 0] * K1, h * A0[1, 1], full)
-        st = max(st, int(_count_roundoff(U1)[0] + _count_roundoff(U2)[0]))
-    hi = hi.copy()
-    hi[0] += st
+    k = coefs
+    res, rhs, jac = _glm_stages(prob, h, t, np.einsum("ij,njd->nid", k["U"], Yn), k["A"], k["c"])
+    hi = np.maximum(res[True][0], res[False][0])
+    mid, lo = res[True][1], res[True][2]
+    rhs_hi, jac_hi = rhs[1](hi), jac[0](hi)
+    if len(k["c0"]):
+        Y0 = k["U0"][None, :, None] * Yn[:1, 0][:, None, :]
+        sres, srhs, sjac = _glm_stages(prob, h, t[:1], Y0, k["A0"], k["c0"])
+        st = np.maximum(sres[True][0], sres[False][0])
+        hi, rhs_hi, jac_hi = hi.copy(), rhs_hi.copy(), jac_hi.copy()
+        hi[0] += st[0]
+        rhs_hi[0] += srhs[0](st)[0]
+        jac_hi[0] += sjac[0](st)[0]
     return {
         "cost.newton_iters_per_step": (mid.mean(), lo.mean(), hi.mean()),
         "cost.max_newton_iters": (int(mid.max()), int(lo.max()), int(hi.max())),
-        "cost.rhs_evals_per_step": (mid.mean(), lo.mean(), hi.mean() + 2),
-        "cost.jac_evals_per_step": (mid.mean(), 2.0, hi.mean()),
+        "cost.rhs_evals_per_step": (rhs[0](mid).mean(), rhs[0](lo).mean(), rhs_hi.mean()),
+        "cost.jac_evals_per_step": (jac[0](mid).mean(), float(jac[1]), jac_hi.mean()),
         "run.newton_iters": (int(mid.sum()), int(lo.sum()), int(hi.sum())),
-        "run.rhs_evals": (int(mid.sum()), int(lo.sum()), int(hi.sum()) + 2 * N),
-        "run.jac_evals": (int(mid.sum()), 2 * N, int(hi.sum())),
+        "run.rhs_evals": (int(rhs[0](mid).sum()), int(rhs[0](lo).sum()), int(rhs_hi.sum())),
+        "run.jac_evals": (int(jac[0](mid).sum()), jac[1] * N, int(jac_hi.sum())),
     }

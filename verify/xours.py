@@ -120,7 +120,7 @@ def newton_counts(cx: RunCtx) -> None:
         gy = cx.mine.get("glm_y")
         if gy is None:
             gy = xrun.integrate(cx.method, cx.prob, cx.dt, cx.nsteps, cx.t0, record=True).get("glm_y")
-        cx.cost_range = xnewton.glm_cost_metrics(cx.prob, cx.dt, cx.t0, gy)
+        cx.cost_range = xnewton.glm_cost_metrics(cx.prob, cx.dt, cx.t0, gy, xm.glm_coefficients(cx.method))
     elif cx.mine.get("linear_path"):
         size = xnewton._coef(cx.method, cx.prob, cx.dt)[1](cx.t0)[2].size
         cx.cost_range = xnewton.linear_cost_metrics(cx.method, size, cx.nsteps)

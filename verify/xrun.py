@@ -22,7 +22,7 @@ def integrate(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool
     out = dict(status="ok", steps=0, z=z, traj=None, newton=0, newton_max=0, message="")
     try:
         if method in xm.MULTIVALUE:
-            glm = xm.GLM(prob, h)
+            glm = xm.GLM(prob, h, xm.FILE_GLM.get(method))
             stepf = None
         else:
             stepf = xm.make_stepper(method, prob, h)

@@ -287,16 +287,16 @@ namespace {
 // z^{p−2} for the others — BS Theorem 3 gives glm4's second value y₂ ≈ (√3/12) h² y'' to its
 // leading term only (its O(h³) error alternates in sign with V's eigenvalue −1 and does not lower
 // the order of y₁: measured 1.3e-6, 3.5e-8, 1.0e-9 at z = 0.1, 0.05, 0.025, O(z⁵)). It reads every
-// coefficient of A, U, B, V and of the starting method.
+// coefficient of A, U, B, V and of the starting method. A starting method without stages
+// (s0 = 0: y^[0] = V₀ y₀, e.g. an RK method written as a GLM with r = 1) has S(z) = V₀.
 double glm_linear_order_residual(const GlmCoefficients& m, int p) {
-    if (m.s0 == 0) return nan;
     std::vector<Mat> M{m.V};
     std::vector<Vec> S{m.V0};
     Mat Ak = Mat::Identity(m.s, m.s);
     Mat A0k = Mat::Identity(m.s0, m.s0);
     for (int k = 1; k <= p; ++k) {
         M.push_back(m.B * Ak * m.U);
-        S.push_back(m.B0 * A0k * m.U0);
+        S.push_back(m.s0 == 0 ? Vec::Zero(m.r) : Vec(m.B0 * A0k * m.U0));
         Ak = Ak * m.A;
         A0k = A0k * m.A0;
     }
@@ -317,10 +317,11 @@ double glm_linear_order_residual(const GlmCoefficients& m, int p) {
 
 // Stage times: a stage Y = hAF + Uy approximates y(t₀ + c h) when c = A e + U (B₀ e) (the h y'
 // part of the starting values y = V₀ y₀ + h B₀ F + …), and the starting method's own stages when
-// c₀ = A₀ e (U₀ = e).
+// c₀ = A₀ e (U₀ = e). Without starting stages (s0 = 0) the values start as V₀ y₀, so c = A e.
 double glm_stage_time_residual(const GlmCoefficients& m) {
-    if (m.s0 == 0) return nan;
-    const Vec e = Vec::Ones(m.s), e0 = Vec::Ones(m.s0);
+    const Vec e = Vec::Ones(m.s);
+    if (m.s0 == 0) return (m.c - m.A * e).cwiseAbs().maxCoeff();
+    const Vec e0 = Vec::Ones(m.s0);
     const double main = (m.c - (m.A * e + m.U * (m.B0 * e0))).cwiseAbs().maxCoeff();
     const double start = (m.c0 - m.A0 * e0).cwiseAbs().maxCoeff();
     return std::max(main, start);

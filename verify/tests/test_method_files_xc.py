@@ -56,8 +56,9 @@ def test_coefficient_grammar() -> None:
 
 
 def _method_files(d: str) -> List[str]:
-    """An explicit SSP RK3, a two-stage Radau IIA under the integrating factor, a GLM file (a family
-    the cross-check does not step), Stormer-Verlet and a three-stage Lobatto IIIA-IIIB pair."""
+    """An explicit SSP RK3, a two-stage Radau IIA under the integrating factor, a GLM file without
+    its tableau (unreadable: named with its reason), Stormer-Verlet and a three-stage Lobatto
+    IIIA-IIIB pair."""
     ssp = _write(os.path.join(d, "ssp.json"), {
         "id": "xc-ssprk3", "family": "rk", "order": 3,
         "tableau": {"A": [["0", "0", "0"], ["1", "0", "0"], ["1/4", "1/4", "0"]],
@@ -85,7 +86,7 @@ def test_rk_files_join_the_engines(tmp_path: Any) -> None:
     assert xm.EXPLICIT_RK["xc-ssprk3"][1] == [1 / 6, 1 / 6, 2 / 3] and xm.EXPLICIT_EVALS["xc-ssprk3"] == 3
     assert xm.FILE_RK["xc-radau-if"][0] == "if" and "xc-radau-if" in xm.IMPLICIT
     assert xnewton.supported("xc-radau-if") and "xc-radau-if" in xm.NEEDS_CONFORMAL
-    assert "xc-glm" not in xm.METHODS and "general-linear" in xf.UNSUPPORTED["xc-glm"]
+    assert "xc-glm" not in xm.METHODS and "general-linear: needs A" in xf.UNSUPPORTED["xc-glm"]
     assert xf.load(str(tmp_path / "none.json")) is None
     assert xm.EXPLICIT_EVALS["xc-sv-prk"] == 2 and "xc-lobatto3" in xm.IMPLICIT
 
@@ -127,6 +128,103 @@ def test_partitioned_pairs(tmp_path: Any) -> None:
     xm.IMPLICIT.add("xc-lobatto3-planted")
     e = [err("xc-lobatto3-planted", 0.8 / n) for n in (32, 64)]
     assert math.log2(e[0] / e[1]) < 1.5, e   # the weights' 1e-6 inconsistency dominates
+
+
+GLM_FILES: Dict[str, Json] = {
+    # Gauss2 as a one-value GLM (coupled stages, no starting stages)
+    "gauss2-glm.json": {"id": "xc-gauss2-glm", "family": "general-linear", "order": 4,
+                        "A": [["1/4", "1/4 - sqrt(3)/6"], ["1/4 + sqrt(3)/6", "1/4"]],
+                        "U": [["1"], ["1"]], "B": [["1/2", "1/2"]], "V": [["1"]],
+                        "c": ["1/2 - sqrt(3)/6", "1/2 + sqrt(3)/6"]},
+    # the trapezoidal rule (Lobatto IIIA, two stages) as a one-value GLM: an explicit first stage
+    "trapezoid-glm.json": {"id": "xc-trapezoid-glm", "family": "general-linear", "order": 2,
+                           "A": [["0", "0"], ["1/2", "1/2"]], "U": [["1"], ["1"]], "B": [["1/2", "1/2"]],
+                           "V": [["1"]], "c": ["0", "1"], "starting": {"V": ["1"]}},
+}
+
+
+def _glm_files(d: str) -> List[str]:
+    """The GLM files above and Butcher's glm4 as a file (examples/methods/glm4.json)."""
+    out = [_write(os.path.join(d, name), doc) for name, doc in GLM_FILES.items()]
+    with open(os.path.join(ROOT, "examples", "methods", "glm4.json")) as fh:
+        out.append(_write(os.path.join(d, "glm4.json"), json.load(fh)))
+    return out
+
+
+def test_glm_files_step_as_ours(tmp_path: Any) -> None:
+    """`general-linear` files step by the cross-check's GLM (xmethods.GLM): glm4's file as the
+    built-in glm4 (its starting method, then its two values), Gauss2 as a one-value GLM (coupled
+    stages, solved together) as gauss2, the trapezoidal rule (an explicit stage) as its tableau
+    from an `rk` file, each to round-off on the driven pendulum (time-dependent forcing: the stage
+    times matter); a weight moved by 1e-6 moves the step."""
+    import numpy as np
+    from verify import xproblems
+    assert [xf.load(p) for p in _glm_files(str(tmp_path))] == ["xc-gauss2-glm", "xc-trapezoid-glm", "glm4-file"]
+    trap = _write(str(tmp_path / "trap-rk.json"), {"id": "xc-trapezoid-rk", "family": "rk", "order": 2,
+                                                  "tableau": {"A": [["0", "0"], ["1/2", "1/2"]],
+                                                              "b": ["1/2", "1/2"], "c": ["0", "1"]}})
+    assert xf.load(trap) == "xc-trapezoid-rk"
+    assert {"xc-gauss2-glm", "xc-trapezoid-glm", "glm4-file"} <= xm.MULTIVALUE
+    prob = xproblems.make_problem("driven-pendulum", {"f": 1.2, "gamma": 0.1, "lambda": 1.0, "q0": 0.7, "p0": -0.4})
+    z, h = np.array(prob.z0, float), 0.1
+
+    def run(glm: Any, n: int) -> Any:
+        y = glm.start(0.3, z)
+        for k in range(n):
+            y = glm.step(0.3 + k * h, y)[0]
+        return y
+
+    ours = run(xm.GLM(prob, h), 5)
+    via_file = run(xm.GLM(prob, h, xm.FILE_GLM["glm4-file"]), 5)
+    assert np.max(np.abs(ours - via_file)) <= 8 * xm.EPS * np.max(np.abs(ours))
+    for glm_id, rk_id in (("xc-gauss2-glm", "gauss2"), ("xc-trapezoid-glm", "xc-trapezoid-rk")):
+        one = run(xm.GLM(prob, h, xm.FILE_GLM[glm_id]), 1)[0]
+        ref = xm.make_stepper(rk_id, prob, h)(0.3, z)[0]
+        assert np.max(np.abs(one - ref)) <= 8 * xm.EPS * np.max(np.abs(ref)), glm_id
+    planted = dict(xm.FILE_GLM["xc-gauss2-glm"])
+    planted["B"] = planted["B"] * np.array([[1.0, 1.0 + 1e-6]])
+    bad = run(xm.GLM(prob, h, planted), 1)[0]
+    good = run(xm.GLM(prob, h, xm.FILE_GLM["xc-gauss2-glm"]), 1)[0]
+    assert np.max(np.abs(bad - good)) > 1e-9 * np.max(np.abs(good))
+
+
+def test_user_glm_files_reproduced(dampsym_bin: str, workdir: str) -> None:
+    """A case with three `general-linear` files (coupled stages, an explicit stage, glm4's two
+    values) beside the built-in glm4, with the cost diagnostic: every run reproduced by the
+    cross-check (--strict) and agreeing, Newton counts included; Gauss2's file with one weight
+    moved by 1e-6 after the run disagrees, on its runs only."""
+    work = os.path.join(workdir, "user-glms")
+    mdir = os.path.join(work, "methods")
+    os.makedirs(mdir, exist_ok=True)
+    files = _glm_files(mdir)
+    glms = ["xc-gauss2-glm", "xc-trapezoid-glm", "glm4-file"]
+    case = _write(os.path.join(work, "glm-files.json"), {
+        "id": "hill-user-glms", "title": "GLM files on Hill's problem", "source": "test", "suites": ["heldout"],
+        "method_files": [os.path.relpath(f, work) for f in files],
+        "problem": {"id": "hill", "epsilon": 0.4, "kappa": 1.0, "q0": 1.0, "p0": 0.0},
+        "methods": glms + ["glm4"], "t_end": 4.0, "dt_ladder": [0.2, 0.1, 0.05],
+        "diagnostics": ["error", "order", "cost"],
+        "expect": {"fourth order": {"metric": "order.slope", "methods": ["xc-gauss2-glm", "glm4-file"],
+                                    "near": 4.0, "tol": 0.3},
+                   "second order": {"metric": "order.slope", "methods": ["xc-trapezoid-glm"], "near": 2.0,
+                                    "tol": 0.1}}})
+    out = os.path.join(work, "report")
+    run = subprocess.run([os.path.abspath(dampsym_bin), "run", case, "--out", out, "-q"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0 and "REFUTED" not in run.stderr, run.stderr
+    report = os.path.join(out, "report.json")
+    good = _crosscheck(report, os.path.join(work, "good"))
+    s = good["summary"]
+    assert s["runs"]["not reproduced"] == 0 and s["runs"]["agree"] == 12, s
+    assert s["comparisons"]["disagree"] == 0 and s["checks"]["agree"] == 3, s
+    counted = {r["method"] for r in good["runs"] for c in r["comparisons"]
+               if c["quantity"] == "newton_iters" and c["status"] == "agree"}
+    assert set(glms) <= counted
+    doc = dict(GLM_FILES["gauss2-glm.json"], B=[["1/2", "1/2 * (1 + 1/1000000)"]])
+    _write(os.path.join(mdir, "gauss2-glm.json"), doc)
+    bad = _crosscheck(report, os.path.join(work, "planted"))
+    assert bad["summary"]["comparisons"]["disagree"] >= 1
+    assert {r["method"] for r in bad["runs"] if r["verdict"] == "disagree"} == {"xc-gauss2-glm"}
 
 
 def _case(work: str, methods_dir: str) -> str:
