@@ -5,11 +5,13 @@ Unit tests (no dampsym needed): the case file the report names is read (and a ho
 not), the relative error's band sits at the maximum's point, the energy's halves are the C++ ones,
 the ratio deviation's band is as wide as its round-off where r_n is resolved to a per cent.
 
-With --bin (ctest crosscheck.heldout, ~10 s): three default-suite cases copied under new ids with
+With --bin (ctest crosscheck.heldout, ~10 s): four default-suite cases copied under new ids with
 other parameters into a directory of their own and named relative to it (the pendulum of HLW Fig 1.2 near its separatrix, the over-damped oscillator's
-H_gamma law, the driven pendulum's orders) are run by dampsym and cross-checked with --strict;
-every comparison agrees or is not comparable (before the fix the pendulum's energy metrics were
-compared on two output points instead of 1001, 0.0298 against 0.235). Negative controls: a 3e-6
+H_gamma law, the driven pendulum's orders, B Fig 3.4's energy balance on a ladder) are run by
+dampsym and cross-checked with --strict; every comparison agrees or is not comparable (before the
+fixes the pendulum's energy metrics were compared on two output points instead of 1001, 0.0298
+against 0.235, and the energy-balance residual of the fine step on the coarse step's grid, 93
+points against 193). Negative controls: a 3e-6
 relative change of one energy metric is a disagreement, and so is a check's threshold changed in
 the report (the file's is read); with the files moved away the inputs come from the report, and
 the structure records say so."""
@@ -125,15 +127,22 @@ def test_ratio_band_where_resolved_to_a_per_cent() -> None:
 
 
 def _heldout_cases(work: str) -> List[str]:
-    """Three suite cases under new ids with other parameters, in a directory of their own."""
+    """Four suite cases under new ids with other parameters, in a directory of their own; B Fig
+    3.4's energy balance on a ladder of two step sizes without output_dt (its output grid is the
+    coarse step's, its residual over each run's own steps)."""
     changes = {"pendulum-hlw-fig12": {"p0": 1.82},
                "osc-overdamped-hgamma-law": {"omega": 1.15, "gamma": 1.75, "q0": 0.7},
-               "driven-pendulum-orders": None}
+               "driven-pendulum-orders": None,
+               "pend-fig34-energy-balance": {"gamma": 0.8}}
+    ladders = {"pend-fig34-energy-balance": {"t_end": 4.0, "dt_ladder": [0.04, 0.02]}}
     paths = []
     for cid, params in changes.items():
         with open(xcase.case_index()[cid]) as fh:
             spec = json.load(fh)
         spec["id"], spec["suites"] = cid + "-heldout", ["heldout"]
+        if cid in ladders:
+            spec.pop("dt", None)
+            spec.update(ladders[cid])
         for k, v in (params or {k: v * 1.15 for k, v in spec["problem"].items()
                                 if isinstance(v, float) and v != 0.0}).items():
             spec["problem"][k] = v
@@ -181,7 +190,7 @@ def test_heldout_cases_agree(dampsym_bin: str, workdir: str) -> None:
     for c in moved["cases"]:
         c["file"] = os.path.join(work, "moved", os.path.basename(c["file"]))
     notes = [n for r in _crosscheck(moved, work, "lost")["structure"] for n in r["notes"]]
-    assert notes.count("(no case file: inputs from the report)") == 3, notes
+    assert notes.count("(no case file: inputs from the report)") == 4, notes
 
 
 def _csv2_by_hand(g: float, w: float, h: float, q: float, p: float) -> Any:
