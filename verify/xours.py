@@ -146,6 +146,10 @@ def grid_metrics(cx: RunCtx, traj: np.ndarray, ensemble: bool = False) -> Dict[s
     return out
 
 
+def _floats(v: Any) -> bool:
+    return isinstance(v, list) and all(isinstance(x, float) for x in v)
+
+
 def ensemble_band(cx: RunCtx) -> None:
     """Chaotic run: our two runs a round-off apart diverge; each trajectory metric gets the band
     16 |m - m'| (the C++ run is a third member), adjusted by its diagnostic (`member`)."""
@@ -154,8 +158,12 @@ def ensemble_band(cx: RunCtx) -> None:
     for mem in cx.chaotic.get("members") or [cx.chaotic]:
         alt = grid_metrics(cx, mem["traj"], ensemble=True)
         for k, v in alt.items():
-            if isinstance(cx.mm.get(k), float) and isinstance(v, float):
-                cx.band[k] = max(cx.band.get(k, 0.0), FLOOR_K * abs(cx.mm[k] - v))
+            mine = cx.mm.get(k)
+            if isinstance(mine, float) and isinstance(v, float):
+                cx.band[k] = max(cx.band.get(k, 0.0), FLOOR_K * abs(mine - v))
+            elif isinstance(mine, list) and _floats(mine) and _floats(v) and len(mine) == len(v):
+                # per entry: the widest
+                cx.band[k] = max([cx.band.get(k, 0.0)] + [FLOOR_K * abs(a - b) for a, b in zip(mine, v)])
         for d in diagnostics.enabled(cx.diags):
             if d.member is not None:
                 d.member(cx, alt)

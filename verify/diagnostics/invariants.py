@@ -1,6 +1,8 @@
 """invariants: each first integral's law (B, F) checked at every step of our run."""
 from __future__ import annotations
 
+from typing import Any, Dict
+
 import numpy as np
 
 from .. import xmetrics as xmt
@@ -14,4 +16,15 @@ def recompute(cx: RunCtx) -> None:
         put(cx, "invariants.%s." % name, vals)
 
 
-register(Diagnostic("invariants", trajectory=True, run=recompute))
+def member(cx: RunCtx, traj: np.ndarray, ensemble: bool) -> Dict[str, Any]:
+    """The public invariant metrics of a member of our ensemble (a chaotic or unstable run: their
+    bands; ours are computed per step above)."""
+    if not ensemble:
+        return {}
+    times = cx.t0 + cx.dt * np.arange(len(traj))
+    return {"invariants.%s.%s" % (name, k): v
+            for name, vals in xmt.metric_invariants(cx.prob, traj, times, cx.dt).items()
+            for k, v in vals.items() if not k.startswith("_")}
+
+
+register(Diagnostic("invariants", trajectory=True, run=recompute, grid=member))

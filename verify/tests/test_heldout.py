@@ -193,6 +193,40 @@ def test_heldout_cases_agree(dampsym_bin: str, workdir: str) -> None:
     assert notes.count("(no case file: inputs from the report)") == 4, notes
 
 
+def test_unstable_ladder_runs(dampsym_bin: str, workdir: str) -> None:
+    """B's Klein-Gordon cases to t = 20 on a ladder whose coarse step (0.1) is unstable for
+    csv1/csv2 (their states grow by decades and two runs a round-off apart drift apart: our own
+    ensemble spreads by D ~ 1) and makes Heun's d(t) sensitive (D ~ 1e-6): the invariants' and
+    d(t)'s metrics of such runs get the bands of our ensemble (they were compared at rel 1e-6; at
+    t = 50 the momentum residuals 2.5e105 and 7.9e105 disagreed, as did Heun's d(t) range, 1.4e-6
+    apart; 4 disagreements here without the bands). Negative control: a stable run's metric moved
+    by 3e-6 still disagrees."""
+    work = os.path.join(workdir, "unstable")
+    os.makedirs(work, exist_ok=True)
+    names = []
+    for cid in ("pde-kg-momentum", "pde-kg-fig52-drift"):
+        with open(xcase.case_index()[cid]) as fh:
+            spec = json.load(fh)
+        spec["id"], spec["suites"] = cid + "-ladder", ["heldout"]
+        spec.pop("dt")
+        spec["dt_ladder"], spec["t_end"] = [0.1, 0.05], 20.0
+        names.append(_write(os.path.join(work, spec["id"] + ".json"), spec))
+    out = os.path.join(work, "report")
+    rc = subprocess.run([os.path.abspath(dampsym_bin), "run", *names, "--out", out, "--jobs", "2", "-q"],
+                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
+    assert rc == 1  # csv1/csv2 at dt = 0.1 fail their accuracy checks: not the question
+    with open(os.path.join(out, "report.json")) as fh:
+        report = json.load(fh)
+    xc = _crosscheck(report, work, "good")
+    assert xc["summary"]["comparisons"]["disagree"] == 0, xc["summary"]
+    assert any(r["verdict"] == "not comparable" and r["method"] == "csv1" for r in xc["runs"])
+    bad = copy.deepcopy(report)
+    run = next(r for c in bad["cases"] if c["id"] == "pde-kg-momentum-ladder"
+               for r in c["runs"] if r["method"] == "rk4" and r["dt"] == 0.05)
+    run["metrics"]["invariants"]["momentum"]["max_step_res"] *= 1 + 3e-6
+    assert _crosscheck(bad, work, "planted")["summary"]["comparisons"]["disagree"] >= 1
+
+
 def _csv2_by_hand(g: float, w: float, h: float, q: float, p: float) -> Any:
     """F (2.16) for the oscillator (V = w^2 q^2 / 2, T = p^2 / 2), written out."""
     a, b, e = 1 + g * h / 2, 1 - g * h / 2, np.exp(-g * h / 2)
