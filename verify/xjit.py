@@ -382,10 +382,19 @@ def _integrate_implicit(method: str, prob: Any, code: Any, P: Any, m: Any, g: An
                                                 Phi, A, b, float(phi0), c, Mi, traj, float(limit))
         out["newton"] += its              # the steps before a failed one count, as in xrun
         out["newton_max"] = max(out["newton_max"], mx)
-        if status == 2:
-            out.update(status="solve-failed", message="Newton did not converge at step %d" % n1)
-            n = n1
-            break
+        if status == 2:    # that step by full Newton (xmethods.full_newton_step), then on
+            try:
+                z1, it = xm.full_newton_step(F, coef, h, t0 + (n1 - 1) * h, np.array(z))
+            except xm.SolveFailed:
+                out.update(status="solve-failed", message="Newton did not converge at step %d" % n1)
+                n = n1
+                break
+            z[:] = z1
+            out["newton"] += it
+            out["newton_max"] = max(out["newton_max"], it)
+            if record:
+                traj[n1] = z
+            status = 0 if np.all(np.abs(z) < limit) else 1
         n = n1
         if status == 1:
             out.update(status="diverged", message="diverged at step %d" % n)

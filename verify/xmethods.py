@@ -133,22 +133,15 @@ def _converged(dZ: Any, Z: Any, last: Any, it: Any) -> Any:
 def rk_family_step(G: Any, coef: Any, h: Any, implicit: bool) -> Any:
     cache: Dict[Any, Any] = {}
 
-    def step(t: Any, z: Any) -> Any:
+    def stages(t: Any, z: Any) -> Any:
+        """The implicit stages (..., s, d) and the iterations: simplified Newton, the matrix
+        I - h A (x) J(t, z) refreshed every 8 steps, when the coefficients change (time-dependent
+        gamma) or after a slow solve; the iteration is run to round-off, so the reuse changes
+        nothing but the iteration count."""
         Phi, A, b, phi0, c = coef(t)
-        s = len(b)
+        s, d = len(b), z.shape[-1]
         tt = (t + c * h)[:, None]
         Zp = Phi[:, None] * z[..., None, :]
-        if not implicit:
-            Z = np.array(Zp)
-            K = np.zeros_like(Zp)
-            for i in range(s):
-                Z[..., i, :] = Zp[..., i, :] + h * np.einsum("j,...jd->...d", A[i, :i], K[..., :i, :])
-                K[..., i, :] = G(tt[i], Z[..., i, :])
-            return phi0 * z + h * np.einsum("i,...id->...d", b, K), 0
-        d = z.shape[-1]
-        # simplified Newton: the matrix I - h A (x) J(t, z) is refreshed every 8 steps, when the
-        # coefficients change (time-dependent gamma) or after a slow solve; the iteration is
-        # run to round-off, so the reuse changes nothing but the iteration count
         key = (A.tobytes(), bool(np.iscomplexobj(z)))
         if cache.get("key") != key or cache["age"] >= 8 or cache["slow"]:
             zr = z.real if np.iscomplexobj(z) else z
@@ -161,22 +154,115 @@ def rk_family_step(G: Any, coef: Any, h: Any, implicit: bool) -> Any:
         last, it = math.inf, 0
         while True:
             it += 1
-            K = G(tt, Z)
-            R = Z - Zp - h * np.einsum("ij,...jd->...id", A, K)
-            shp = R.shape
-            dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(shp)
+            R = Z - Zp - h * np.einsum("ij,...jd->...id", A, G(tt, Z))
+            dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(R.shape)
             Z = Z - dZ
             if not np.all(np.isfinite(Z)):
                 raise SolveFailed("non-finite Newton iterate")
             done, last = _converged(dZ, Z, last, it)
             if done:
-                break
+                cache["slow"] = it > 6
+                return Z, it
             if it > 100:
                 raise SolveFailed("Newton did not converge")
-        cache["slow"] = it > 6
-        K = G(tt, Z)
-        return phi0 * z + h * np.einsum("i,...id->...d", b, K), it
+
+    def step(t: Any, z: Any) -> Any:
+        Phi, A, b, phi0, c = coef(t)
+        s = len(b)
+        tt = (t + c * h)[:, None]
+        if not implicit:
+            Zp = Phi[:, None] * z[..., None, :]
+            Z = np.array(Zp)
+            K = np.zeros_like(Zp)
+            for i in range(s):
+                Z[..., i, :] = Zp[..., i, :] + h * np.einsum("j,...jd->...d", A[i, :i], K[..., :i, :])
+                K[..., i, :] = G(tt[i], Z[..., i, :])
+            return phi0 * z + h * np.einsum("i,...id->...d", b, K), 0
+        try:
+            Z, it = stages(t, z)
+        except SolveFailed:
+            cache["slow"] = True
+            return full_newton_fallback(G, coef, h, t, z)
+        return phi0 * z + h * np.einsum("i,...id->...d", b, G(tt, Z)), it
+    if implicit:   # for step Jacobians (xrun.step_jacobian), see complex_step_polished
+        setattr(step, "full", lambda t, z: complex_step_polished(G, coef, h, t, z, stages))
     return step
+
+
+def complex_step_polished(G: Any, coef: Any, h: Any, t: Any, z: Any, stages: Any) -> Any:
+    """A step of a complex-step batch (a real state + i eps e_k: every member has the same real
+    part) whose stages are then polished by two full Newton updates, the Jacobian at their real
+    part: the simplified iteration's round-off test stops a slowly contracting iteration (a large
+    step) with the real part up to ~1e-11 off, and the derivatives inherit it; the first update
+    makes the real part exact (quadratic convergence), the second the imaginary parts (exact for
+    the Jacobian they are updated with).  Cost: 2 s Jacobians and two solves for the batch."""
+    Phi, A, b, phi0, c = coef(t)
+    s, d = len(b), z.shape[-1]
+    tt = (t + c * h)[:, None]
+    Zp = Phi[:, None] * z[..., None, :]
+    try:
+        Z = stages(t, z)[0]
+    except SolveFailed:
+        return full_newton_fallback(G, coef, h, t, z)
+    for _ in range(2):
+        x = Z.reshape(-1, s, d)[0].real
+        M = np.eye(s * d) - h * np.block([[A[i, j] * jac_cs(G, tt[j, 0], x[j]) for j in range(s)]
+                                          for i in range(s)])
+        R = Z - Zp - h * np.einsum("ij,...jd->...id", A, G(tt, Z))
+        Z = Z - np.linalg.solve(M, R.reshape(-1, s * d).T).T.reshape(Z.shape)
+    if not np.all(np.isfinite(Z)):
+        raise SolveFailed("non-finite Newton iterate (polish)")
+    return phi0 * z + h * np.einsum("i,...id->...d", b, G(tt, Z)), 0
+
+
+def full_newton_step(G: Any, coef: Any, h: Any, t: Any, z: Any) -> Any:
+    """One step of the RK family (rk_family_step's stage equations, predictor and round-off
+    test) by full Newton: the stage Jacobians at every iterate.  The fallback where the
+    simplified iteration fails (a large step, a stale matrix; dampsym's one-stage kernels iterate
+    full Newton): both converge to round-off, so a step either takes is the same step.  Returns
+    (z1, iterations); SolveFailed when full Newton fails too."""
+    Phi, A, b, phi0, c = coef(t)
+    s, d = len(b), z.shape[-1]
+    tt = t + c * h
+    Zp = Phi[:, None] * z[None, :]
+    Z = Zp + h * c[:, None] * G(t, z)[None, :]
+
+    def newton_update(Z: Any) -> Any:
+        K = np.stack([G(tt[j], Z[j]) for j in range(s)])
+        R = Z - Zp - h * (A @ K)
+        Zr = Z.real if np.iscomplexobj(Z) else Z     # a complex step: the real part's Jacobian
+        Jb = np.eye(s * d) - h * np.block([[A[i, j] * jac_cs(G, tt[j], Zr[j]) for j in range(s)]
+                                           for i in range(s)])
+        return np.linalg.solve(Jb, R.reshape(-1)).reshape(s, d)
+
+    last, it = math.inf, 0
+    while True:
+        it += 1
+        dZ = newton_update(Z)
+        Z = Z - dZ
+        if not np.all(np.isfinite(Z)):
+            raise SolveFailed("Newton did not converge")
+        done, last = _converged(dZ, Z, last, it)
+        if done:
+            break
+        if it > 100:
+            raise SolveFailed("Newton did not converge")
+    if np.iscomplexobj(Z):
+        # the imaginary part (a derivative) is exact for the Jacobian at the iterate it was
+        # updated from: once more, from the converged real part (else it keeps that iterate's
+        # error, up to the 1e-11 the round-off test allows)
+        Z = Z - newton_update(Z)
+    K = np.stack([G(tt[j], Z[j]) for j in range(s)])
+    return phi0 * z + h * (b @ K), it
+
+
+def full_newton_fallback(G: Any, coef: Any, h: Any, t: Any, z: Any) -> Any:
+    """full_newton_step for each state of a batch (the complex-step directions of a step
+    Jacobian too: their real parts converge by full Newton, their imaginary parts, linear in the
+    real part's Jacobian, with them): (z1, the most iterations)."""
+    flat = np.asarray(z).reshape(-1, z.shape[-1])
+    done = [full_newton_step(G, coef, h, t, zz) for zz in flat]
+    return np.stack([x for x, _ in done]).reshape(np.shape(z)), max(it for _, it in done)
 
 
 def plain_coef(A: Any, b: Any, c: Any) -> Any:

@@ -89,18 +89,27 @@ def _erk(f: Any, A: Any, b: Any, c: Any, h: Any) -> Any:
     return step
 
 
-def _implicit(G: Any, coef: Any, h: Any, d: Any, jac: Any) -> Any:
+def _implicit(G: Any, coef: Any, h: Any, d: Any, field: Any) -> Any:
     """Z_i = Phi_i z + h sum_j A_ij G(t + c_j h, Z_j); z1 = phi0 z + h sum b_i G(Z_i); simplified
     Newton with the matrix refreshed every 8 steps (or when the coefficients change), iterated
-    to round-off exactly as xmethods.rk_family_step."""
+    to round-off exactly as xmethods.rk_family_step, and as there a step it cannot solve by full
+    Newton (xmethods.full_newton_step on `field`, G's numpy form)."""
     cache: Dict[str, Any] = {"age": 99, "key": None}
 
     def step(t: Any, z: Any) -> Any:
+        try:
+            return simplified(t, z)
+        except xm.SolveFailed:
+            cache["slow"] = True
+            z1, it = xm.full_newton_step(field, coef, h, t, np.array(z, float))
+            return [float(x) for x in z1], it
+
+    def simplified(t: Any, z: Any) -> Any:
         Phi, A, b, phi0, c = coef(t)
         s = len(b)
         key = A.tobytes()
         if cache["key"] != key or cache["age"] >= 8 or cache.get("slow"):
-            J = jac(t, np.array(z))
+            J = xm.jac_cs(field, t, np.array(z))
             cache.update(key=key, age=0, slow=False,
                          Minv=np.linalg.inv(np.eye(s * d) - h * np.kron(A, J)).tolist())
         cache["age"] += 1
@@ -221,7 +230,7 @@ def make(method: str, prob: Any, h: Any) -> Any:
             return step
         if method in ("implicit-midpoint", "gauss1", "gauss2", "gauss3"):
             A, b, c = xm.GAUSS[1 if method == "implicit-midpoint" else int(method[-1])]
-            return _implicit(f, xm.plain_coef(A, b, c), h, 4, lambda t, z: xm.jac_cs(prob.f, t, z))
+            return _implicit(f, xm.plain_coef(A, b, c), h, 4, prob.f)
         return None
     if kind == "DrivenPendulum":
         force, f, N = driven_fields(prob)
@@ -233,10 +242,10 @@ def make(method: str, prob: Any, h: Any) -> Any:
             return _csv_scalar(prob, force, h, method)
         if method in ("gauss1", "gauss2", "gauss3", "implicit-midpoint"):
             A, b, c = xm.GAUSS[1 if method == "implicit-midpoint" else int(method[-1])]
-            return _implicit(f, xm.plain_coef(A, b, c), h, 2, lambda t, z: xm.jac_cs(prob.f, t, z))
+            return _implicit(f, xm.plain_coef(A, b, c), h, 2, prob.f)
         if method in ("cimp", "glifrk1", "glifrk2", "glifrk3"):
             A, b, c = xm.GAUSS[1 if method == "cimp" else int(method[-1])]
-            return _implicit(N, xm.ifrk_coef(prob, A, b, c, h), h, 2, lambda t, z: xm.jac_cs(prob.N, t, z))
+            return _implicit(N, xm.ifrk_coef(prob, A, b, c, h), h, 2, prob.N)
         return None
     if kind == "RigidBody":
         N, f = rigid_fields(prob)
@@ -246,10 +255,10 @@ def make(method: str, prob: Any, h: Any) -> Any:
             return lambda t, z: (st(t, z), 0)
         if method in ("gauss1", "gauss2", "gauss3", "implicit-midpoint"):
             A, b, c = xm.GAUSS[1 if method == "implicit-midpoint" else int(method[-1])]
-            return _implicit(f, xm.plain_coef(A, b, c), h, 3, lambda t, z: xm.jac_cs(prob.f, t, z))
+            return _implicit(f, xm.plain_coef(A, b, c), h, 3, prob.f)
         if method in ("cimp", "glifrk1", "glifrk2", "glifrk3"):
             A, b, c = xm.GAUSS[1 if method == "cimp" else int(method[-1])]
-            return _implicit(N, xm.ifrk_coef(prob, A, b, c, h), h, 3, lambda t, z: xm.jac_cs(prob.N, t, z))
+            return _implicit(N, xm.ifrk_coef(prob, A, b, c, h), h, 3, prob.N)
         if method == "glm4":
             return GLMScalar(f, lambda t, z: xm.jac_cs(prob.f, t, z), h, 3)
     return None

@@ -227,6 +227,54 @@ def test_unstable_ladder_runs(dampsym_bin: str, workdir: str) -> None:
     assert _crosscheck(bad, work, "planted")["summary"]["comparisons"]["disagree"] >= 1
 
 
+def _driven_at_h1() -> Any:
+    from verify import xproblems
+    return xproblems.make_problem("driven-pendulum", {"gamma": 0.375, "lambda": 1.5, "f": 3.375,
+                                                      "q0": 0.0, "p0": 0.0})
+
+
+def test_large_step_newton_falls_back_to_full_newton(monkeypatch: Any) -> None:
+    """cs-driven-pendulum's problem at h = 1 (a held-out ladder [1, 0.5]): the simplified
+    iteration with a matrix from an earlier step fails at step 7 where dampsym's full Newton
+    converges (it reported 'solve-failed at 7' against dampsym's 'ok'); the step is then solved
+    by full Newton, in the compiled and the plain loops alike. Controls: without the fallback the
+    run fails at step 7; a step with no real solution (z' = z^2 + 1, z = 1, h = 2, implicit Euler)
+    still fails."""
+    from verify import xcache, xmethods as xm, xrun
+    monkeypatch.setitem(xcache._state, "dir", None)    # computed here, never read back
+    prob = _driven_at_h1()
+    for m in ("cimp", "glifrk1", "etdrk2"):
+        r = xrun.integrate(m, prob, 1.0, 50, 0.0)
+        assert r["status"] == "ok" and r["steps"] == 50, (m, r["message"])
+
+    def no_fallback(*_: Any) -> Any:
+        raise xm.SolveFailed("Newton did not converge")
+    with monkeypatch.context() as mp:
+        mp.setattr(xm, "full_newton_step", no_fallback)
+        mp.setattr(xm, "full_newton_fallback", no_fallback)
+        r = xrun.integrate("cimp", prob, 1.0, 50, 0.0)
+    assert r["status"] == "solve-failed" and r["steps"] == 7, r
+    riccati = xm.rk_family_step(lambda t, z: z * z + 1.0, xm.plain_coef([[1.0]], [1.0], [1.0]), 2.0, True)
+    with pytest.raises(xm.SolveFailed):
+        riccati(0.0, np.array([1.0]))
+
+
+def test_step_jacobian_converged_at_large_steps(monkeypatch: Any) -> None:
+    """The complex-step Jacobian of a step whose simplified iteration contracts slowly (cimp at
+    h = 1, step 5 of the run above): E_n = |det Psi - e^{-2 gamma h}| is 6e-16 with the stages
+    polished by full Newton, 1.1e-11 without (the round-off test stops the simplified iteration
+    with the real part ~1e-11 off); dampsym's E_n there is 1e-15."""
+    from verify import xcache, xmethods as xm, xrun
+    monkeypatch.setitem(xcache._state, "dir", None)
+    prob = _driven_at_h1()
+    z = xrun.integrate("cimp", prob, 1.0, 5, 0.0)["z"]
+    en = lambda P: abs(np.linalg.det(P) - math.exp(-2 * 0.375))  # noqa: E731
+    assert en(xrun.step_jacobian("cimp", prob, 1.0, 5.0, z)) <= 1e-14
+    Z = np.asarray(z, float)[None, :] + 1e-30j * np.eye(2)
+    plain = xm.make_stepper("cimp", prob, 1.0)(5.0, Z)[0]
+    assert en((np.imag(plain) / 1e-30).T) >= 1e-12
+
+
 def _csv2_by_hand(g: float, w: float, h: float, q: float, p: float) -> Any:
     """F (2.16) for the oscillator (V = w^2 q^2 / 2, T = p^2 / 2), written out."""
     a, b, e = 1 + g * h / 2, 1 - g * h / 2, np.exp(-g * h / 2)
