@@ -42,6 +42,11 @@ if HAVE_NUMBA:
             return numba.njit(nogil=True)(fn)
 
     @jit
+    def _settled(m: Any, last: Any, it: Any, zero: Any) -> Any:
+        """xmethods.settled, compiled (the same test)."""
+        return m <= 2 * EPS or zero or (it >= 3 and m >= last and m <= 1e-11)
+
+    @jit
     def _force(code: Any, t: Any, q: Any, P: Any, out: Any) -> None:
         """-grad V(q, t) of the separable problems (xproblems / xscalar formulas)."""
         if code == KEPLER:                       # HLW (2.1)
@@ -228,7 +233,7 @@ if HAVE_NUMBA:
                 if abs(y[k]) > den:
                     den = abs(y[k])
             mm = num / max(den, 1e-300)
-            if mm <= 2 * EPS or num == 0.0 or (it >= 3 and mm >= 0.5 * last and mm <= 1e-11):
+            if _settled(mm, last, it, num == 0.0):
                 _field(code, t, y, P, m, 0.0, fy)
                 return it
             last = mm
@@ -328,7 +333,7 @@ if HAVE_NUMBA:
                 mm = num / max(den, 1e-300)
                 if not math.isfinite(mm):
                     return n, 2, tot, mx, False
-                if mm <= 2 * EPS or num == 0.0 or (it >= 3 and mm >= 0.5 * last and mm <= 1e-11):
+                if _settled(mm, last, it, num == 0.0):
                     break
                 last = mm
                 if it > 100:

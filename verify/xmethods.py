@@ -119,11 +119,16 @@ def _converged(dZ: Any, Z: Any, last: Any, it: Any) -> Any:
         m = max(dr / max(zr, 1e-300), di / max(zi, 1e-300) if zi > 0 else 0.0)
     else:
         m = dr / max(zr, 1e-300)
-    if m <= 2 * EPS or (dr == 0.0):
-        return True, m
-    if it >= 3 and m >= 0.5 * last and m <= 1e-11:   # stagnation at round-off
-        return True, m
-    return False, m
+    return settled(m, last, it, dr == 0.0), m
+
+
+def settled(m: float, last: float, it: int, zero: bool = False) -> bool:
+    """The round-off test of an implicit iteration from its relative update m (and the
+    previous one, last): m <= 2 eps (or a zero update), or from the third iteration on an
+    update below 1e-11 that stopped decreasing (m >= last): the round-off floor.  (Stopping
+    at m >= last / 2 left a slowly contracting simplified iteration -- a large step -- up to
+    theta/(1 - theta) 1e-11 short of the solution, theta = m / last.)"""
+    return bool(m <= 2 * EPS or zero or (it >= 3 and m >= last and m <= 1e-11))
 
 
 # ----------------------------------------------------------------------------------------

@@ -16,8 +16,8 @@ it lies inside the family's range:
   - test: stop after the first iteration whose update satisfies |dZ|_inf <= tau |Z|_inf, from
     the loosest test tau = 1e-8 ~ sqrt(eps) (after which one more quadratically convergent
     iteration changes nothing above round-off) to the tightest, the cross-check's own round-off
-    test (xmethods._converged: update <= 2 eps, or stagnation at round-off: from the third
-    iteration an update <= 1e-11 that is >= half the previous one).  Counts grow as the test
+    test (xmethods.settled: update <= 2 eps, or from the third iteration an update <= 1e-11 that
+    stopped decreasing).  Counts grow as the test
     tightens and simplified Newton never takes fewer iterations than full Newton, so the range
     is [full Newton at tau = 1e-8, the larger of both variants under the round-off test].
 
@@ -135,9 +135,7 @@ def _all_done(U: Any, it: Any) -> bool:
         return False
     stop = np.zeros(U.shape[1], bool)
     for k in range(it + 1):
-        stop |= U[k] <= 2 * EPS
-        if k >= 2:
-            stop |= (U[k] >= 0.5 * U[k - 1]) & (U[k] <= 1e-11)
+        stop |= _settled(U, k)
     if stop.all() and np.all(np.min(U[:it + 1], axis=0) <= 1e-12):
         U[it + 1:] = 0.0
         return True
@@ -151,17 +149,22 @@ def _count(U: Any, tau: Any) -> Any:
     return cnt
 
 
+def _settled(U: Any, k: int) -> Any:
+    """xmethods.settled for iteration k + 1 of every step of a batch (U: relative updates)."""
+    stop = U[k] <= 2 * EPS
+    if k >= 2:
+        stop |= (U[k] >= U[k - 1]) & (U[k] <= 1e-11)
+    return stop
+
+
 def _count_roundoff(U: Any) -> Any:
-    """The tight end: xmethods' own round-off test (_converged): stop when the update is
-    <= 2 eps, or from the third iteration on when it stagnates (>= half the previous one) at
-    round-off (<= 1e-11)."""
+    """The tight end: xmethods' own round-off test (settled): stop when the update is <= 2 eps,
+    or from the third iteration on when it stopped decreasing below 1e-11."""
     n = U.shape[1]
     cnt = np.full(n, MAX_IT)
     done = np.zeros(n, bool)
     for it in range(MAX_IT):
-        stop = U[it] <= 2 * EPS
-        if it >= 2:
-            stop |= (U[it] >= 0.5 * U[it - 1]) & (U[it] <= 1e-11)
+        stop = _settled(U, it)
         new = stop & ~done
         cnt[new] = it + 1
         done |= stop

@@ -135,7 +135,7 @@ def _implicit(G: Any, coef: Any, h: Any, d: Any, field: Any) -> Any:
             m = num / max(den, 1e-300)
             if not math.isfinite(m):
                 raise xm.SolveFailed("non-finite Newton iterate")
-            if m <= 2 * xm.EPS or num == 0.0 or (it >= 3 and m >= 0.5 * last and m <= 1e-11):
+            if xm.settled(m, last, it, num == 0.0):
                 break
             last = m
             if it > 100:
@@ -165,7 +165,7 @@ class GLMScalar:
             num = max(abs(v) for v in dy)
             y = [y[k] - dy[k] for k in range(d)]
             m = num / max(max(abs(v) for v in y), 1e-300)
-            if m <= 2 * xm.EPS or num == 0.0 or (it >= 3 and m >= 0.5 * last and m <= 1e-11):
+            if xm.settled(m, last, it, num == 0.0):
                 return y, f(t, y), it
             last = m
             if it > 100:
