@@ -98,7 +98,9 @@ def metric_invariants(prob: Any, traj: Any, times: Any, h: Optional[float] = Non
             d["global_res_slope"] = lsq_slope(times[1:][glob_ok], g[glob_ok])
         if undef:
             why = "scale not a positive normal number at %d points" % undef
-            for kk in ("max_step_res", "last_step_res", "max_global_res", "global_res_slope"):
+            # without a step whose residual is defined, no numerator or scale at its maximum
+            for kk in ("max_step_res", "last_step_res", "max_global_res", "global_res_slope") + (
+                    () if step_ok.any() else ("max_step_abs", "scale_at_max_step_res")):
                 d[kk] = Undef(why)
         # r_n = e^{2 Gamma} I_n / I_0 - 1, resolved where u_n = eps S_n / |e^{-2 Gamma} I_0| is
         # <= 1e-8 or <= 1e-2 |r_n| (at n = 0 with r = 0)

@@ -50,6 +50,11 @@ json invariant_metrics(const std::vector<InvariantStats>& stats,
             for (const char* key :
                  {"max_step_res", "last_step_res", "max_global_res", "global_res_slope"})
                 set_undefined(o, key, why);
+            // no step with a defined residual (its scale is positive when one is): the numerator
+            // and the scale "at the maximum" are then those of no step, not 0
+            if (s.scale_at_max == 0.0)
+                for (const char* key : {"max_step_abs", "scale_at_max_step_res"})
+                    set_undefined(o, key, why);
         }
         inv[std::string(names[k])] = o;
     }

@@ -227,6 +227,30 @@ def test_unstable_ladder_runs(dampsym_bin: str, workdir: str) -> None:
     assert _crosscheck(bad, work, "planted")["summary"]["comparisons"]["disagree"] >= 1
 
 
+def test_no_defined_step_residual(dampsym_bin: str, workdir: str) -> None:
+    """HLW (1.8) on Lotka-Volterra at dt = 0.24 runs to a state (0, -3.6e56) at which the scale
+    of I is undefined at every step: dampsym reported 0 for the numerator and the scale "at the
+    maximum" of no step (the cross-check, computing none, called them not reproduced); both are
+    undefined now, in dampsym and the cross-check, and the run is reproduced."""
+    work = os.path.join(workdir, "no-defined-step")
+    os.makedirs(work, exist_ok=True)
+    with open(xcase.case_index()["lotka-volterra-fig11-symplectic-euler"]) as fh:
+        spec = json.load(fh)
+    spec.update(id="lv-se-coarse", suites=["heldout"], dt=0.24)
+    case = _write(os.path.join(work, "lv-se-coarse.json"), spec)
+    out = os.path.join(work, "report")
+    subprocess.run([os.path.abspath(dampsym_bin), "run", case, "--out", out, "-q"],
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    with open(os.path.join(out, "report.json")) as fh:
+        report = json.load(fh)
+    inv = next(r for r in report["cases"][0]["runs"]
+               if r["method"] == "symplectic-euler-partitioned")["metrics"]["invariants"]["I"]
+    assert inv["max_step_abs"] is None and inv["scale_at_max_step_res"] is None
+    assert "scale not a positive normal number" in inv["undefined"]["max_step_abs"]
+    s = _crosscheck(report, work, "xc")["summary"]
+    assert s["runs"]["not reproduced"] == 0 and s["comparisons"]["disagree"] == 0, s
+
+
 def _driven_at_h1() -> Any:
     from verify import xproblems
     return xproblems.make_problem("driven-pendulum", {"gamma": 0.375, "lambda": 1.5, "f": 3.375,
