@@ -155,21 +155,9 @@ def rk_family_step(G: Any, coef: Any, h: Any, implicit: bool) -> Any:
                          Minv=np.linalg.inv(np.eye(s * d) - h * np.kron(A, J)))
         cache["age"] += 1
         Minv = cache["Minv"]
-        Z = Zp + h * c[:, None] * G(t, z)[..., None, :]
-        last, it = math.inf, 0
-        while True:
-            it += 1
-            R = Z - Zp - h * np.einsum("ij,...jd->...id", A, G(tt, Z))
-            dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(R.shape)
-            Z = Z - dZ
-            if not np.all(np.isfinite(Z)):
-                raise SolveFailed("non-finite Newton iterate")
-            done, last = _converged(dZ, Z, last, it)
-            if done:
-                cache["slow"] = it > 6
-                return Z, it
-            if it > 100:
-                raise SolveFailed("Newton did not converge")
+        Z, it = simplified_newton(G, A, h, tt, Zp, Zp + h * c[:, None] * G(t, z)[..., None, :], Minv)
+        cache["slow"] = it > 6
+        return Z, it
 
     def step(t: Any, z: Any) -> Any:
         Phi, A, b, phi0, c = coef(t)
@@ -192,6 +180,26 @@ def rk_family_step(G: Any, coef: Any, h: Any, implicit: bool) -> Any:
     if implicit:   # for step Jacobians (xrun.step_jacobian), see complex_step_polished
         setattr(step, "full", lambda t, z: complex_step_polished(G, coef, h, t, z, stages))
     return step
+
+
+def simplified_newton(G: Any, A: Any, h: Any, tt: Any, Zp: Any, Z: Any, Minv: Any) -> Any:
+    """Z = Zp + h (A (x) I) G(tt, Z) for a batch (..., s, d) by simplified Newton from Z with the
+    inverse matrix Minv, to the round-off test: (Z, iterations); SolveFailed on a non-finite
+    iterate or after 100 iterations."""
+    s, d = Z.shape[-2:]
+    last, it = math.inf, 0
+    while True:
+        it += 1
+        R = Z - Zp - h * np.einsum("ij,...jd->...id", A, G(tt, Z))
+        dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(R.shape)
+        Z = Z - dZ
+        if not np.all(np.isfinite(Z)):
+            raise SolveFailed("non-finite Newton iterate")
+        done, last = _converged(dZ, Z, last, it)
+        if done:
+            return Z, it
+        if it > 100:
+            raise SolveFailed("Newton did not converge")
 
 
 def complex_step_polished(G: Any, coef: Any, h: Any, t: Any, z: Any, stages: Any) -> Any:
@@ -605,19 +613,8 @@ class GLM:
             tt = (t + c * h)[:, None]
             zr = (Yp.real if np.iscomplexobj(Yp) else Yp).reshape(-1, s, d)[0, 0]
             Minv = np.linalg.inv(np.eye(s * d) - h * np.kron(A, jac_cs(prob.f, t, zr)))
-            Z, last, it = np.array(Yp), math.inf, 0
-            while True:
-                it += 1
-                R = Z - Yp - h * np.einsum("ij,...jd->...id", A, prob.f(tt, Z))
-                dZ = (R.reshape(-1, s * d) @ Minv.T).reshape(R.shape)
-                Z = Z - dZ
-                if not np.all(np.isfinite(Z)):
-                    raise SolveFailed("non-finite Newton iterate")
-                done, last = _converged(dZ, Z, last, it)
-                if done:
-                    return Z, prob.f(tt, Z), it
-                if it > 100:
-                    raise SolveFailed("GLM stages did not converge")
+            Z, it = simplified_newton(prob.f, A, h, tt, Yp, np.array(Yp), Minv)
+            return Z, prob.f(tt, Z), it
         return solve
 
     def start(self, t: Any, y0: Any) -> Any:
