@@ -178,7 +178,7 @@ def rk_family_step(G: Any, coef: Any, h: Any, implicit: bool) -> Any:
             return full_newton_fallback(G, coef, h, t, z)
         return phi0 * z + h * np.einsum("i,...id->...d", b, G(tt, Z)), it
     if implicit:   # for step Jacobians (xrun.step_jacobian), see complex_step_polished
-        setattr(step, "full", lambda t, z: complex_step_polished(G, coef, h, t, z, stages))
+        setattr(step, "complex_step", lambda t, z: complex_step_polished(G, coef, h, t, z, stages))
     return step
 
 

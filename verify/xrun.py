@@ -86,13 +86,13 @@ def integrate(method: str, prob: Any, h: Any, nsteps: int, t0: Any, record: bool
 def step_jacobian(method: str, prob: Any, h: Any, t: Any, z: Any) -> Any:
     """Exact Jacobian of one step of the method at (t, z) by the complex step (all d directions
     in one batched step; implicit stages converged in real and imaginary parts).  An implicit
-    RK-family step is solved by full Newton here: the simplified iteration's round-off test
-    stops a slowly contracting iteration (a large step) with its real part up to ~1e-11 off, and
-    the derivative inherits that (E_n 1e-11 where dampsym's full Newton gives 1e-15)."""
+    RK-family step polishes its stages by two full Newton updates
+    (xmethods.complex_step_polished), so that the derivatives are those of the converged stages
+    even where the simplified iteration contracts slowly (a large step)."""
     d = prob.d
     Z = np.asarray(z, float)[None, :] + 1e-30j * np.eye(d)
     stepf = xm.make_stepper(method, prob, h)
-    Z1, _ = getattr(stepf, "full", stepf)(t, Z)
+    Z1, _ = getattr(stepf, "complex_step", stepf)(t, Z)
     return (np.imag(Z1) / 1e-30).T
 
 
